@@ -1,0 +1,153 @@
+//! The object map of bus 1300: ONE declarative table of every TC object
+//! (uoi-map.md, devices 0, 1 and 2). The dispatcher in `uoi` enforces
+//! address, type, access and range from it before the module sees a value.
+
+use uoi::{Access, ObjectDesc, ValueRange};
+
+/// The BusNumber of the TC module.
+pub const TC_BUS: u16 = 1300;
+
+/// Group indexes of devices 1 and 2 (uoi-map.md: "Index = compensation group
+/// number, 1..=32").
+pub const GROUPS: std::ops::RangeInclusive<u16> = 1..=32;
+
+/// Every object of bus 1300, named as in uoi-map.md.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum TcObject {
+    /// 0/1/0 Clean (w, must be 1).
+    Clean,
+    /// 0/2/0..2 AxisNr X/Y/Z (rw, 0..7).
+    AxisNr,
+    /// 0/3/0 TcPlane (rw, 17/18/19).
+    TcPlane,
+    /// 0/11/0 ReInit (w).
+    ReInit,
+    /// 0/12/0 Reset of every group (w).
+    Reset,
+    /// 0/20/0 RotAngle in degrees (rw, finite).
+    RotAngle,
+    /// 0/21/0 RotCenterX (rw, finite).
+    RotCenterX,
+    /// 0/22/0 RotCenterY (rw, finite).
+    RotCenterY,
+    /// 1/g/1 ERROR (rw): read bits, write clears.
+    Error,
+    /// 1/g/2 RESET (w).
+    GroupReset,
+    /// 1/g/3 STATUS (rw, 0/1).
+    Status,
+    /// 1/g/4 XAxis (rw, 0..7).
+    XAxis,
+    /// 1/g/5 YAxis (rw, 0..7).
+    YAxis,
+    /// 1/g/6 RADIUS of the entry at WKZINDEX (rw, finite).
+    Radius,
+    /// 1/g/8 WKZINDEX (rw, 0..1023).
+    WkzIndex,
+    /// 1/g/9 Left (w).
+    Left,
+    /// 1/g/10 Right (w).
+    Right,
+    /// 1/g/11 ZAxis (rw, 0..7).
+    ZAxis,
+    /// 1/g/12 WkzLen of the entry at WKZINDEX (rw, finite).
+    WkzLen,
+    /// 2/g/1 TransitionMode (rw, 0 circular / 1 linear).
+    TransitionMode,
+}
+
+const AXIS: ValueRange = ValueRange::Int { min: 0, max: 7 };
+const RW: Access = Access::ReadWrite;
+const W: Access = Access::WriteOnly;
+use TcObject as O;
+
+/// The table itself, row for row as in uoi-map.md.
+pub static TC_OBJECTS: [ObjectDesc<TcObject>; 20] = [
+    // Device 0: initialisation (global)
+    ObjectDesc::int(O::Clean, "Clean", 0, 1..=1, 0, W, ValueRange::IntSet(&[1])),
+    ObjectDesc::int(O::AxisNr, "AxisNr", 0, 2..=2, 0, RW, AXIS).subs(0, 2),
+    ObjectDesc::int(
+        O::TcPlane,
+        "TcPlane",
+        0,
+        3..=3,
+        0,
+        RW,
+        ValueRange::IntSet(&[17, 18, 19]),
+    ),
+    ObjectDesc::int(O::ReInit, "ReInit", 0, 11..=11, 0, W, ValueRange::AnyInt),
+    ObjectDesc::int(O::Reset, "Reset", 0, 12..=12, 0, W, ValueRange::AnyInt),
+    ObjectDesc::double(
+        O::RotAngle,
+        "RotAngle",
+        0,
+        20..=20,
+        0,
+        RW,
+        ValueRange::AnyFinite,
+    ),
+    ObjectDesc::double(
+        O::RotCenterX,
+        "RotCenterX",
+        0,
+        21..=21,
+        0,
+        RW,
+        ValueRange::AnyFinite,
+    ),
+    ObjectDesc::double(
+        O::RotCenterY,
+        "RotCenterY",
+        0,
+        22..=22,
+        0,
+        RW,
+        ValueRange::AnyFinite,
+    ),
+    // Device 1: compensation groups and their tool tables
+    ObjectDesc::int(O::Error, "ERROR", 1, GROUPS, 1, RW, ValueRange::AnyInt),
+    ObjectDesc::int(O::GroupReset, "RESET", 1, GROUPS, 2, W, ValueRange::AnyInt),
+    ObjectDesc::int(
+        O::Status,
+        "STATUS",
+        1,
+        GROUPS,
+        3,
+        RW,
+        ValueRange::Int { min: 0, max: 1 },
+    ),
+    ObjectDesc::int(O::XAxis, "XAxis", 1, GROUPS, 4, RW, AXIS),
+    ObjectDesc::int(O::YAxis, "YAxis", 1, GROUPS, 5, RW, AXIS),
+    ObjectDesc::double(O::Radius, "RADIUS", 1, GROUPS, 6, RW, ValueRange::AnyFinite),
+    ObjectDesc::int(
+        O::WkzIndex,
+        "WKZINDEX",
+        1,
+        GROUPS,
+        8,
+        RW,
+        ValueRange::Int { min: 0, max: 1023 },
+    ),
+    ObjectDesc::int(O::Left, "Left", 1, GROUPS, 9, W, ValueRange::AnyInt),
+    ObjectDesc::int(O::Right, "Right", 1, GROUPS, 10, W, ValueRange::AnyInt),
+    ObjectDesc::int(O::ZAxis, "ZAxis", 1, GROUPS, 11, RW, AXIS),
+    ObjectDesc::double(
+        O::WkzLen,
+        "WkzLen",
+        1,
+        GROUPS,
+        12,
+        RW,
+        ValueRange::AnyFinite,
+    ),
+    // Device 2: TC extensions
+    ObjectDesc::int(
+        O::TransitionMode,
+        "TransitionMode",
+        2,
+        GROUPS,
+        1,
+        RW,
+        ValueRange::Int { min: 0, max: 1 },
+    ),
+];

@@ -1,0 +1,147 @@
+//! Main planes and axis allocation (uoi-map.md device 0 index 2 and 3;
+//! trc-geometry.md "Coordinates").
+
+/// Number of machine axes (trace names `X Y Z A B C U V`).
+pub const AXES: usize = 8;
+
+/// Trace names of the machine axes, by index.
+pub const AXIS_NAMES: [char; AXES] = ['X', 'Y', 'Z', 'A', 'B', 'C', 'U', 'V'];
+
+/// The machine axis index of a trace axis letter (case-insensitive).
+pub fn axis_index(letter: char) -> Option<usize> {
+    let up = letter.to_ascii_uppercase();
+    AXIS_NAMES.iter().position(|&n| n == up)
+}
+
+/// A position of all machine axes.
+pub type AxisPos = [f64; AXES];
+
+/// The main plane for circles and correction: 17 X-Y, 18 Z-X, 19 Y-Z
+/// (NC G17/G18/G19).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum TcPlane {
+    /// 17: X-Y, third axis Z.
+    #[default]
+    Xy,
+    /// 18: Z-X, third axis Y.
+    Zx,
+    /// 19: Y-Z, third axis X.
+    Yz,
+}
+
+impl TcPlane {
+    /// The plane for a register value 17/18/19.
+    pub fn from_code(code: i32) -> Option<Self> {
+        match code {
+            17 => Some(TcPlane::Xy),
+            18 => Some(TcPlane::Zx),
+            19 => Some(TcPlane::Yz),
+            _ => None,
+        }
+    }
+
+    /// The register value 17/18/19.
+    pub const fn code(self) -> i32 {
+        match self {
+            TcPlane::Xy => 17,
+            TcPlane::Zx => 18,
+            TcPlane::Yz => 19,
+        }
+    }
+
+    /// Picks `(h, v, third)` out of an X/Y/Z allocation.
+    pub const fn pick(self, xyz: [u8; 3]) -> PlaneAxes {
+        let [x, y, z] = xyz;
+        match self {
+            TcPlane::Xy => PlaneAxes {
+                h: x,
+                v: y,
+                third: z,
+            },
+            TcPlane::Zx => PlaneAxes {
+                h: z,
+                v: x,
+                third: y,
+            },
+            TcPlane::Yz => PlaneAxes {
+                h: y,
+                v: z,
+                third: x,
+            },
+        }
+    }
+}
+
+/// Machine axes of a main plane: `h` and `v` span it (CCW turns h to v),
+/// `third` is the tool axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct PlaneAxes {
+    /// 1st plane axis.
+    pub h: u8,
+    /// 2nd plane axis.
+    pub v: u8,
+    /// Third main axis (tool length).
+    pub third: u8,
+}
+
+impl PlaneAxes {
+    /// Whether the two plane axes are different machine axes.
+    pub const fn distinct(self) -> bool {
+        self.h != self.v
+    }
+
+    /// Whether `h` and `v` are the same pair as `other`'s.
+    pub const fn same_plane(self, other: PlaneAxes) -> bool {
+        self.h == other.h && self.v == other.v
+    }
+
+    /// The plane point `(h, v)` of a position.
+    pub fn point(self, p: &AxisPos) -> [f64; 2] {
+        [p[self.h as usize], p[self.v as usize]]
+    }
+
+    /// Writes a plane point into a position.
+    pub fn set_point(self, p: &mut AxisPos, q: [f64; 2]) {
+        p[self.h as usize] = q[0];
+        p[self.v as usize] = q[1];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn planes_pick_axes() {
+        assert_eq!(
+            TcPlane::Xy.pick([0, 1, 2]),
+            PlaneAxes {
+                h: 0,
+                v: 1,
+                third: 2
+            }
+        );
+        assert_eq!(
+            TcPlane::Zx.pick([0, 1, 2]),
+            PlaneAxes {
+                h: 2,
+                v: 0,
+                third: 1
+            }
+        );
+        assert_eq!(
+            TcPlane::Yz.pick([0, 1, 2]),
+            PlaneAxes {
+                h: 1,
+                v: 2,
+                third: 0
+            }
+        );
+        for c in [17, 18, 19] {
+            assert_eq!(TcPlane::from_code(c).map(TcPlane::code), Some(c));
+        }
+        assert_eq!(TcPlane::from_code(20), None);
+        assert_eq!(axis_index('v'), Some(7));
+        assert_eq!(axis_index('W'), None);
+    }
+}

@@ -1,0 +1,258 @@
+//! The declarative object table a module hands to the dispatcher.
+
+use std::ops::RangeInclusive;
+
+use crate::{AccessError, ObjectAddress, Value, ValueType};
+
+/// Access right of an object: the `access` column of uoi-map.md.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Access {
+    /// `r`: read only.
+    ReadOnly,
+    /// `w`: write only (a command).
+    WriteOnly,
+    /// `rw`: read and write.
+    ReadWrite,
+}
+
+impl Access {
+    /// Whether a read is allowed.
+    pub const fn readable(self) -> bool {
+        !matches!(self, Access::WriteOnly)
+    }
+
+    /// Whether a write is allowed.
+    pub const fn writable(self) -> bool {
+        !matches!(self, Access::ReadOnly)
+    }
+}
+
+/// Values a write may carry: the `range` column of uoi-map.md.
+/// A non-finite double is outside every range.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ValueRange {
+    /// Any i32.
+    AnyInt,
+    /// `min..=max`.
+    Int {
+        /// Smallest allowed value.
+        min: i32,
+        /// Largest allowed value.
+        max: i32,
+    },
+    /// One of a listed set (`17, 18, 19`).
+    IntSet(&'static [i32]),
+    /// Any finite double.
+    AnyFinite,
+    /// A finite double in `min..=max`.
+    Finite {
+        /// Smallest allowed value.
+        min: f64,
+        /// Largest allowed value.
+        max: f64,
+    },
+}
+
+impl ValueRange {
+    /// Whether `value` lies in this range. The type is checked separately.
+    pub fn contains(self, value: Value) -> bool {
+        match (self, value) {
+            (ValueRange::AnyInt, Value::I32(_)) => true,
+            (ValueRange::Int { min, max }, Value::I32(v)) => (min..=max).contains(&v),
+            (ValueRange::IntSet(set), Value::I32(v)) => set.contains(&v),
+            (ValueRange::AnyFinite, Value::F64(v)) => v.is_finite(),
+            (ValueRange::Finite { min, max }, Value::F64(v)) => {
+                v.is_finite() && (min..=max).contains(&v)
+            }
+            _ => false,
+        }
+    }
+}
+
+/// One row of a module's object table: where the object lives, its type,
+/// access and range, and the module's key for it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObjectDesc<K> {
+    /// The module's own name for the object (an enum variant, typically).
+    pub key: K,
+    /// The name of the object in uoi-map.md.
+    pub name: &'static str,
+    /// DeviceNumber.
+    pub device: u16,
+    /// The indexes under which the object exists (e.g. groups `1..=32`).
+    pub index: RangeInclusive<u16>,
+    /// The subindexes it occupies (one, or a run like `20..=27`).
+    pub sub: RangeInclusive<u16>,
+    /// Value type.
+    pub ty: ValueType,
+    /// Access right.
+    pub access: Access,
+    /// Values a write may carry.
+    pub range: ValueRange,
+}
+
+impl<K> ObjectDesc<K> {
+    /// An `i` object at one subindex.
+    pub const fn int(
+        key: K,
+        name: &'static str,
+        device: u16,
+        index: RangeInclusive<u16>,
+        sub: u16,
+        access: Access,
+        range: ValueRange,
+    ) -> Self {
+        Self {
+            key,
+            name,
+            device,
+            index,
+            sub: sub..=sub,
+            ty: ValueType::I32,
+            access,
+            range,
+        }
+    }
+
+    /// A `d` object at one subindex.
+    pub const fn double(
+        key: K,
+        name: &'static str,
+        device: u16,
+        index: RangeInclusive<u16>,
+        sub: u16,
+        access: Access,
+        range: ValueRange,
+    ) -> Self {
+        Self {
+            key,
+            name,
+            device,
+            index,
+            sub: sub..=sub,
+            ty: ValueType::F64,
+            access,
+            range,
+        }
+    }
+
+    /// The same object spread over the subindexes `first..=last`.
+    pub const fn subs(mut self, first: u16, last: u16) -> Self {
+        self.sub = first..=last;
+        self
+    }
+
+    /// Whether this row answers for `addr` (bus not considered).
+    pub fn matches(&self, addr: ObjectAddress) -> bool {
+        self.device == addr.device
+            && self.index.contains(&addr.index)
+            && self.sub.contains(&addr.sub)
+    }
+}
+
+/// Finds the row for `addr` in a module table: `NoObject` when no row has
+/// that device and index, `NoSubindex` when the index exists but not the
+/// subindex. The bus number is not looked at.
+pub fn lookup<K>(
+    table: &[ObjectDesc<K>],
+    addr: ObjectAddress,
+) -> Result<&ObjectDesc<K>, AccessError> {
+    let mut index_exists = false;
+    for row in table {
+        if row.device == addr.device && row.index.contains(&addr.index) {
+            if row.sub.contains(&addr.sub) {
+                return Ok(row);
+            }
+            index_exists = true;
+        }
+    }
+    Err(if index_exists {
+        AccessError::NoSubindex
+    } else {
+        AccessError::NoObject
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges() {
+        assert!(ValueRange::AnyInt.contains(Value::I32(i32::MIN)));
+        assert!(!ValueRange::AnyInt.contains(Value::F64(0.0)));
+        assert!(ValueRange::Int { min: 0, max: 7 }.contains(Value::I32(7)));
+        assert!(!ValueRange::Int { min: 0, max: 7 }.contains(Value::I32(8)));
+        assert!(!ValueRange::Int { min: 0, max: 7 }.contains(Value::I32(-1)));
+        assert!(ValueRange::IntSet(&[17, 18, 19]).contains(Value::I32(18)));
+        assert!(!ValueRange::IntSet(&[17, 18, 19]).contains(Value::I32(20)));
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            assert!(!ValueRange::AnyFinite.contains(Value::F64(bad)));
+            assert!(!ValueRange::Finite {
+                min: 0.0,
+                max: f64::MAX
+            }
+            .contains(Value::F64(bad)));
+        }
+        assert!(ValueRange::Finite {
+            min: 0.0,
+            max: f64::MAX
+        }
+        .contains(Value::F64(0.0)));
+        assert!(!ValueRange::Finite {
+            min: 0.0,
+            max: f64::MAX
+        }
+        .contains(Value::F64(-1e-9)));
+    }
+
+    #[test]
+    fn lookup_distinguishes_object_and_subindex() {
+        let table = [
+            ObjectDesc::int(1, "a", 1, 1..=32, 1, Access::ReadWrite, ValueRange::AnyInt),
+            ObjectDesc::double(
+                2,
+                "b",
+                1,
+                1..=32,
+                6,
+                Access::ReadWrite,
+                ValueRange::AnyFinite,
+            ),
+            ObjectDesc::double(
+                3,
+                "c",
+                3,
+                1..=32,
+                0,
+                Access::ReadOnly,
+                ValueRange::AnyFinite,
+            )
+            .subs(20, 27),
+        ];
+        let at = |d, i, s| ObjectAddress::new(1300, d, i, s);
+        assert_eq!(lookup(&table, at(1, 1, 1)).map(|r| r.key), Ok(1));
+        assert_eq!(lookup(&table, at(1, 32, 6)).map(|r| r.key), Ok(2));
+        assert_eq!(
+            lookup(&table, at(1, 2, 7)).map(|r| r.key),
+            Err(AccessError::NoSubindex)
+        );
+        assert_eq!(
+            lookup(&table, at(1, 0, 1)).map(|r| r.key),
+            Err(AccessError::NoObject)
+        );
+        assert_eq!(
+            lookup(&table, at(1, 33, 1)).map(|r| r.key),
+            Err(AccessError::NoObject)
+        );
+        assert_eq!(
+            lookup(&table, at(2, 1, 1)).map(|r| r.key),
+            Err(AccessError::NoObject)
+        );
+        assert_eq!(lookup(&table, at(3, 1, 27)).map(|r| r.key), Ok(3));
+        assert_eq!(
+            lookup(&table, at(3, 1, 28)).map(|r| r.key),
+            Err(AccessError::NoSubindex)
+        );
+    }
+}
