@@ -78,10 +78,32 @@ impl Executor {
         }
     }
 
-    /// Runs `n` cycles.
+    /// Runs `n` cycles. Idle cycles and cycles inside one long element are
+    /// counted rather than stepped one by one, so a huge count or a huge
+    /// move costs no more than a short one.
     pub fn run(&mut self, spooler: &mut Spooler, n: u64) {
-        for _ in 0..n {
+        let mut n = n;
+        while n > 0 {
+            let Some(e) = spooler.front() else {
+                self.cycles = self.cycles.saturating_add(n);
+                return;
+            };
+            let budget = e.feed * self.cycle_min;
+            let left = e.length - self.done;
+            // Whole cycles that stay strictly inside the element.
+            let inside = if budget > 0.0 { (left / budget).ceil() - 1.0 } else { 0.0 };
+            if inside >= 2.0 {
+                let k = (inside as u64).min(n) - 1;
+                if k > 0 {
+                    self.done += budget * k as f64;
+                    self.pos = e.point_at(self.done);
+                    self.cycles += k;
+                    n -= k;
+                    continue;
+                }
+            }
             self.step(spooler);
+            n -= 1;
         }
     }
 
@@ -139,8 +161,16 @@ mod tests {
         ex.step(&mut sp);
         assert!((ex.position()[0] - 0.02).abs() < 1e-12);
         assert_eq!(sp.len(), 1);
-        ex.run_until_empty(&mut sp);
+        ex.run(&mut sp, 10);
+        assert!((ex.position()[0] - 0.12).abs() < 1e-12);
+        ex.run(&mut sp, u64::MAX / 2);
         assert_eq!(ex.position()[0], 1.0);
+        assert!(sp.is_empty());
+        sp.push(SpoolElement::line(pos(1.0), pos(1e12), 600.0, false, Origin::Plain));
+        ex.run(&mut sp, 1_000_000_000_000);
+        assert!((ex.position()[0] - 1e10).abs() < 1e-2);
+        ex.run_until_empty(&mut sp);
+        assert_eq!(ex.position()[0], 1e12);
         assert!(sp.is_empty());
     }
 }

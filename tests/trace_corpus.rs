@@ -1,0 +1,79 @@
+//! Replays the whole conformance corpus in `traces/` and checks that it
+//! pins every object of the TC object map and every access error.
+
+use std::path::PathBuf;
+
+use addipos::trace::{parse_trace, replay, Expect, Request, Trace};
+use tc_module::TC_OBJECTS;
+use uoi::AccessError;
+
+fn corpus() -> Vec<Trace> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("traces");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("traces/ exists")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "trace"))
+        .collect();
+    files.sort();
+    files
+        .iter()
+        .map(|f| {
+            let text = std::fs::read_to_string(f).expect("trace readable");
+            parse_trace(&f.display().to_string(), &text).unwrap_or_else(|e| panic!("{e}"))
+        })
+        .collect()
+}
+
+#[test]
+fn whole_corpus_replays_without_mismatch() {
+    let traces = corpus();
+    assert!(traces.len() >= 40, "only {} traces", traces.len());
+    let mut failed = Vec::new();
+    for t in &traces {
+        for m in replay(t) {
+            failed.push(m.to_string());
+        }
+    }
+    assert!(failed.is_empty(), "mismatches:\n{}", failed.join("\n"));
+}
+
+#[test]
+fn every_object_of_devices_0_to_2_is_in_a_trace() {
+    let traces = corpus();
+    let addressed: Vec<uoi::ObjectAddress> = traces
+        .iter()
+        .flat_map(|t| &t.steps)
+        .filter_map(|s| match s.request {
+            Request::Read(a, _) | Request::Write(a, _) => Some(a),
+            _ => None,
+        })
+        .collect();
+    let mut missing = Vec::new();
+    for row in TC_OBJECTS.iter().filter(|r| r.device <= 2) {
+        for sub in row.sub.clone() {
+            let hit = addressed.iter().any(|a| {
+                a.bus == 1300 && a.device == row.device && row.index.contains(&a.index) && a.sub == sub
+            });
+            if !hit {
+                missing.push(format!("{} (1300/{}/{:?}/{})", row.name, row.device, row.index, sub));
+            }
+        }
+    }
+    assert!(missing.is_empty(), "objects no trace touches: {missing:?}");
+}
+
+#[test]
+fn every_access_error_is_expected_somewhere() {
+    let traces = corpus();
+    let missing: Vec<&str> = AccessError::ALL
+        .iter()
+        .filter(|e| {
+            !traces
+                .iter()
+                .flat_map(|t| &t.steps)
+                .any(|s| s.expect == Expect::Err(**e))
+        })
+        .map(|e| e.name())
+        .collect();
+    assert!(missing.is_empty(), "access errors no trace expects: {missing:?}");
+}
