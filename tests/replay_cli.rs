@@ -16,7 +16,10 @@ fn replay(args: &[&std::path::Path]) -> (i32, String) {
         .args(args)
         .output()
         .expect("run addipos");
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into_owned())
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+    )
 }
 
 #[test]
@@ -30,7 +33,10 @@ fn passing_trace_exits_zero() {
 #[test]
 fn wrong_expectation_exits_non_zero_and_names_the_line() {
     let good = write_trace("ok2.trace", "R 1300/0/3/0 i => 17\n");
-    let bad = write_trace("bad.trace", "# comment\nR 1300/0/3/0 i => 17\nR 1300/0/3/0 i => 18\n");
+    let bad = write_trace(
+        "bad.trace",
+        "# comment\nR 1300/0/3/0 i => 17\nR 1300/0/3/0 i => 18\n",
+    );
     let (code, out) = replay(&[&good, &bad]);
     assert_ne!(code, 0);
     assert!(out.contains("bad.trace:3:"), "{out}");
@@ -43,7 +49,10 @@ fn malformed_trace_names_file_and_line() {
     let bad = write_trace("malformed.trace", "R 1300/0/3/0 i\nFROB 1\n");
     let (code, out) = replay(&[&bad]);
     assert_ne!(code, 0);
-    assert!(out.contains("malformed.trace:2: unknown request `FROB`"), "{out}");
+    assert!(
+        out.contains("malformed.trace:2: unknown request `FROB`"),
+        "{out}"
+    );
 }
 
 #[test]

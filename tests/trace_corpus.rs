@@ -52,10 +52,16 @@ fn every_object_of_devices_0_to_2_is_in_a_trace() {
     for row in TC_OBJECTS.iter().filter(|r| r.device <= 2) {
         for sub in row.sub.clone() {
             let hit = addressed.iter().any(|a| {
-                a.bus == 1300 && a.device == row.device && row.index.contains(&a.index) && a.sub == sub
+                a.bus == 1300
+                    && a.device == row.device
+                    && row.index.contains(&a.index)
+                    && a.sub == sub
             });
             if !hit {
-                missing.push(format!("{} (1300/{}/{:?}/{})", row.name, row.device, row.index, sub));
+                missing.push(format!(
+                    "{} (1300/{}/{:?}/{})",
+                    row.name, row.device, row.index, sub
+                ));
             }
         }
     }
@@ -75,5 +81,8 @@ fn every_access_error_is_expected_somewhere() {
         })
         .map(|e| e.name())
         .collect();
-    assert!(missing.is_empty(), "access errors no trace expects: {missing:?}");
+    assert!(
+        missing.is_empty(),
+        "access errors no trace expects: {missing:?}"
+    );
 }

@@ -23,6 +23,7 @@
 pub mod bits;
 pub mod correction;
 pub mod executor;
+pub mod geometry;
 pub mod group;
 pub mod module;
 pub mod motion;

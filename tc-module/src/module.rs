@@ -4,9 +4,11 @@
 use uoi::{AccessError, Bus, ObjectAddress, ObjectDesc, Value};
 
 use crate::bits::{ErrorBits, StatusBits};
-use crate::correction::Buffer;
+use crate::correction::{Profile, Sink};
 use crate::executor::{Executor, DEFAULT_CYCLE_S};
+use crate::geometry::{Contour, V2};
 use crate::group::{CorrGroup, Side, TransitionMode};
+use crate::motion::{ArcDir, AxisWords};
 use crate::motion::{Motion, SSF_FLUSH};
 use crate::object_map::{TcObject, TC_BUS, TC_OBJECTS};
 use crate::plane::{AxisPos, PlaneAxes, TcPlane, AXES};
@@ -124,66 +126,16 @@ impl TcModule {
         self.spooler.last_end().unwrap_or(*self.executor.position())
     }
 
-    fn any_faulted(&self) -> bool {
-        self.groups.iter().flatten().any(|g| g.faulted)
-    }
-
     /// Executes a motion command.
     pub fn command(&mut self, m: &Motion) -> Result<(), MotionError> {
         match *m {
-            Motion::Lin { words, feed, rapid } => {
-                if self.any_faulted() {
-                    return Err(AccessError::State.into());
-                }
-                check_words(&words)?;
-                let feed = self.take_feed(feed)?;
-                let (target, programmed) = self.target(&words);
-                if self.running.is_some() {
-                    return Err(MotionError::NotImplemented("correction geometry"));
-                }
-                let q = self.tool_position();
-                let f = if rapid { RAPID_FEED } else { feed };
-                self.spooler
-                    .push(SpoolElement::line(q, target, f, rapid, Origin::Plain));
-                self.programmed = programmed;
-                self.contour_end = target;
-                Ok(())
-            }
+            Motion::Lin { words, feed, rapid } => self.interpolate(&words, None, feed, rapid),
             Motion::Cir {
                 dir,
                 words,
                 centre,
                 feed,
-            } => {
-                if self.any_faulted() {
-                    return Err(AccessError::State.into());
-                }
-                check_words(&words)?;
-                if centre.iter().flatten().any(|v| !v.is_finite()) {
-                    return Err(AccessError::Range.into());
-                }
-                let feed = self.take_feed(feed)?;
-                let (target, programmed) = self.target(&words);
-                let plane = self.main_plane();
-                let start = self.contour_end;
-                let c = self.centre(&start, centre);
-                if self.running.is_some() {
-                    return Err(MotionError::NotImplemented("correction geometry"));
-                }
-                let q = self.tool_position();
-                self.spooler.push(SpoolElement::arc(
-                    q,
-                    target,
-                    plane,
-                    c,
-                    dir == crate::motion::ArcDir::Ccw,
-                    feed,
-                    Origin::Plain,
-                ));
-                self.programmed = programmed;
-                self.contour_end = target;
-                Ok(())
-            }
+            } => self.interpolate(&words, Some((dir, centre)), feed, false),
             Motion::Ja { words } => {
                 check_words(&words)?;
                 self.direct_command();
@@ -226,7 +178,7 @@ impl TcModule {
     /// Applies a modal feed word.
     fn take_feed(&mut self, feed: Option<f64>) -> Result<f64, MotionError> {
         if let Some(f) = feed {
-            if !(f.is_finite() && f > 0.0) {
+            if !(f.is_finite() && f > 0.0 && f <= MAX_COORD) {
                 return Err(AccessError::Range.into());
             }
             self.feed = f;
@@ -235,7 +187,7 @@ impl TcModule {
     }
 
     /// The machine target and the new programmed position for axis words.
-    fn target(&self, words: &crate::motion::AxisWords) -> (AxisPos, AxisPos) {
+    fn target(&self, words: &AxisWords) -> (AxisPos, AxisPos) {
         let mut programmed = self.programmed;
         for (p, w) in programmed.iter_mut().zip(words) {
             if let Some(v) = *w {
@@ -284,16 +236,113 @@ impl TcModule {
         self.executor.abandon_element();
         if let Some(slot) = self.running {
             if let Some(g) = self.groups[slot].as_mut() {
-                g.buffer = Buffer::default();
+                g.buffer.clear();
             }
         }
     }
 
     /// Spools the buffered profile of a running group (STATUS=0, SSF 2001).
     fn flush(&mut self, slot: usize) {
-        if let Some(g) = self.groups[slot].as_mut() {
-            g.buffer = Buffer::default();
+        let q = self.tool_position();
+        let plane = self.plane;
+        let Some(g) = self.groups[slot].as_mut() else {
+            return;
+        };
+        let mut sink = Sink {
+            spooler: &mut self.spooler,
+            q,
+            plane: g.plane_axes(plane),
+            len: g.tool().length,
+        };
+        g.buffer.flush(&mut sink);
+    }
+
+    /// `LIN`/`RAP`/`CIR`: rotated as it enters, then corrected by the
+    /// running group or spooled as it is.
+    fn interpolate(
+        &mut self,
+        words: &AxisWords,
+        arc: Option<(ArcDir, [Option<f64>; 3])>,
+        feed: Option<f64>,
+        rapid: bool,
+    ) -> Result<(), MotionError> {
+        if self.groups.iter().flatten().any(|g| g.faulted) {
+            return Err(AccessError::State.into());
         }
+        check_words(words)?;
+        if let Some((_, ijk)) = arc {
+            check_words(&ijk)?;
+        }
+        let feed = self.take_feed(feed)?;
+        let feed = if rapid { RAPID_FEED } else { feed };
+        let (target, programmed) = self.target(words);
+        let start = self.contour_end;
+        let main = self.main_plane();
+        let centre = arc.map(|(dir, ijk)| (dir, self.centre(&start, ijk)));
+        let q = self.tool_position();
+        self.programmed = programmed;
+        self.contour_end = target;
+
+        let Some(slot) = self.running else {
+            let element = match centre {
+                None => SpoolElement::line(q, target, feed, rapid, Origin::Plain),
+                Some((dir, c)) => {
+                    let r = distance(main.point(&start), c);
+                    if r <= crate::geometry::MIN_RADIUS {
+                        return Err(AccessError::Range.into());
+                    }
+                    SpoolElement::arc(q, target, main, c, dir == ArcDir::Ccw, feed, Origin::Plain)
+                }
+            };
+            self.spooler.push(element);
+            return Ok(());
+        };
+
+        let plane = self.plane;
+        let Some(g) = self.groups[slot].as_mut() else {
+            return Ok(());
+        };
+        let gp = g.plane_axes(plane);
+        let v2 = |p: [f64; 2]| V2::new(p[0], p[1]);
+        let result = match centre {
+            Some(_) if !gp.same_plane(main) => Err(ErrorBits::PLANE_ERROR),
+            _ => {
+                let from = v2(gp.point(&start));
+                let to = v2(gp.point(&target));
+                let contour = match centre {
+                    None => Contour::Line { from, to },
+                    Some((dir, c)) => Contour::Arc {
+                        from,
+                        to,
+                        centre: v2(c),
+                        sigma: dir.sigma(),
+                    },
+                };
+                let side = g.side.map_or(1.0, Side::sign);
+                let d = side * g.tool().radius;
+                let mut sink = Sink {
+                    spooler: &mut self.spooler,
+                    q,
+                    plane: gp,
+                    len: g.tool().length,
+                };
+                let prof = Profile {
+                    contour,
+                    start,
+                    end: target,
+                    feed,
+                    rapid,
+                };
+                g.buffer.push(prof, d, g.transition, &mut sink)
+            }
+        };
+        if let Err(bits) = result {
+            g.error |= bits;
+            g.faulted = true;
+            g.buffer.clear();
+            self.running = None;
+        }
+        Ok(())
     }
 
     /// Device 0 Clean: every group, table and rotation back to defaults.
@@ -329,7 +378,7 @@ impl TcModule {
         let ready =
             g.side.is_some() && g.plane_axes(plane).distinct() && !other_running && !g.faulted;
         if ready {
-            g.buffer = Buffer::default();
+            g.buffer.clear();
             self.running = Some(slot);
         } else {
             g.error |= ErrorBits::INIT_ERROR;
@@ -412,8 +461,20 @@ fn axis_u8(v: i32) -> u8 {
     u8::try_from(v).unwrap_or(0)
 }
 
-fn check_words(words: &crate::motion::AxisWords) -> Result<(), MotionError> {
-    if words.iter().flatten().all(|v| v.is_finite()) {
+/// Largest coordinate, offset or feed magnitude accepted (interpolation
+/// units): beyond it a command is refused with `Range` (decisions.md).
+pub const MAX_COORD: f64 = 1e9;
+
+fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+fn check_words<const N: usize>(words: &[Option<f64>; N]) -> Result<(), MotionError> {
+    if words
+        .iter()
+        .flatten()
+        .all(|v| v.is_finite() && v.abs() <= MAX_COORD)
+    {
         Ok(())
     } else {
         Err(AccessError::Range.into())
@@ -482,7 +543,7 @@ impl Bus for TcModule {
             TcObject::TcPlane => self.plane = TcPlane::from_code(i).unwrap_or_default(),
             TcObject::ReInit => {
                 for g in self.groups.iter_mut().flatten() {
-                    g.buffer = Buffer::default();
+                    g.buffer.clear();
                 }
             }
             TcObject::Reset => {
