@@ -219,15 +219,20 @@ impl Buffer {
         };
         self.spool_held(&a, x, sink);
         if let Some(t) = trans {
-            let feed = prof.feed;
+            // Transitions move in the plane only: the other axes stay where
+            // the corner (and any plane-null profile) left them.
+            let keep = sink.q;
+            let (feed, rapid) = (prof.feed, prof.rapid);
+            let len = std::mem::replace(&mut sink.len, 0.0);
             match t {
-                Transition::Arc { centre, ccw, to } => sink.arc(to, centre, ccw, &a.prof.end, feed),
+                Transition::Arc { centre, ccw, to } => sink.arc(to, centre, ccw, &keep, feed),
                 Transition::Lines { points, count } => {
                     for p in &points[..count] {
-                        sink.line(*p, &a.prof.end, feed, prof.rapid, Origin::Corrected);
+                        sink.line(*p, &keep, feed, rapid, Origin::Corrected);
                     }
                 }
             }
+            sink.len = len;
         }
         self.held = Some(Held {
             prof,
