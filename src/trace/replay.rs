@@ -135,9 +135,9 @@ pub fn format_element(e: &SpoolElement, axis_nr: [u8; 3]) -> String {
         Path::Line => s.push_str("LIN"),
         Path::Arc(a) => s.push_str(if a.ccw { "CIR CCW" } else { "CIR CW" }),
     }
-    for i in 0..AXES {
+    for (i, name) in AXIS_NAMES.iter().enumerate() {
         if e.end[i] != e.start[i] || i < 2 {
-            let _ = write!(s, " {}{}", AXIS_NAMES[i], e.end[i]);
+            let _ = write!(s, " {}{}", name, e.end[i]);
         }
     }
     if let Path::Arc(a) = &e.path {

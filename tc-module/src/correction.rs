@@ -64,7 +64,7 @@ impl Sink<'_> {
         self.q = end;
     }
 
-    fn arc(&mut self, p: V2, centre: V2, ccw: bool, prog: &AxisPos, feed: f64) {
+    fn arc(&mut self, p: V2, centre: V2, ccw: bool, prog: &AxisPos, feed: f64, origin: Origin) {
         let end = self.end_point(p, prog);
         self.spooler.push(SpoolElement::arc(
             self.q,
@@ -73,7 +73,7 @@ impl Sink<'_> {
             [centre.x, centre.y],
             ccw,
             feed,
-            Origin::Corrected,
+            origin,
         ));
         self.q = end;
     }
@@ -225,10 +225,12 @@ impl Buffer {
             let (feed, rapid) = (prof.feed, prof.rapid);
             let len = std::mem::replace(&mut sink.len, 0.0);
             match t {
-                Transition::Arc { centre, ccw, to } => sink.arc(to, centre, ccw, &keep, feed),
+                Transition::Arc { centre, ccw, to } => {
+                    sink.arc(to, centre, ccw, &keep, feed, Origin::Transition)
+                }
                 Transition::Lines { points, count } => {
                     for p in &points[..count] {
-                        sink.line(*p, &keep, feed, rapid, Origin::Corrected);
+                        sink.line(*p, &keep, feed, rapid, Origin::Transition);
                     }
                 }
             }
@@ -273,7 +275,7 @@ impl Buffer {
                 }
                 let zero_sweep = (sink.here() - x).norm() <= 1e-12;
                 if !zero_sweep || is_full_circle(&p.contour) {
-                    sink.arc(x, centre, sigma > 0.0, &p.end, p.feed);
+                    sink.arc(x, centre, sigma > 0.0, &p.end, p.feed, Origin::Corrected);
                 }
             }
         }

@@ -63,8 +63,7 @@ impl Executor {
         self.cycles += 1;
         let Some(front) = spooler.front() else { return };
         let mut budget = front.feed * self.cycle_min;
-        loop {
-            let Some(e) = spooler.front() else { break };
+        while let Some(e) = spooler.front() {
             let left = e.length - self.done;
             if budget < left {
                 self.done += budget;

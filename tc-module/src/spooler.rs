@@ -14,8 +14,10 @@ pub enum Origin {
     Plain,
     /// The approach element of a correction.
     Approach,
-    /// A corrected element or a transition inserted by the correction.
+    /// A corrected profile element.
     Corrected,
+    /// A transition inserted by the correction at an outside corner.
+    Transition,
 }
 
 /// Geometry of an arc element in its plane.

@@ -1,0 +1,125 @@
+//! Throughput of the correction (profiles/s through the one-profile buffer)
+//! and cost of one executor cycle. Figures go to docs/performance.md.
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
+use tc_module::executor::Executor;
+use tc_module::{ArcDir, Motion, Origin, SpoolElement, Spooler, TcModule, AXES};
+use uoi::{ObjectBus, Value};
+
+/// A contour of `n` mixed profiles advancing along X: line, half circle
+/// above (CW), line, half circle below (CCW), ... so the corrected path
+/// has inside and outside corners of lines and arcs.
+fn contour(n: usize) -> Vec<Motion> {
+    let mut out = Vec::with_capacity(n);
+    let mut x = 0.0;
+    for i in 0..n {
+        let mut w = [None; AXES];
+        w[1] = Some(0.0);
+        match i % 4 {
+            0 | 2 => {
+                x += 10.0;
+                w[0] = Some(x);
+                out.push(Motion::Lin {
+                    words: w,
+                    feed: Some(6000.0),
+                    rapid: false,
+                });
+            }
+            k => {
+                x += 10.0;
+                w[0] = Some(x);
+                out.push(Motion::Cir {
+                    dir: if k == 1 { ArcDir::Cw } else { ArcDir::Ccw },
+                    words: w,
+                    centre: [Some(5.0), Some(0.0), None],
+                    feed: None,
+                });
+            }
+        }
+    }
+    out
+}
+
+fn running_module() -> TcModule {
+    let mut tc = TcModule::default();
+    for (addr, v) in [
+        ("1300/1/1/8", Value::I32(1)),
+        ("1300/1/1/6", Value::F64(1.0)),
+        ("1300/1/1/9", Value::I32(0)),
+        ("1300/1/1/3", Value::I32(1)),
+    ] {
+        let a = addr.parse().expect("address");
+        tc.write_checked(a, v).expect("setup write");
+    }
+    tc
+}
+
+fn correction(c: &mut Criterion) {
+    const N: usize = 1_000_000;
+    let profiles = contour(N);
+    let mut g = c.benchmark_group("correction");
+    g.throughput(Throughput::Elements(N as u64));
+    g.sample_size(10);
+    g.bench_function("1M mixed line/arc profiles", |b| {
+        b.iter_batched(
+            running_module,
+            |mut tc| {
+                for (i, m) in profiles.iter().enumerate() {
+                    let _ = tc.command(black_box(m));
+                    if i % 1024 == 0 {
+                        // What the executor would have consumed meanwhile.
+                        tc.spooler_mut().discard();
+                    }
+                }
+                assert_eq!(tc.group_at(1).map(|g| g.error.bits()), Some(0));
+                tc
+            },
+            BatchSize::PerIteration,
+        )
+    });
+    g.finish();
+}
+
+fn executor(c: &mut Criterion) {
+    let mut far = [0.0; AXES];
+    far[0] = 1e8;
+    far[1] = 1e8;
+    let mut g = c.benchmark_group("executor");
+    g.throughput(Throughput::Elements(1));
+    g.bench_function("step on a line", |b| {
+        let mut sp = Spooler::default();
+        sp.push(SpoolElement::line(
+            [0.0; AXES],
+            far,
+            1000.0,
+            false,
+            Origin::Plain,
+        ));
+        let mut ex = Executor::default();
+        b.iter(|| ex.step(black_box(&mut sp)));
+    });
+    g.bench_function("step on an arc", |b| {
+        let mut sp = Spooler::default();
+        let plane = tc_module::TcPlane::Xy.pick([0, 1, 2]);
+        // A full circle of radius 1e6: never finishes within the run.
+        let mut start = [0.0; AXES];
+        start[0] = 1e6;
+        sp.push(SpoolElement::arc(
+            start,
+            start,
+            plane,
+            [0.0, 0.0],
+            true,
+            1000.0,
+            Origin::Plain,
+        ));
+        let mut ex = Executor::default();
+        b.iter(|| ex.step(black_box(&mut sp)));
+    });
+    g.finish();
+}
+
+criterion_group!(benches, correction, executor);
+criterion_main!(benches);
