@@ -1,6 +1,7 @@
 //! The emulator: an object server with the TC module on bus 1300, plus the
 //! motion side (commands, executor, spool log) that traces drive.
 
+use otc_ext::OtcExtension;
 use tc_module::{AxisPos, Motion, MotionError, SpoolElement, TcModule};
 use uoi::{AccessError, ObjectAddress, ObjectServer, Value, ValueType};
 
@@ -21,7 +22,8 @@ impl Emulator {
     pub fn new(start: AxisPos, cycle_s: f64) -> Self {
         let mut server = ObjectServer::new();
         // A fresh server has no bus yet, so registering cannot collide.
-        let _ = server.register(TcModule::new(start, cycle_s));
+        let tc = TcModule::new(start, cycle_s).with_extension(Box::new(OtcExtension::default()));
+        let _ = server.register(tc);
         Self { server }
     }
 

@@ -23,6 +23,7 @@
 pub mod bits;
 pub mod correction;
 pub mod executor;
+pub mod extension;
 pub mod geometry;
 pub mod group;
 pub mod module;
@@ -34,10 +35,11 @@ pub mod spooler;
 pub mod tool_table;
 
 pub use bits::{ErrorBits, StatusBits};
+pub use extension::{GroupContext, NoExtension, TcExtension};
 pub use group::{CorrGroup, Side, TransitionMode};
 pub use module::{MotionError, TcModule};
 pub use motion::{ArcDir, AxisWords, Motion};
-pub use object_map::{TcObject, TC_BUS, TC_OBJECTS};
+pub use object_map::{OtcObject, TcObject, TC_BUS, TC_OBJECTS};
 pub use plane::{AxisPos, PlaneAxes, TcPlane, AXES, AXIS_NAMES};
 pub use spooler::{Origin, Path, SpoolElement, Spooler};
 pub use tool_table::{ToolEntry, ToolTable, WkzIndex};

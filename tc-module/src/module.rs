@@ -6,11 +6,12 @@ use uoi::{AccessError, Bus, ObjectAddress, ObjectDesc, Value};
 use crate::bits::{ErrorBits, StatusBits};
 use crate::correction::{Profile, Sink};
 use crate::executor::{Executor, DEFAULT_CYCLE_S};
+use crate::extension::{GroupContext, NoExtension, TcExtension};
 use crate::geometry::{Contour, V2};
 use crate::group::{CorrGroup, Side, TransitionMode};
 use crate::motion::{ArcDir, AxisWords};
 use crate::motion::{Motion, SSF_FLUSH};
-use crate::object_map::{TcObject, TC_BUS, TC_OBJECTS};
+use crate::object_map::{OtcObject, TcObject, TC_BUS, TC_OBJECTS};
 use crate::plane::{AxisPos, PlaneAxes, TcPlane, AXES};
 use crate::rotation::Rotation;
 use crate::spooler::{Origin, SpoolElement, Spooler};
@@ -54,6 +55,7 @@ pub struct TcModule {
     feed: f64,
     spooler: Spooler,
     executor: Executor,
+    ext: Box<dyn TcExtension>,
 }
 
 impl Default for TcModule {
@@ -77,7 +79,57 @@ impl TcModule {
             feed: DEFAULT_FEED,
             spooler: Spooler::default(),
             executor: Executor::new(start, cycle_s),
+            ext: Box::new(NoExtension),
         }
+    }
+
+    /// The module with an extension serving devices 3 and 4 (OTC).
+    pub fn with_extension(mut self, ext: Box<dyn TcExtension>) -> Self {
+        self.ext = ext;
+        self
+    }
+
+    /// Device 3/4 access through the extension.
+    fn ext_read(&mut self, obj: OtcObject, addr: ObjectAddress) -> Result<Value, AccessError> {
+        if addr.device == 4 {
+            return self.ext.read(obj, addr, None);
+        }
+        let running = self.is_running(Self::group_slot(addr));
+        let index = addr.index;
+        let group = self.groups[usize::from(index) - 1].get_or_insert_with(Default::default);
+        self.ext.read(
+            obj,
+            addr,
+            Some(GroupContext {
+                index,
+                group,
+                running,
+            }),
+        )
+    }
+
+    fn ext_write(
+        &mut self,
+        obj: OtcObject,
+        addr: ObjectAddress,
+        v: Value,
+    ) -> Result<(), AccessError> {
+        if addr.device == 4 {
+            return self.ext.write(obj, addr, v, None);
+        }
+        let running = self.is_running(Self::group_slot(addr));
+        let index = addr.index;
+        let group = self.groups[usize::from(index) - 1].get_or_insert_with(Default::default);
+        self.ext.write(
+            obj,
+            addr,
+            v,
+            Some(GroupContext {
+                index,
+                group,
+                running,
+            }),
+        )
     }
 
     fn group(&mut self, index: u16) -> &mut CorrGroup {
@@ -138,6 +190,7 @@ impl TcModule {
             } => self.interpolate(&words, Some((dir, centre)), feed, false),
             Motion::Ja { words } => {
                 check_words(&words)?;
+                self.ext.position_request()?;
                 self.direct_command();
                 for (i, w) in words.iter().enumerate() {
                     if let Some(v) = *w {
@@ -148,6 +201,7 @@ impl TcModule {
                 Ok(())
             }
             Motion::Js { .. } => {
+                self.ext.position_request()?;
                 self.direct_command();
                 self.resync_programmed();
                 Ok(())
@@ -347,6 +401,7 @@ impl TcModule {
 
     /// Device 0 Clean: every group, table and rotation back to defaults.
     fn clean(&mut self) {
+        self.ext.clean();
         self.groups = Default::default();
         self.running = None;
         self.axis_nr = [0, 1, 2];
@@ -357,6 +412,7 @@ impl TcModule {
     fn reset_group(&mut self, slot: usize) {
         if let Some(g) = self.groups[slot].as_mut() {
             g.reset();
+            self.ext.group_reset(slot as u16 + 1);
         }
         if self.running == Some(slot) {
             self.running = None;
@@ -430,7 +486,10 @@ impl TcModule {
                 if running {
                     g.error |= ErrorBits::INIT_ERROR;
                 } else if let Some(w) = WkzIndex::new(i) {
-                    g.wkz = w;
+                    let outgoing = std::mem::replace(&mut g.wkz, w);
+                    if outgoing != w {
+                        self.ext.tool_changed(addr.index, outgoing, w);
+                    }
                 }
             }
             TcObject::Left | TcObject::Right => {
@@ -503,6 +562,7 @@ impl Bus for TcModule {
             TcObject::RotAngle => Value::F64(self.rotation.angle_deg),
             TcObject::RotCenterX => Value::F64(self.rotation.center[0]),
             TcObject::RotCenterY => Value::F64(self.rotation.center[1]),
+            TcObject::Otc(obj) => return self.ext_read(obj, addr),
             TcObject::Status => {
                 let running = self.is_running(slot);
                 let g = self.group(addr.index);
@@ -542,6 +602,7 @@ impl Bus for TcModule {
             TcObject::AxisNr => self.axis_nr[usize::from(addr.sub)] = axis_u8(i),
             TcObject::TcPlane => self.plane = TcPlane::from_code(i).unwrap_or_default(),
             TcObject::ReInit => {
+                self.ext.position_request()?;
                 for g in self.groups.iter_mut().flatten() {
                     g.buffer.clear();
                 }
@@ -554,6 +615,7 @@ impl Bus for TcModule {
             TcObject::RotAngle => self.rotation.angle_deg = d,
             TcObject::RotCenterX => self.rotation.center[0] = d,
             TcObject::RotCenterY => self.rotation.center[1] = d,
+            TcObject::Otc(obj) => return self.ext_write(obj, addr, value),
             group_key => self.write_group(group_key, addr, value),
         }
         Ok(())
