@@ -2,7 +2,7 @@
 //! motion side (commands, executor, spool log) that traces drive.
 
 use otc_ext::OtcExtension;
-use tc_module::{AxisPos, Motion, MotionError, SpoolElement, TcModule};
+use tc_module::{AxisPos, Motion, SpoolElement, TcModule};
 use uoi::{AccessError, ObjectAddress, ObjectServer, Value, ValueType};
 
 /// One emulated controller.
@@ -52,7 +52,7 @@ impl Emulator {
     }
 
     /// Executes a motion command.
-    pub fn command(&mut self, m: &Motion) -> Result<(), MotionError> {
+    pub fn command(&mut self, m: &Motion) -> Result<(), AccessError> {
         self.tc_mut().command(m)
     }
 

@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use tc_module::{AxisPos, MotionError, Path, SpoolElement, AXES, AXIS_NAMES};
+use tc_module::{AxisPos, Path, SpoolElement, AXES, AXIS_NAMES};
 use uoi::Value;
 
 use super::parse::{Expect, Request, SpoolExpect, SpoolKind, Step, Trace};
@@ -101,10 +101,6 @@ fn matches(expect: &Expect, got: &Answer, tol: f64) -> bool {
 }
 
 fn run(emu: &mut Emulator, req: &Request) -> Answer {
-    let motion_err = |e: MotionError| match e {
-        MotionError::Access(a) => Answer::Err(a.name().to_string()),
-        other => Answer::Err(format!("({other})")),
-    };
     match req {
         Request::Write(addr, v) => match emu.write(*addr, *v) {
             Ok(()) => Answer::Ok,
@@ -116,7 +112,7 @@ fn run(emu: &mut Emulator, req: &Request) -> Answer {
         },
         Request::Motion(m) => match emu.command(m) {
             Ok(()) => Answer::Ok,
-            Err(e) => motion_err(e),
+            Err(e) => Answer::Err(e.name().to_string()),
         },
         Request::Exec(n) => {
             emu.exec(*n);

@@ -37,7 +37,7 @@ pub mod tool_table;
 pub use bits::{ErrorBits, StatusBits};
 pub use extension::{GroupContext, NoExtension, TcExtension};
 pub use group::{CorrGroup, Side, TransitionMode};
-pub use module::{MotionError, TcModule};
+pub use module::TcModule;
 pub use motion::{ArcDir, AxisWords, Motion};
 pub use object_map::{OtcObject, TcObject, TC_BUS, TC_OBJECTS};
 pub use plane::{AxisPos, PlaneAxes, TcPlane, AXES, AXIS_NAMES};

@@ -27,18 +27,6 @@ pub const DEFAULT_FEED: f64 = 1000.0;
 /// Default rapid feed in units/min.
 pub const RAPID_FEED: f64 = 10000.0;
 
-/// Why a motion command failed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
-pub enum MotionError {
-    /// Refused with a UOI access error (`State` for a faulted group,
-    /// `Range` for a non-finite coordinate or a feed <= 0).
-    #[error(transparent)]
-    Access(#[from] AccessError),
-    /// The emulator does not implement this yet.
-    #[error("not implemented yet: {0}")]
-    NotImplemented(&'static str),
-}
-
 /// The TC module: global registers, up to 32 compensation groups, the
 /// machine's spooler and executor.
 #[derive(Debug)]
@@ -179,7 +167,7 @@ impl TcModule {
     }
 
     /// Executes a motion command.
-    pub fn command(&mut self, m: &Motion) -> Result<(), MotionError> {
+    pub fn command(&mut self, m: &Motion) -> Result<(), AccessError> {
         match *m {
             Motion::Lin { words, feed, rapid } => self.interpolate(&words, None, feed, rapid),
             Motion::Cir {
@@ -208,7 +196,7 @@ impl TcModule {
             }
             Motion::Ssf { axis, function } => {
                 if usize::from(axis) >= AXES {
-                    return Err(AccessError::Range.into());
+                    return Err(AccessError::Range);
                 }
                 if function == SSF_FLUSH {
                     if let Some(slot) = self.running {
@@ -230,10 +218,10 @@ impl TcModule {
     }
 
     /// Applies a modal feed word.
-    fn take_feed(&mut self, feed: Option<f64>) -> Result<f64, MotionError> {
+    fn take_feed(&mut self, feed: Option<f64>) -> Result<f64, AccessError> {
         if let Some(f) = feed {
             if !(f.is_finite() && f > 0.0 && f <= MAX_COORD) {
-                return Err(AccessError::Range.into());
+                return Err(AccessError::Range);
             }
             self.feed = f;
         }
@@ -319,9 +307,9 @@ impl TcModule {
         arc: Option<(ArcDir, [Option<f64>; 3])>,
         feed: Option<f64>,
         rapid: bool,
-    ) -> Result<(), MotionError> {
+    ) -> Result<(), AccessError> {
         if self.groups.iter().flatten().any(|g| g.faulted) {
-            return Err(AccessError::State.into());
+            return Err(AccessError::State);
         }
         check_words(words)?;
         if let Some((_, ijk)) = arc {
@@ -343,7 +331,7 @@ impl TcModule {
                 Some((dir, c)) => {
                     let r = distance(main.point(&start), c);
                     if r <= crate::geometry::MIN_RADIUS {
-                        return Err(AccessError::Range.into());
+                        return Err(AccessError::Range);
                     }
                     SpoolElement::arc(q, target, main, c, dir == ArcDir::Ccw, feed, Origin::Plain)
                 }
@@ -528,7 +516,7 @@ fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
-fn check_words<const N: usize>(words: &[Option<f64>; N]) -> Result<(), MotionError> {
+fn check_words<const N: usize>(words: &[Option<f64>; N]) -> Result<(), AccessError> {
     if words
         .iter()
         .flatten()
@@ -536,7 +524,7 @@ fn check_words<const N: usize>(words: &[Option<f64>; N]) -> Result<(), MotionErr
     {
         Ok(())
     } else {
-        Err(AccessError::Range.into())
+        Err(AccessError::Range)
     }
 }
 
