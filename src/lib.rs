@@ -15,7 +15,9 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod config;
 pub mod emulator;
+pub mod remote;
 pub mod trace;
 
 pub use emulator::Emulator;

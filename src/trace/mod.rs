@@ -4,5 +4,7 @@
 mod parse;
 mod replay;
 
-pub use parse::{parse_trace, Expect, Request, SpoolExpect, SpoolKind, Step, Trace, TraceError};
-pub use replay::{format_element, replay, Mismatch};
+pub use parse::{
+    parse_request, parse_trace, Expect, Request, SpoolExpect, SpoolKind, Step, Trace, TraceError,
+};
+pub use replay::{format_element, replay, replay_on, Mismatch, Target, TargetAnswer};

@@ -233,7 +233,8 @@ fn no_more(tokens: &[&str], verb: &str) -> Res<()> {
     }
 }
 
-fn parse_request(text: &str) -> Res<Request> {
+/// Parses one request in trace syntax (`R 1300/0/3/0 i`, `LIN X10`, ...).
+pub fn parse_request(text: &str) -> Result<Request, String> {
     let tokens: Vec<&str> = text.split_whitespace().collect();
     let (verb, rest) = tokens.split_first().ok_or("empty request")?;
     let verb = verb.to_ascii_uppercase();

@@ -34,15 +34,6 @@ impl std::fmt::Display for Mismatch {
     }
 }
 
-/// The answer to one request, as text-comparable data.
-enum Answer {
-    Ok,
-    Err(String),
-    Value(Value),
-    Pos(AxisPos),
-    Queue(usize),
-}
-
 fn describe(a: &Answer) -> String {
     match a {
         Answer::Ok => "ok".into(),
@@ -100,26 +91,64 @@ fn matches(expect: &Expect, got: &Answer, tol: f64) -> bool {
     }
 }
 
-fn run(emu: &mut Emulator, req: &Request) -> Answer {
-    match req {
-        Request::Write(addr, v) => match emu.write(*addr, *v) {
-            Ok(()) => Answer::Ok,
-            Err(e) => Answer::Err(e.name().to_string()),
-        },
-        Request::Read(addr, ty) => match emu.read(*addr, *ty) {
-            Ok(v) => Answer::Value(v),
-            Err(e) => Answer::Err(e.name().to_string()),
-        },
-        Request::Motion(m) => match emu.command(m) {
-            Ok(()) => Answer::Ok,
-            Err(e) => Answer::Err(e.name().to_string()),
-        },
-        Request::Exec(n) => {
-            emu.exec(*n);
-            Answer::Ok
+/// What a trace is replayed against: the emulator in this process, or a
+/// server over the wire.
+pub trait Target {
+    /// Carries out one request.
+    fn run(&mut self, req: &Request) -> TargetAnswer;
+    /// The elements spooled since the last call.
+    fn take_spooled(&mut self) -> Result<Vec<SpoolElement>, String>;
+    /// Device 0 AxisNr X/Y/Z (to read `I J K` of spooled arcs).
+    fn axis_nr(&mut self) -> Result<[u8; 3], String>;
+}
+
+/// The answer to one request, as the replayer compares it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TargetAnswer {
+    /// Done.
+    Ok,
+    /// Refused: the access error's name (or a transport failure in brackets).
+    Err(String),
+    /// A value read.
+    Value(Value),
+    /// The executed position.
+    Pos(AxisPos),
+    /// The spooler length.
+    Queue(usize),
+}
+
+use TargetAnswer as Answer;
+
+impl Target for Emulator {
+    fn run(&mut self, req: &Request) -> Answer {
+        match req {
+            Request::Write(addr, v) => match self.write(*addr, *v) {
+                Ok(()) => Answer::Ok,
+                Err(e) => Answer::Err(e.name().to_string()),
+            },
+            Request::Read(addr, ty) => match self.read(*addr, *ty) {
+                Ok(v) => Answer::Value(v),
+                Err(e) => Answer::Err(e.name().to_string()),
+            },
+            Request::Motion(m) => match self.command(m) {
+                Ok(()) => Answer::Ok,
+                Err(e) => Answer::Err(e.name().to_string()),
+            },
+            Request::Exec(n) => {
+                self.exec(*n);
+                Answer::Ok
+            }
+            Request::Pos => Answer::Pos(self.position()),
+            Request::Queue => Answer::Queue(self.queue_len()),
         }
-        Request::Pos => Answer::Pos(emu.position()),
-        Request::Queue => Answer::Queue(emu.queue_len()),
+    }
+
+    fn take_spooled(&mut self) -> Result<Vec<SpoolElement>, String> {
+        Ok(self.take_spool_log())
+    }
+
+    fn axis_nr(&mut self) -> Result<[u8; 3], String> {
+        Ok(self.tc().axis_nr())
     }
 }
 
@@ -210,9 +239,15 @@ fn check_spool(
 pub fn replay(trace: &Trace) -> Vec<Mismatch> {
     let mut emu = Emulator::new(trace.start, trace.cycle_s);
     emu.set_spool_log(true);
+    replay_on(trace, &mut emu)
+}
+
+/// Replays `trace` against a target already set up for it (fresh state at
+/// the trace's start, spool log on).
+pub fn replay_on(trace: &Trace, target: &mut dyn Target) -> Vec<Mismatch> {
     let mut out = Vec::new();
     for step in &trace.steps {
-        let got = run(&mut emu, &step.request);
+        let got = target.run(&step.request);
         if !matches(&step.expect, &got, trace.tol) {
             out.push(Mismatch {
                 file: trace.file.clone(),
@@ -222,8 +257,32 @@ pub fn replay(trace: &Trace) -> Vec<Mismatch> {
                 got: describe(&got),
             });
         }
-        let spooled = emu.take_spool_log();
-        let axis_nr = emu.tc().axis_nr();
+        let fail = |out: &mut Vec<Mismatch>, e: String| {
+            out.push(Mismatch {
+                file: trace.file.clone(),
+                line: step.line,
+                request: step.text.clone(),
+                expected: "a spool log".into(),
+                got: e,
+            })
+        };
+        let spooled = match target.take_spooled() {
+            Ok(s) => s,
+            Err(e) => {
+                fail(&mut out, e);
+                break;
+            }
+        };
+        if spooled.is_empty() && step.spool.is_empty() {
+            continue;
+        }
+        let axis_nr = match target.axis_nr() {
+            Ok(a) => a,
+            Err(e) => {
+                fail(&mut out, e);
+                break;
+            }
+        };
         check_spool(step, &spooled, axis_nr, trace.tol, &trace.file, &mut out);
     }
     out

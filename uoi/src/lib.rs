@@ -49,7 +49,9 @@ mod bus;
 mod dictionary;
 mod error;
 mod server;
+pub mod tcp;
 mod value;
+pub mod wire;
 
 pub use address::{AddressParseError, ObjectAddress};
 pub use bus::{Bus, ObjectBus};

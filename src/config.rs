@@ -1,0 +1,130 @@
+//! Settings of `addipos serve`: TOML, with built-in defaults
+//! (`config/default.toml`, embedded in the binary).
+
+use std::net::SocketAddr;
+use std::time::Duration;
+
+use serde::Deserialize;
+use tc_module::AXES;
+use uoi::tcp::{Core, ServerConfig};
+
+/// The built-in settings.
+pub const DEFAULT_CONFIG: &str = include_str!("../config/default.toml");
+
+/// The settings file (every key optional; missing keys take the defaults).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Config {
+    /// Listen address.
+    pub listen: String,
+    /// Allow a non-loopback listen address.
+    pub allow_remote: bool,
+    /// Connections served at once.
+    pub max_connections: usize,
+    /// Idle timeout in seconds.
+    pub idle_timeout_s: u64,
+    /// `lock` or `owner`.
+    pub core: String,
+    /// Interpolation cycle in ms.
+    pub cycle_ms: f64,
+    /// Machine position at start.
+    pub start: [f64; AXES],
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Self {
+            listen: "127.0.0.1:1300".into(),
+            allow_remote: false,
+            max_connections: 256,
+            idle_timeout_s: 300,
+            core: "lock".into(),
+            cycle_ms: 1.0,
+            start: [0.0; AXES],
+        }
+    }
+}
+
+/// A settings problem, with what to do about it.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct ConfigError(pub String);
+
+impl Config {
+    /// Parses settings text (TOML).
+    pub fn parse(text: &str) -> Result<Self, ConfigError> {
+        toml::from_str(text).map_err(|e| ConfigError(format!("bad settings: {e}")))
+    }
+
+    /// The server settings, checked.
+    pub fn server(&self) -> Result<ServerConfig, ConfigError> {
+        let listen: SocketAddr = self.listen.parse().map_err(|_| {
+            ConfigError(format!(
+                "listen = \"{}\" is not an address like 127.0.0.1:1300",
+                self.listen
+            ))
+        })?;
+        let core = match self.core.as_str() {
+            "lock" => Core::Lock,
+            "owner" => Core::Owner,
+            other => {
+                return Err(ConfigError(format!(
+                    "core = \"{other}\": use \"lock\" or \"owner\""
+                )))
+            }
+        };
+        if self.max_connections == 0 {
+            return Err(ConfigError("max_connections must be at least 1".into()));
+        }
+        if self.idle_timeout_s == 0 {
+            return Err(ConfigError("idle_timeout_s must be at least 1".into()));
+        }
+        Ok(ServerConfig {
+            listen,
+            allow_remote: self.allow_remote,
+            max_connections: self.max_connections,
+            idle_timeout: Duration::from_secs(self.idle_timeout_s),
+            core,
+        })
+    }
+
+    /// The interpolation cycle in seconds, checked.
+    pub fn cycle_s(&self) -> Result<f64, ConfigError> {
+        if self.cycle_ms.is_finite() && self.cycle_ms > 0.0 && self.cycle_ms <= 1000.0 {
+            Ok(self.cycle_ms * 1e-3)
+        } else {
+            Err(ConfigError(format!(
+                "cycle_ms = {} must lie in (0, 1000]",
+                self.cycle_ms
+            )))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn embedded_defaults_parse_and_equal_the_code_defaults() {
+        let c = Config::parse(DEFAULT_CONFIG).unwrap();
+        assert_eq!(c, Config::default());
+        let s = c.server().unwrap();
+        assert_eq!(s.listen.to_string(), "127.0.0.1:1300");
+        assert_eq!(s.max_connections, 256);
+    }
+
+    #[test]
+    fn bad_settings_are_explained() {
+        assert!(Config::parse("listn = \"x\"")
+            .unwrap_err()
+            .0
+            .contains("listn"));
+        let c = Config::parse("core = \"fast\"").unwrap();
+        assert!(c.server().unwrap_err().0.contains("core"));
+        let c = Config::parse("listen = \"nowhere\"").unwrap();
+        assert!(c.server().unwrap_err().0.contains("nowhere"));
+        let c = Config::parse("cycle_ms = 0").unwrap();
+        assert!(c.cycle_s().is_err());
+    }
+}

@@ -1,0 +1,8 @@
+//! UOI over TCP: a tokio server that many host programs share, and a
+//! client (async, plus a blocking wrapper). Frames as in [`crate::wire`].
+
+mod client;
+mod server;
+
+pub use client::{BlockingClient, Client, ClientError};
+pub use server::{Core, Handler, Server, ServerConfig};
