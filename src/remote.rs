@@ -200,47 +200,6 @@ impl Handler for EmulatorService {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn motions_round_trip_through_the_wire_form() {
-        let mut words = [None; AXES];
-        words[0] = Some(1.0);
-        words[2] = Some(-3.0);
-        let mut axes = [false; AXES];
-        axes[1] = true;
-        for m in [
-            Motion::Lin {
-                words,
-                feed: Some(600.0),
-                rapid: false,
-            },
-            Motion::Lin {
-                words,
-                feed: None,
-                rapid: true,
-            },
-            Motion::Cir {
-                dir: ArcDir::Ccw,
-                words,
-                centre: [Some(1.0), None, Some(2.0)],
-                feed: None,
-            },
-            Motion::Ja { words },
-            Motion::Js { axes },
-            Motion::Ssf {
-                axis: 3,
-                function: 2001,
-            },
-            Motion::Rs,
-        ] {
-            assert_eq!(motion_from_wire(&motion_to_wire(&m)), m);
-        }
-    }
-}
-
 /// A trace target on the far side of a connection.
 pub struct RemoteTarget {
     client: uoi::tcp::BlockingClient,
@@ -355,4 +314,45 @@ pub fn replay_remote(
         }];
     }
     crate::trace::replay_on(trace, target)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn motions_round_trip_through_the_wire_form() {
+        let mut words = [None; AXES];
+        words[0] = Some(1.0);
+        words[2] = Some(-3.0);
+        let mut axes = [false; AXES];
+        axes[1] = true;
+        for m in [
+            Motion::Lin {
+                words,
+                feed: Some(600.0),
+                rapid: false,
+            },
+            Motion::Lin {
+                words,
+                feed: None,
+                rapid: true,
+            },
+            Motion::Cir {
+                dir: ArcDir::Ccw,
+                words,
+                centre: [Some(1.0), None, Some(2.0)],
+                feed: None,
+            },
+            Motion::Ja { words },
+            Motion::Js { axes },
+            Motion::Ssf {
+                axis: 3,
+                function: 2001,
+            },
+            Motion::Rs,
+        ] {
+            assert_eq!(motion_from_wire(&motion_to_wire(&m)), m);
+        }
+    }
 }

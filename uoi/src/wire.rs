@@ -39,6 +39,14 @@ pub struct Header {
 /// Size of [`Header`].
 pub const HEADER_LEN: usize = std::mem::size_of::<Header>();
 
+// A full SPOOL_LOG answer must fit one frame.
+const _: () = assert!(
+    HEADER_LEN
+        + std::mem::size_of::<SpoolLogAns>()
+        + SPOOL_BATCH * std::mem::size_of::<WireElement>()
+        <= MAX_FRAME
+);
+
 /// An object address (8 bytes).
 #[derive(
     Debug, Clone, Copy, PartialEq, Eq, FromBytes, IntoBytes, KnownLayout, Immutable, Unaligned,
@@ -803,7 +811,6 @@ mod tests {
         assert_eq!(std::mem::size_of::<MotionReq>(), 108);
         assert_eq!(std::mem::size_of::<SetupReq>(), 72);
         assert_eq!(std::mem::size_of::<WireElement>(), 160);
-        assert!(HEADER_LEN + 4 + SPOOL_BATCH * 160 <= MAX_FRAME);
     }
 
     #[test]
