@@ -1,0 +1,489 @@
+//! The object server over TCP: the corpus on the wire, many clients at once,
+//! malformed input, limits and shutdown. Every test binds 127.0.0.1:0.
+
+use std::io::{Read, Write};
+use std::net::{SocketAddr, TcpStream};
+use std::path::PathBuf;
+use std::time::Duration;
+
+use addipos::remote::{replay_remote, EmulatorService, RemoteTarget};
+use addipos::trace::parse_trace;
+use uoi::tcp::{BlockingClient, Client, Core, Server, ServerConfig};
+use uoi::wire::{encode_request, Answer, Op, ProtocolError, Request, PREFIX_LEN};
+use uoi::{AccessError, ObjectAddress, Value, ValueType};
+
+/// A server on its own thread and runtime, stopped on drop.
+struct TestServer {
+    addr: SocketAddr,
+    stop: Option<tokio::sync::oneshot::Sender<()>>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl TestServer {
+    fn start(cfg: ServerConfig) -> Self {
+        let (addr_tx, addr_rx) = std::sync::mpsc::channel();
+        let (stop_tx, stop_rx) = tokio::sync::oneshot::channel::<()>();
+        let thread = std::thread::spawn(move || {
+            let rt = tokio::runtime::Builder::new_multi_thread()
+                .worker_threads(2)
+                .enable_all()
+                .build()
+                .expect("runtime");
+            rt.block_on(async move {
+                let server = Server::bind(cfg, EmulatorService::new([0.0; 8], 1e-3))
+                    .await
+                    .expect("bind");
+                addr_tx
+                    .send(server.local_addr().expect("addr"))
+                    .expect("send addr");
+                server
+                    .run(async {
+                        let _ = stop_rx.await;
+                    })
+                    .await
+                    .expect("run");
+            });
+        });
+        let addr = addr_rx
+            .recv_timeout(Duration::from_secs(10))
+            .expect("server started");
+        Self {
+            addr,
+            stop: Some(stop_tx),
+            thread: Some(thread),
+        }
+    }
+
+    fn local(core: Core) -> Self {
+        Self::start(ServerConfig {
+            listen: "127.0.0.1:0".parse().expect("addr"),
+            core,
+            ..ServerConfig::default()
+        })
+    }
+}
+
+impl Drop for TestServer {
+    fn drop(&mut self) {
+        if let Some(s) = self.stop.take() {
+            let _ = s.send(());
+        }
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+fn corpus() -> Vec<addipos::trace::Trace> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("traces");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("traces/")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "trace"))
+        .collect();
+    files.sort();
+    files
+        .iter()
+        .map(|f| {
+            parse_trace(
+                &f.display().to_string(),
+                &std::fs::read_to_string(f).expect("read"),
+            )
+            .expect("parse")
+        })
+        .collect()
+}
+
+fn replay_corpus_over(core: Core) {
+    let server = TestServer::local(core);
+    let mut target = RemoteTarget::connect(&server.addr.to_string()).expect("connect");
+    let traces = corpus();
+    assert!(traces.len() >= 40);
+    let mut failed = Vec::new();
+    for t in &traces {
+        failed.extend(replay_remote(t, &mut target).iter().map(|m| m.to_string()));
+    }
+    assert!(
+        failed.is_empty(),
+        "over TCP ({core:?}):\n{}",
+        failed.join("\n")
+    );
+}
+
+#[test]
+fn whole_corpus_passes_over_tcp_with_the_lock_core() {
+    replay_corpus_over(Core::Lock);
+}
+
+#[test]
+fn whole_corpus_passes_over_tcp_with_the_owner_core() {
+    replay_corpus_over(Core::Owner);
+}
+
+fn addr(s: &str) -> ObjectAddress {
+    s.parse().expect("address")
+}
+
+#[test]
+fn several_clients_on_different_groups_at_once() {
+    let server = TestServer::local(Core::Lock);
+    let threads: Vec<_> = (1..=8u16)
+        .map(|g| {
+            let a = server.addr.to_string();
+            std::thread::spawn(move || {
+                let mut c = BlockingClient::connect(&a).expect("connect");
+                for k in 0..200 {
+                    let wkz = (k % 1024) as i32;
+                    c.write(addr(&format!("1300/1/{g}/8")), Value::I32(wkz))
+                        .expect("WKZINDEX");
+                    let r = f64::from(g) * 1000.0 + f64::from(k);
+                    c.write(addr(&format!("1300/1/{g}/6")), Value::F64(r))
+                        .expect("RADIUS");
+                    assert_eq!(
+                        c.read(addr(&format!("1300/1/{g}/8")), ValueType::I32)
+                            .expect("read"),
+                        Value::I32(wkz)
+                    );
+                    assert_eq!(
+                        c.read(addr(&format!("1300/1/{g}/6")), ValueType::F64)
+                            .expect("read"),
+                        Value::F64(r)
+                    );
+                }
+            })
+        })
+        .collect();
+    for t in threads {
+        t.join().expect("client thread");
+    }
+}
+
+/// A raw connection for malformed input.
+fn raw(server: &TestServer) -> TcpStream {
+    let s = TcpStream::connect(server.addr).expect("connect");
+    s.set_read_timeout(Some(Duration::from_secs(10)))
+        .expect("timeout");
+    s
+}
+
+/// Reads one answer frame: (request id, op, status).
+fn read_answer(s: &mut TcpStream) -> Option<(u32, u8, u32)> {
+    let mut pre = [0u8; 4];
+    s.read_exact(&mut pre).ok()?;
+    let mut body = vec![0u8; u32::from_le_bytes(pre) as usize];
+    s.read_exact(&mut body).ok()?;
+    let id = u32::from_le_bytes(body[4..8].try_into().ok()?);
+    let status = u32::from_le_bytes(body[8..12].try_into().ok()?);
+    Some((id, body[3], status))
+}
+
+fn frame(id: u32, req: &Request) -> Vec<u8> {
+    let mut out = Vec::new();
+    encode_request(id, req, &mut out);
+    out
+}
+
+fn is_closed(s: &mut TcpStream) -> bool {
+    let mut b = [0u8; 1];
+    matches!(s.read(&mut b), Ok(0) | Err(_))
+}
+
+/// Everything a malformed frame could have changed, read over a good connection.
+fn snapshot(c: &mut BlockingClient) -> Vec<String> {
+    let mut out = Vec::new();
+    for a in [
+        "1300/0/2/0",
+        "1300/0/2/1",
+        "1300/0/2/2",
+        "1300/0/3/0",
+        "1300/1/1/1",
+        "1300/1/1/3",
+        "1300/1/1/8",
+        "1300/1/1/4",
+    ] {
+        out.push(format!(
+            "{:?}",
+            c.read(addr(a), ValueType::I32).map_err(|e| e.to_string())
+        ));
+    }
+    for a in ["1300/0/20/0", "1300/0/21/0", "1300/1/1/6", "1300/1/1/12"] {
+        out.push(format!(
+            "{:?}",
+            c.read(addr(a), ValueType::F64).map_err(|e| e.to_string())
+        ));
+    }
+    out.push(format!(
+        "{:?}",
+        c.call(&Request::Pos).map_err(|e| e.to_string())
+    ));
+    out.push(format!(
+        "{:?}",
+        c.call(&Request::Queue).map_err(|e| e.to_string())
+    ));
+    out
+}
+
+#[test]
+fn malformed_input_is_answered_or_closed_and_changes_nothing() {
+    let server = TestServer::local(Core::Lock);
+    let mut good = BlockingClient::connect(&server.addr.to_string()).expect("connect");
+    good.write(addr("1300/1/1/6"), Value::F64(2.5))
+        .expect("setup");
+    let before = snapshot(&mut good);
+    let pos_req = frame(7, &Request::Read(addr("1300/0/3/0"), ValueType::I32));
+
+    // Truncated header: a 5-byte frame. Answered, connection goes on.
+    let mut s = raw(&server);
+    s.write_all(&[5, 0, 0, 0, b'U', b'O', 1, 1, 0])
+        .expect("write");
+    assert_eq!(
+        read_answer(&mut s),
+        Some((0, 0, ProtocolError::FrameTooShort.code()))
+    );
+    s.write_all(&pos_req).expect("write");
+    assert_eq!(read_answer(&mut s), Some((7, Op::Read as u8, 0)));
+
+    // Length 0.
+    let mut s = raw(&server);
+    s.write_all(&[0, 0, 0, 0]).expect("write");
+    assert_eq!(
+        read_answer(&mut s),
+        Some((0, 0, ProtocolError::FrameTooShort.code()))
+    );
+
+    // Length 10 MB: answered, then closed without reading 10 MB.
+    let mut s = raw(&server);
+    s.write_all(&(10u32 * 1024 * 1024).to_le_bytes())
+        .expect("write");
+    s.write_all(&[0u8; 1000]).expect("write");
+    assert_eq!(
+        read_answer(&mut s),
+        Some((0, 0, ProtocolError::FrameTooLarge.code()))
+    );
+    assert!(is_closed(&mut s));
+
+    // Wrong magic: answered with the request id, connection goes on.
+    let mut s = raw(&server);
+    let mut f = frame(9, &Request::Write(addr("1300/0/3/0"), Value::I32(18)));
+    f[PREFIX_LEN] = b'X';
+    s.write_all(&f).expect("write");
+    assert_eq!(
+        read_answer(&mut s),
+        Some((9, Op::Write as u8, ProtocolError::BadMagic.code()))
+    );
+    // Unknown version and unknown op.
+    let mut f = frame(10, &Request::Write(addr("1300/0/3/0"), Value::I32(18)));
+    f[PREFIX_LEN + 2] = 2;
+    s.write_all(&f).expect("write");
+    assert_eq!(
+        read_answer(&mut s),
+        Some((
+            10,
+            Op::Write as u8,
+            ProtocolError::UnsupportedVersion.code()
+        ))
+    );
+    let mut f = frame(11, &Request::Write(addr("1300/0/3/0"), Value::I32(18)));
+    f[PREFIX_LEN + 3] = 0x7e;
+    s.write_all(&f).expect("write");
+    assert_eq!(
+        read_answer(&mut s),
+        Some((11, 0x7e, ProtocolError::UnknownOp.code()))
+    );
+    // A payload that does not fit its op.
+    let mut f = frame(12, &Request::Write(addr("1300/0/3/0"), Value::I32(18)));
+    f.pop();
+    let n = (f.len() - PREFIX_LEN) as u32;
+    f[..4].copy_from_slice(&n.to_le_bytes());
+    s.write_all(&f).expect("write");
+    assert_eq!(
+        read_answer(&mut s),
+        Some((12, Op::Write as u8, ProtocolError::BadPayload.code()))
+    );
+    s.write_all(&pos_req).expect("write");
+    assert_eq!(read_answer(&mut s), Some((7, Op::Read as u8, 0)));
+
+    // Random bytes (deterministic): only error answers, or a close.
+    let mut s = raw(&server);
+    let mut x: u64 = 0x2545_F491_4F6C_DD1D;
+    let junk: Vec<u8> = (0..4096)
+        .map(|_| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 24) as u8
+        })
+        .collect();
+    s.write_all(&junk).expect("write");
+    let _ = s.shutdown(std::net::Shutdown::Write);
+    while let Some((_, _, status)) = read_answer(&mut s) {
+        assert_ne!(status, 0, "random bytes were taken as a request");
+    }
+
+    // Half a frame, then close.
+    let mut s = raw(&server);
+    s.write_all(&pos_req[..pos_req.len() / 2]).expect("write");
+    drop(s);
+
+    // The server still serves, and nothing changed.
+    std::thread::sleep(Duration::from_millis(100));
+    assert_eq!(snapshot(&mut good), before);
+    let mut again = BlockingClient::connect(&server.addr.to_string()).expect("reconnect");
+    assert_eq!(
+        again
+            .read(addr("1300/0/3/0"), ValueType::I32)
+            .expect("read"),
+        Value::I32(17)
+    );
+}
+
+#[test]
+fn connection_limit_answers_busy() {
+    let server = TestServer::start(ServerConfig {
+        listen: "127.0.0.1:0".parse().expect("addr"),
+        max_connections: 2,
+        ..ServerConfig::default()
+    });
+    let mut a = BlockingClient::connect(&server.addr.to_string()).expect("a");
+    let mut b = BlockingClient::connect(&server.addr.to_string()).expect("b");
+    assert!(a.read(addr("1300/0/3/0"), ValueType::I32).is_ok());
+    assert!(b.read(addr("1300/0/3/0"), ValueType::I32).is_ok());
+    let mut c = raw(&server);
+    assert_eq!(
+        read_answer(&mut c),
+        Some((0, 0, ProtocolError::Busy.code()))
+    );
+    assert!(is_closed(&mut c));
+    drop(a);
+    std::thread::sleep(Duration::from_millis(200));
+    let mut d = BlockingClient::connect(&server.addr.to_string()).expect("d");
+    assert!(d.read(addr("1300/0/3/0"), ValueType::I32).is_ok());
+}
+
+#[test]
+fn idle_connections_are_closed() {
+    let server = TestServer::start(ServerConfig {
+        listen: "127.0.0.1:0".parse().expect("addr"),
+        idle_timeout: Duration::from_millis(300),
+        ..ServerConfig::default()
+    });
+    let mut s = raw(&server);
+    std::thread::sleep(Duration::from_millis(800));
+    assert!(is_closed(&mut s));
+}
+
+#[test]
+fn non_loopback_needs_allow_remote() {
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("rt");
+    let err = rt
+        .block_on(Server::bind(
+            ServerConfig {
+                listen: "0.0.0.0:0".parse().expect("addr"),
+                ..ServerConfig::default()
+            },
+            EmulatorService::new([0.0; 8], 1e-3),
+        ))
+        .err()
+        .expect("refused");
+    assert_eq!(err.kind(), std::io::ErrorKind::PermissionDenied);
+}
+
+#[test]
+fn shutdown_closes_connections_and_returns() {
+    let server = TestServer::local(Core::Lock);
+    let mut s = raw(&server);
+    s.write_all(&frame(1, &Request::Queue)).expect("write");
+    assert_eq!(read_answer(&mut s).map(|a| a.2), Some(0));
+    drop(server); // sends the stop and joins the server thread
+    assert!(is_closed(&mut s));
+}
+
+/// Each client owns one object; every answer is known in advance whatever
+/// the interleaving.
+#[test]
+fn two_hundred_clients_a_thousand_requests_each() {
+    let server = TestServer::local(Core::Lock);
+    let a = server.addr;
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .expect("rt");
+    let objects: [(u16, u16, bool); 7] = [
+        (1, 6, true),
+        (1, 12, true),
+        (3, 4, true),
+        (3, 31, true),
+        (3, 32, true),
+        (3, 33, true),
+        (3, 50, false),
+    ];
+    let work = async move {
+        let mut tasks = tokio::task::JoinSet::new();
+        for i in 0..200u16 {
+            tasks.spawn(async move {
+                let group = i / 7 + 1;
+                let (dev, sub, is_d) = objects[usize::from(i % 7)];
+                let obj = ObjectAddress::new(1300, dev, group, sub);
+                let mut c = Client::connect(a).await.expect("connect");
+                let mut answered = 0usize;
+                for round in 0..50u32 {
+                    let v = if is_d {
+                        Value::F64(f64::from(round) + f64::from(i) / 1000.0)
+                    } else {
+                        Value::I32(round as i32 * 1000 + i32::from(i))
+                    };
+                    let bad = if is_d {
+                        Value::F64(f64::NAN)
+                    } else {
+                        Value::F64(1.0)
+                    };
+                    let bad_err = if is_d {
+                        AccessError::Range
+                    } else {
+                        AccessError::TypeMismatch
+                    };
+                    let ty = if is_d { ValueType::F64 } else { ValueType::I32 };
+                    let mut reqs = Vec::with_capacity(20);
+                    let mut want = Vec::with_capacity(20);
+                    for _ in 0..4 {
+                        reqs.push(Request::Write(obj, v));
+                        want.push(Answer::Ok);
+                        reqs.push(Request::Read(obj, ty));
+                        want.push(Answer::Value(v));
+                        reqs.push(Request::Write(obj, bad));
+                        want.push(Answer::Access(bad_err));
+                        reqs.push(Request::Read(
+                            ObjectAddress::new(1300, 0, 3, 0),
+                            ValueType::I32,
+                        ));
+                        want.push(Answer::Value(Value::I32(17)));
+                        reqs.push(Request::Read(
+                            ObjectAddress::new(1300, 9, 1, 1),
+                            ValueType::I32,
+                        ));
+                        want.push(Answer::Access(AccessError::NoObject));
+                    }
+                    let got = c.pipeline(&reqs).await.expect("pipeline");
+                    assert_eq!(got, want, "client {i} round {round}");
+                    answered += got.len();
+                }
+                answered
+            });
+        }
+        let mut total = 0;
+        while let Some(r) = tasks.join_next().await {
+            total += r.expect("client task");
+        }
+        total
+    };
+    let result = rt
+        .block_on(async { tokio::time::timeout(Duration::from_secs(120), work).await })
+        .expect("finished within 120 s");
+    assert_eq!(result, 200 * 1000);
+    let mut c = BlockingClient::connect(&a.to_string()).expect("connect");
+    assert_eq!(c.call(&Request::Queue).expect("queue"), Answer::Queue(0));
+}
