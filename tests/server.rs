@@ -133,7 +133,7 @@ fn several_clients_on_different_groups_at_once() {
             std::thread::spawn(move || {
                 let mut c = BlockingClient::connect(&a).expect("connect");
                 for k in 0..200 {
-                    let wkz = (k % 1024) as i32;
+                    let wkz = k % 1024;
                     c.write(addr(&format!("1300/1/{g}/8")), Value::I32(wkz))
                         .expect("WKZINDEX");
                     let r = f64::from(g) * 1000.0 + f64::from(k);
