@@ -4,15 +4,28 @@ use uoi::wire::{encode_answer, encode_request, Answer, Op, Request};
 use uoi::{ObjectAddress, Value, ValueType};
 
 fn hex(b: &[u8]) -> String {
-    b.iter().map(|x| format!("{x:02x}")).collect::<Vec<_>>().join(" ")
+    b.iter()
+        .map(|x| format!("{x:02x}"))
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 #[test]
 fn documented_example_bytes() {
     let mut req = Vec::new();
-    encode_request(1, &Request::Read(ObjectAddress::new(1300, 0, 3, 0), ValueType::I32), &mut req);
-    assert_eq!(hex(&req), "18 00 00 00 55 4f 01 01 01 00 00 00 00 00 00 00 14 05 00 00 03 00 00 00 69 00 00 00");
+    encode_request(
+        1,
+        &Request::Read(ObjectAddress::new(1300, 0, 3, 0), ValueType::I32),
+        &mut req,
+    );
+    assert_eq!(
+        hex(&req),
+        "18 00 00 00 55 4f 01 01 01 00 00 00 00 00 00 00 14 05 00 00 03 00 00 00 69 00 00 00"
+    );
     let mut ans = Vec::new();
     encode_answer(1, Op::Read as u8, &Answer::Value(Value::I32(17)), &mut ans);
-    assert_eq!(hex(&ans), "18 00 00 00 55 4f 01 01 01 00 00 00 00 00 00 00 69 00 00 00 11 00 00 00 00 00 00 00");
+    assert_eq!(
+        hex(&ans),
+        "18 00 00 00 55 4f 01 01 01 00 00 00 00 00 00 00 69 00 00 00 11 00 00 00 00 00 00 00"
+    );
 }

@@ -8,6 +8,8 @@ use std::net::SocketAddr;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use tokio::time::Instant;
+
 use tokio::io::{AsyncReadExt, AsyncWriteExt, BufReader, BufWriter};
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::{mpsc, oneshot, watch, Semaphore};
@@ -220,18 +222,38 @@ async fn serve_connection<H: Handler>(
     let mut w = BufWriter::with_capacity(64 * 1024, w);
     let mut body = Vec::with_capacity(256);
     let mut out = Vec::with_capacity(256);
+    // One timer for the connection, moved on only when it fires: a request
+    // costs a clock read, not a timer update.
+    let mut last = Instant::now();
+    let watchdog = tokio::time::sleep(idle);
+    tokio::pin!(watchdog);
+    // Registered once, not on every wait.
+    let stopped = stop.changed();
+    tokio::pin!(stopped);
     loop {
         let mut prefix = [0u8; PREFIX_LEN];
-        tokio::select! {
-            res = tokio::time::timeout(idle, r.read_exact(&mut prefix)) => match res {
-                Ok(Ok(_)) => {}
-                Ok(Err(_)) => break, // closed, or half a frame then closed
-                Err(_) => {
-                    debug!("idle timeout");
-                    break;
+        if r.buffer().len() >= PREFIX_LEN {
+            // Pipelined: the next prefix is already here.
+            if r.read_exact(&mut prefix).await.is_err() {
+                break;
+            }
+        } else {
+            let got = loop {
+                tokio::select! {
+                    res = r.read_exact(&mut prefix) => break res.is_ok(),
+                    () = &mut watchdog => {
+                        if last.elapsed() >= idle {
+                            debug!("idle timeout");
+                            break false;
+                        }
+                        watchdog.as_mut().reset(last + idle);
+                    }
+                    _ = &mut stopped => break false,
                 }
-            },
-            _ = stop.changed() => break,
+            };
+            if !got {
+                break; // closed, half a frame then closed, idle, or shutdown
+            }
         }
         let len = u32::from_le_bytes(prefix) as usize;
         if len > MAX_FRAME {
@@ -247,10 +269,18 @@ async fn serve_connection<H: Handler>(
             break;
         }
         body.resize(len, 0);
-        match tokio::time::timeout(idle, r.read_exact(&mut body)).await {
-            Ok(Ok(_)) => {}
-            _ => break,
+        let complete = if r.buffer().len() >= len {
+            r.read_exact(&mut body).await.is_ok()
+        } else {
+            matches!(
+                tokio::time::timeout(idle, r.read_exact(&mut body)).await,
+                Ok(Ok(_))
+            )
+        };
+        if !complete {
+            break;
         }
+        last = Instant::now();
         let (id, op, answer) = match decode_request(&body) {
             Ok((id, req)) => (id, req.op() as u8, shared.handle(req).await),
             Err((id, op, e)) => {
