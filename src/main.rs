@@ -7,7 +7,7 @@ use clap::{Parser, Subcommand};
 
 use addipos::config::{Config, DEFAULT_CONFIG};
 use addipos::remote::{replay_remote, request_to_wire, EmulatorService, RemoteTarget};
-use addipos::trace::{parse_request, parse_trace, replay, Mismatch, Trace};
+use addipos::trace::{load_trace, parse_request, replay, trace_files, Mismatch};
 use uoi::tcp::Server;
 use uoi::wire::Answer;
 
@@ -65,24 +65,12 @@ fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
     let mut out = Vec::new();
     for p in paths {
         if p.is_dir() {
-            let rd = std::fs::read_dir(p).map_err(|e| format!("{}: {e}", p.display()))?;
-            let mut files: Vec<PathBuf> = rd
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|f| f.extension().is_some_and(|x| x == "trace"))
-                .collect();
-            files.sort();
-            out.extend(files);
+            out.extend(trace_files(p).map_err(|e| format!("{}: {e}", p.display()))?);
         } else {
             out.push(p.clone());
         }
     }
     Ok(out)
-}
-
-fn load(f: &Path) -> Result<Trace, String> {
-    let name = f.display().to_string();
-    let text = std::fs::read_to_string(f).map_err(|e| format!("{name}: cannot read: {e}"))?;
-    parse_trace(&name, &text).map_err(|e| e.to_string())
 }
 
 fn cmd_replay(files: &[PathBuf], server: Option<&str>, verbose: bool) -> ExitCode {
@@ -106,7 +94,7 @@ fn cmd_replay(files: &[PathBuf], server: Option<&str>, verbose: bool) -> ExitCod
     };
     let (mut passed, mut failed) = (0usize, 0usize);
     for f in &files {
-        let trace = match load(f) {
+        let trace = match load_trace(f) {
             Ok(t) => t,
             Err(e) => {
                 println!("{e}");

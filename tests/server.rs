@@ -7,7 +7,6 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use addipos::remote::{replay_remote, EmulatorService, RemoteTarget};
-use addipos::trace::parse_trace;
 use uoi::tcp::{BlockingClient, Client, Core, Server, ServerConfig};
 use uoi::wire::{encode_request, Answer, Op, ProtocolError, Request, PREFIX_LEN};
 use uoi::{AccessError, ObjectAddress, Value, ValueType};
@@ -76,21 +75,10 @@ impl Drop for TestServer {
 
 fn corpus() -> Vec<addipos::trace::Trace> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("traces");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .expect("traces/")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "trace"))
-        .collect();
-    files.sort();
+    let files = addipos::trace::trace_files(&dir).expect("traces/ readable");
     files
         .iter()
-        .map(|f| {
-            parse_trace(
-                &f.display().to_string(),
-                &std::fs::read_to_string(f).expect("read"),
-            )
-            .expect("parse")
-        })
+        .map(|f| addipos::trace::load_trace(f).unwrap_or_else(|e| panic!("{e}")))
         .collect()
 }
 

@@ -3,24 +3,16 @@
 
 use std::path::PathBuf;
 
-use addipos::trace::{parse_trace, replay, Expect, Request, Trace};
+use addipos::trace::{replay, Expect, Request, Trace};
 use tc_module::TC_OBJECTS;
 use uoi::AccessError;
 
 fn corpus() -> Vec<Trace> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("traces");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .expect("traces/ exists")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "trace"))
-        .collect();
-    files.sort();
+    let files = addipos::trace::trace_files(&dir).expect("traces/ readable");
     files
         .iter()
-        .map(|f| {
-            let text = std::fs::read_to_string(f).expect("trace readable");
-            parse_trace(&f.display().to_string(), &text).unwrap_or_else(|e| panic!("{e}"))
-        })
+        .map(|f| addipos::trace::load_trace(f).unwrap_or_else(|e| panic!("{e}")))
         .collect()
 }
 

@@ -11,7 +11,7 @@ use crate::geometry::{Contour, V2};
 use crate::group::{CorrGroup, Side, TransitionMode};
 use crate::motion::{ArcDir, AxisWords};
 use crate::motion::{Motion, SSF_FLUSH};
-use crate::object_map::{OtcObject, TcObject, TC_BUS, TC_OBJECTS};
+use crate::object_map::{TcObject, TC_BUS, TC_OBJECTS};
 use crate::plane::{AxisPos, PlaneAxes, TcPlane, AXES};
 use crate::rotation::Rotation;
 use crate::spooler::{Origin, SpoolElement, Spooler};
@@ -77,41 +77,21 @@ impl TcModule {
         self
     }
 
-    /// Device 3/4 access through the extension.
-    fn ext_read(&mut self, obj: OtcObject, addr: ObjectAddress) -> Result<Value, AccessError> {
-        if addr.device == 4 {
-            return self.ext.read(obj, addr, None);
-        }
-        let running = self.is_running(Self::group_slot(addr));
-        let index = addr.index;
-        let group = self.groups[usize::from(index) - 1].get_or_insert_with(Default::default);
-        self.ext.read(
-            obj,
-            addr,
-            Some(GroupContext {
-                index,
-                group,
-                running,
-            }),
-        )
-    }
-
-    fn ext_write(
+    /// Runs `f` on the extension with the group a device 3 access
+    /// addresses (created on first access); device 4 has no group.
+    fn with_ext<T>(
         &mut self,
-        obj: OtcObject,
         addr: ObjectAddress,
-        v: Value,
-    ) -> Result<(), AccessError> {
+        f: impl FnOnce(&mut dyn TcExtension, Option<GroupContext<'_>>) -> T,
+    ) -> T {
         if addr.device == 4 {
-            return self.ext.write(obj, addr, v, None);
+            return f(self.ext.as_mut(), None);
         }
         let running = self.is_running(Self::group_slot(addr));
         let index = addr.index;
         let group = self.groups[usize::from(index) - 1].get_or_insert_with(Default::default);
-        self.ext.write(
-            obj,
-            addr,
-            v,
+        f(
+            self.ext.as_mut(),
             Some(GroupContext {
                 index,
                 group,
@@ -550,7 +530,7 @@ impl Bus for TcModule {
             TcObject::RotAngle => Value::F64(self.rotation.angle_deg),
             TcObject::RotCenterX => Value::F64(self.rotation.center[0]),
             TcObject::RotCenterY => Value::F64(self.rotation.center[1]),
-            TcObject::Otc(obj) => return self.ext_read(obj, addr),
+            TcObject::Otc(obj) => return self.with_ext(addr, |ext, g| ext.read(obj, addr, g)),
             TcObject::Status => {
                 let running = self.is_running(slot);
                 let g = self.group(addr.index);
@@ -603,7 +583,9 @@ impl Bus for TcModule {
             TcObject::RotAngle => self.rotation.angle_deg = d,
             TcObject::RotCenterX => self.rotation.center[0] = d,
             TcObject::RotCenterY => self.rotation.center[1] = d,
-            TcObject::Otc(obj) => return self.ext_write(obj, addr, value),
+            TcObject::Otc(obj) => {
+                return self.with_ext(addr, |ext, g| ext.write(obj, addr, value, g))
+            }
             group_key => self.write_group(group_key, addr, value),
         }
         Ok(())

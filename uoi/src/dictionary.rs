@@ -92,6 +92,30 @@ pub struct ObjectDesc<K> {
 }
 
 impl<K> ObjectDesc<K> {
+    /// An object of type `ty` at one subindex.
+    #[allow(clippy::too_many_arguments)]
+    pub const fn new(
+        key: K,
+        name: &'static str,
+        device: u16,
+        index: RangeInclusive<u16>,
+        sub: u16,
+        ty: ValueType,
+        access: Access,
+        range: ValueRange,
+    ) -> Self {
+        Self {
+            key,
+            name,
+            device,
+            index,
+            sub: sub..=sub,
+            ty,
+            access,
+            range,
+        }
+    }
+
     /// An `i` object at one subindex.
     pub const fn int(
         key: K,
@@ -102,16 +126,7 @@ impl<K> ObjectDesc<K> {
         access: Access,
         range: ValueRange,
     ) -> Self {
-        Self {
-            key,
-            name,
-            device,
-            index,
-            sub: sub..=sub,
-            ty: ValueType::I32,
-            access,
-            range,
-        }
+        Self::new(key, name, device, index, sub, ValueType::I32, access, range)
     }
 
     /// A `d` object at one subindex.
@@ -124,16 +139,7 @@ impl<K> ObjectDesc<K> {
         access: Access,
         range: ValueRange,
     ) -> Self {
-        Self {
-            key,
-            name,
-            device,
-            index,
-            sub: sub..=sub,
-            ty: ValueType::F64,
-            access,
-            range,
-        }
+        Self::new(key, name, device, index, sub, ValueType::F64, access, range)
     }
 
     /// The same object spread over the subindexes `first..=last`.
