@@ -198,14 +198,20 @@ impl TcModule {
     }
 
     /// Applies a modal feed word.
-    fn take_feed(&mut self, feed: Option<f64>) -> Result<f64, AccessError> {
-        if let Some(f) = feed {
-            if !(f.is_finite() && f > 0.0 && f <= MAX_COORD) {
-                return Err(AccessError::Range);
-            }
-            self.feed = f;
+    /// The feed a command runs at: its `F` word (checked) or the modal one.
+    fn feed_for(&self, feed: Option<f64>) -> Result<f64, AccessError> {
+        match feed {
+            Some(f) if !(f.is_finite() && f > 0.0 && f <= MAX_COORD) => Err(AccessError::Range),
+            Some(f) => Ok(f),
+            None => Ok(self.feed),
         }
-        Ok(self.feed)
+    }
+
+    /// Takes over an accepted interpolation command's modal feed and end point.
+    fn accept(&mut self, feed: f64, programmed: AxisPos, target: AxisPos) {
+        self.feed = feed;
+        self.programmed = programmed;
+        self.contour_end = target;
     }
 
     /// The machine target and the new programmed position for axis words.
@@ -295,15 +301,13 @@ impl TcModule {
         if let Some((_, ijk)) = arc {
             check_words(&ijk)?;
         }
-        let feed = self.take_feed(feed)?;
-        let feed = if rapid { RAPID_FEED } else { feed };
+        let modal_feed = self.feed_for(feed)?;
+        let feed = if rapid { RAPID_FEED } else { modal_feed };
         let (target, programmed) = self.target(words);
         let start = self.contour_end;
         let main = self.main_plane();
         let centre = arc.map(|(dir, ijk)| (dir, self.centre(&start, ijk)));
         let q = self.tool_position();
-        self.programmed = programmed;
-        self.contour_end = target;
 
         let Some(slot) = self.running else {
             let element = match centre {
@@ -311,14 +315,19 @@ impl TcModule {
                 Some((dir, c)) => {
                     let r = distance(main.point(&start), c);
                     if r <= crate::geometry::MIN_RADIUS {
+                        // Refused: nothing changes, not even the modal feed.
                         return Err(AccessError::Range);
                     }
                     SpoolElement::arc(q, target, main, c, dir == ArcDir::Ccw, feed, Origin::Plain)
                 }
             };
+            self.accept(modal_feed, programmed, target);
             self.spooler.push(element);
             return Ok(());
         };
+        // The command is accepted; geometry problems from here on are
+        // TC-level errors (ERROR bits), answered ok (decisions.md 12).
+        self.accept(modal_feed, programmed, target);
 
         let plane = self.plane;
         let Some(g) = self.groups[slot].as_mut() else {
