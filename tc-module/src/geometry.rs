@@ -133,11 +133,14 @@ impl Contour {
                 sigma,
             } => {
                 let (rs, re) = ((from - centre).norm(), (to - centre).norm());
-                if rs <= MIN_RADIUS || re <= MIN_RADIUS {
+                if !(rs.is_finite() && re.is_finite()) || rs <= MIN_RADIUS {
                     return Err(OffsetError::Calc);
                 }
                 if (rs - re).abs() > CENTER_TOL {
                     return Err(OffsetError::Center);
+                }
+                if re <= MIN_RADIUS {
+                    return Err(OffsetError::Calc);
                 }
                 let radius = rs - sigma * d;
                 if radius <= MIN_RADIUS {

@@ -355,3 +355,100 @@ proptest! {
         prop_assert_eq!(a, b);
     }
 }
+
+/// Coordinates that provoke degenerate geometry: coincident points, tiny
+/// and huge values.
+fn coord() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        Just(0.0),
+        Just(1e-12),
+        Just(-1e-12),
+        Just(1.0),
+        Just(10.0),
+        Just(1e6),
+        Just(1e9),
+        Just(-1e9),
+        Just(1e12),
+        -100.0f64..100.0,
+    ]
+}
+
+#[derive(Debug, Clone)]
+enum Cmd {
+    Lin(f64, f64, f64),
+    Cir(bool, f64, f64, f64, f64),
+    Radius(f64),
+    Status(i32),
+    ClearError,
+    Ssf,
+    Ja(f64),
+    Exec(u64),
+}
+
+fn cmd() -> impl Strategy<Value = Cmd> {
+    prop_oneof![
+        4 => (coord(), coord(), coord()).prop_map(|(x, y, z)| Cmd::Lin(x, y, z)),
+        4 => (any::<bool>(), coord(), coord(), coord(), coord()).prop_map(|(c, x, y, i, j)| Cmd::Cir(c, x, y, i, j)),
+        1 => prop_oneof![Just(0.0), Just(-2.0), Just(1e-12), Just(5.0), Just(1e9)].prop_map(Cmd::Radius),
+        1 => (0..2i32).prop_map(Cmd::Status),
+        1 => Just(Cmd::ClearError),
+        1 => Just(Cmd::Ssf),
+        1 => coord().prop_map(Cmd::Ja),
+        1 => (0..50u64).prop_map(Cmd::Exec),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    /// Whatever arrives, nothing panics and nothing non-finite is spooled
+    /// or executed.
+    #[test]
+    fn degenerate_input_never_spools_nan(cmds in prop::collection::vec(cmd(), 1..40), left in any::<bool>(), linear in any::<bool>()) {
+        let mut tc = TcModule::default();
+        tc.spooler_mut().set_logging(true);
+        write(&mut tc, "1300/1/1/6", Value::F64(2.0));
+        write(&mut tc, if left { "1300/1/1/9" } else { "1300/1/1/10" }, Value::I32(0));
+        write(&mut tc, "1300/2/1/1", Value::I32(i32::from(linear)));
+        write(&mut tc, "1300/1/1/3", Value::I32(1));
+        for c in &cmds {
+            let mut w = [None; AXES];
+            match *c {
+                Cmd::Lin(x, y, z) => {
+                    w[0] = Some(x);
+                    w[1] = Some(y);
+                    w[2] = Some(z);
+                    let _ = tc.command(&Motion::Lin { words: w, feed: None, rapid: false });
+                }
+                Cmd::Cir(ccw, x, y, i, j) => {
+                    w[0] = Some(x);
+                    w[1] = Some(y);
+                    let dir = if ccw { ArcDir::Ccw } else { ArcDir::Cw };
+                    let _ = tc.command(&Motion::Cir { dir, words: w, centre: [Some(i), Some(j), None], feed: None });
+                }
+                Cmd::Radius(r) => write(&mut tc, "1300/1/1/6", Value::F64(r)),
+                Cmd::Status(s) => write(&mut tc, "1300/1/1/3", Value::I32(s)),
+                Cmd::ClearError => write(&mut tc, "1300/1/1/1", Value::I32(0)),
+                Cmd::Ssf => {
+                    let _ = tc.command(&Motion::Ssf { axis: 0, function: 2001 });
+                }
+                Cmd::Ja(x) => {
+                    w[0] = Some(x);
+                    let _ = tc.command(&Motion::Ja { words: w });
+                }
+                Cmd::Exec(n) => tc.exec(Some(n)),
+            }
+            for e in tc.spooler_mut().take_log() {
+                prop_assert!(e.start.iter().chain(&e.end).all(|v| v.is_finite()), "{:?}", e);
+                prop_assert!(e.length.is_finite() && e.length >= 0.0, "{:?}", e);
+                prop_assert!(e.feed.is_finite() && e.feed > 0.0);
+                if let Path::Arc(a) = e.path {
+                    prop_assert!(a.centre.iter().all(|v| v.is_finite()));
+                }
+            }
+            prop_assert!(tc.position().iter().all(|v| v.is_finite()));
+        }
+        tc.exec(None);
+        prop_assert!(tc.position().iter().all(|v| v.is_finite()));
+    }
+}
