@@ -9,14 +9,12 @@ use crate::executor::{Executor, DEFAULT_CYCLE_S};
 use crate::extension::{GroupContext, NoExtension, TcExtension};
 use crate::geometry::{Contour, V2};
 use crate::group::{CorrGroup, Side, TransitionMode};
-use crate::motion::{ArcDir, AxisWords};
-use crate::motion::{Motion, SSF_FLUSH};
+use crate::motion::{ArcDir, AxisWords, Motion, SSF_FLUSH};
 use crate::object_map::{TcObject, TC_BUS, TC_OBJECTS};
 use crate::plane::{AxisPos, PlaneAxes, TcPlane, AXES};
 use crate::rotation::Rotation;
 use crate::spooler::{Origin, SpoolElement, Spooler};
 use crate::tool_table::WkzIndex;
-use crate::tool_table::TOOL_ENTRIES;
 
 /// Number of compensation groups.
 pub const GROUP_COUNT: usize = 32;
@@ -197,7 +195,6 @@ impl TcModule {
         }
     }
 
-    /// Applies a modal feed word.
     /// The feed a command runs at: its `F` word (checked) or the modal one.
     fn feed_for(&self, feed: Option<f64>) -> Result<f64, AccessError> {
         match feed {
@@ -516,9 +513,6 @@ fn check_words<const N: usize>(words: &[Option<f64>; N]) -> Result<(), AccessErr
         Err(AccessError::Range)
     }
 }
-
-// The table must keep WKZINDEX's range equal to the table size.
-const _: () = assert!(TOOL_ENTRIES == 1024);
 
 impl Bus for TcModule {
     type Key = TcObject;

@@ -4,6 +4,8 @@
 
 use uoi::{Access, ObjectDesc, ValueRange};
 
+use crate::tool_table::TOOL_ENTRIES;
+
 /// The BusNumber of the TC module.
 pub const TC_BUS: u16 = 1300;
 
@@ -154,7 +156,7 @@ pub static TC_OBJECTS: [ObjectDesc<TcObject>; 48] = [
     ObjectDesc::int(O::XAxis, "XAxis", 1, GROUPS, 4, RW, AXIS),
     ObjectDesc::int(O::YAxis, "YAxis", 1, GROUPS, 5, RW, AXIS),
     ObjectDesc::double(O::Radius, "RADIUS", 1, GROUPS, 6, RW, ValueRange::AnyFinite),
-    ObjectDesc::int(O::WkzIndex, "WKZINDEX", 1, GROUPS, 8, RW, ValueRange::Int { min: 0, max: 1023 }),
+    ObjectDesc::int(O::WkzIndex, "WKZINDEX", 1, GROUPS, 8, RW, ValueRange::Int { min: 0, max: TOOL_ENTRIES as i32 - 1 }),
     ObjectDesc::int(O::Left, "Left", 1, GROUPS, 9, W, ValueRange::AnyInt),
     ObjectDesc::int(O::Right, "Right", 1, GROUPS, 10, W, ValueRange::AnyInt),
     ObjectDesc::int(O::ZAxis, "ZAxis", 1, GROUPS, 11, RW, AXIS),
