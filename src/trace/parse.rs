@@ -408,7 +408,10 @@ fn parse_spool(line: usize, text: &str) -> Res<SpoolExpect> {
 }
 
 fn parse_cycle(s: &str) -> Res<f64> {
-    let lower = s.to_ascii_lowercase();
+    let lower: String = s
+        .split_whitespace()
+        .collect::<String>()
+        .to_ascii_lowercase();
     let (num, scale) = if let Some(n) = lower.strip_suffix("ms") {
         (n, 1e-3)
     } else if let Some(n) = lower.strip_suffix("us") {
@@ -554,5 +557,6 @@ mod tests {
         assert_eq!(parse_f64("-inf"), Ok(f64::NEG_INFINITY));
         assert!(parse_f64("1.2.3").is_err());
         assert_eq!(parse_cycle("250us"), Ok(250e-6));
+        assert_eq!(parse_cycle("2 ms"), Ok(2e-3));
     }
 }
