@@ -343,9 +343,16 @@ fn connection_limit_answers_busy() {
     );
     assert!(is_closed(&mut c));
     drop(a);
-    std::thread::sleep(Duration::from_millis(200));
-    let mut d = BlockingClient::connect(&server.addr.to_string()).expect("d");
-    assert!(d.read(addr("1300/0/3/0"), ValueType::I32).is_ok());
+    // The server notices the close and frees the place; a new client gets in.
+    let deadline = std::time::Instant::now() + Duration::from_secs(10);
+    loop {
+        let mut d = BlockingClient::connect(&server.addr.to_string()).expect("d");
+        if d.read(addr("1300/0/3/0"), ValueType::I32).is_ok() {
+            break;
+        }
+        assert!(std::time::Instant::now() < deadline, "the freed place was never reused");
+        std::thread::sleep(Duration::from_millis(50));
+    }
 }
 
 #[test]
