@@ -350,7 +350,10 @@ fn connection_limit_answers_busy() {
         if d.read(addr("1300/0/3/0"), ValueType::I32).is_ok() {
             break;
         }
-        assert!(std::time::Instant::now() < deadline, "the freed place was never reused");
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the freed place was never reused"
+        );
         std::thread::sleep(Duration::from_millis(50));
     }
 }
