@@ -75,11 +75,7 @@ impl Drop for TestServer {
 
 fn corpus() -> Vec<addipos::trace::Trace> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("traces");
-    let files = addipos::trace::trace_files(&dir).expect("traces/ readable");
-    files
-        .iter()
-        .map(|f| addipos::trace::load_trace(f).unwrap_or_else(|e| panic!("{e}")))
-        .collect()
+    addipos::trace::load_corpus(&dir).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn replay_corpus_over(core: Core) {

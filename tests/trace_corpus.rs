@@ -9,11 +9,7 @@ use uoi::AccessError;
 
 fn corpus() -> Vec<Trace> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("traces");
-    let files = addipos::trace::trace_files(&dir).expect("traces/ readable");
-    files
-        .iter()
-        .map(|f| addipos::trace::load_trace(f).unwrap_or_else(|e| panic!("{e}")))
-        .collect()
+    addipos::trace::load_corpus(&dir).unwrap_or_else(|e| panic!("{e}"))
 }
 
 #[test]

@@ -25,3 +25,9 @@ pub fn load_trace(path: &std::path::Path) -> Result<Trace, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
     parse_trace(&name, &text).map_err(|e| e.to_string())
 }
+
+/// Every trace of a folder, parsed, in file-name order.
+pub fn load_corpus(dir: &std::path::Path) -> Result<Vec<Trace>, String> {
+    let files = trace_files(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    files.iter().map(|f| load_trace(f)).collect()
+}
