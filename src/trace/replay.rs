@@ -34,18 +34,23 @@ impl std::fmt::Display for Mismatch {
     }
 }
 
+/// `X1 Y2 ...` for the given axes.
+fn axis_words(words: [Option<f64>; AXES]) -> String {
+    let mut s = String::new();
+    for (name, v) in AXIS_NAMES.iter().zip(words) {
+        if let Some(v) = v {
+            let _ = write!(s, "{name}{v} ");
+        }
+    }
+    s.trim_end().to_string()
+}
+
 fn describe(a: &Answer) -> String {
     match a {
         Answer::Ok => "ok".into(),
         Answer::Err(e) => format!("err {e}"),
         Answer::Value(v) => v.to_string(),
-        Answer::Pos(p) => {
-            let mut s = String::new();
-            for (i, v) in p.iter().enumerate() {
-                let _ = write!(s, "{}{} ", AXIS_NAMES[i], v);
-            }
-            s.trim_end().to_string()
-        }
+        Answer::Pos(p) => axis_words(p.map(Some)),
         Answer::Queue(n) => n.to_string(),
     }
 }
@@ -57,15 +62,7 @@ fn describe_expect(e: &Expect) -> String {
         Expect::Err(e) => format!("err {}", e.name()),
         Expect::Int(v) => v.to_string(),
         Expect::Double(v) => v.to_string(),
-        Expect::Pos(w) => {
-            let mut s = String::new();
-            for (i, v) in w.iter().enumerate() {
-                if let Some(v) = v {
-                    let _ = write!(s, "{}{} ", AXIS_NAMES[i], v);
-                }
-            }
-            s.trim_end().to_string()
-        }
+        Expect::Pos(w) => axis_words(*w),
         Expect::Queue(n) => n.to_string(),
     }
 }

@@ -57,15 +57,21 @@ impl Sink<'_> {
         e
     }
 
-    fn line(&mut self, p: V2, prog: &AxisPos, feed: f64, rapid: bool, origin: Origin) {
-        let end = self.end_point(p, prog);
+    /// End point that moves only the plane axes from the tool position
+    /// (transitions: the other axes stay where the corner left them).
+    fn in_plane(&self, p: V2) -> AxisPos {
+        let mut e = self.q;
+        self.plane.set_point(&mut e, [p.x, p.y]);
+        e
+    }
+
+    fn line(&mut self, end: AxisPos, feed: f64, rapid: bool, origin: Origin) {
         self.spooler
             .push(SpoolElement::line(self.q, end, feed, rapid, origin));
         self.q = end;
     }
 
-    fn arc(&mut self, p: V2, centre: V2, ccw: bool, prog: &AxisPos, feed: f64, origin: Origin) {
-        let end = self.end_point(p, prog);
+    fn arc(&mut self, end: AxisPos, centre: V2, ccw: bool, feed: f64, origin: Origin) {
         self.spooler.push(SpoolElement::arc(
             self.q,
             end,
@@ -156,7 +162,12 @@ impl Buffer {
                 self.nulls.push(null);
             } else {
                 let here = sink.here();
-                sink.line(here, &null.end, null.feed, null.rapid, Origin::Corrected);
+                sink.line(
+                    sink.end_point(here, &null.end),
+                    null.feed,
+                    null.rapid,
+                    Origin::Corrected,
+                );
             }
             return Ok(());
         }
@@ -219,22 +230,17 @@ impl Buffer {
         };
         self.spool_held(&a, x, sink);
         if let Some(t) = trans {
-            // Transitions move in the plane only: the other axes stay where
-            // the corner (and any plane-null profile) left them.
-            let keep = sink.q;
             let (feed, rapid) = (prof.feed, prof.rapid);
-            let len = std::mem::replace(&mut sink.len, 0.0);
             match t {
                 Transition::Arc { centre, ccw, to } => {
-                    sink.arc(to, centre, ccw, &keep, feed, Origin::Transition)
+                    sink.arc(sink.in_plane(to), centre, ccw, feed, Origin::Transition)
                 }
                 Transition::Lines { points, count } => {
                     for p in &points[..count] {
-                        sink.line(*p, &keep, feed, rapid, Origin::Transition);
+                        sink.line(sink.in_plane(*p), feed, rapid, Origin::Transition);
                     }
                 }
             }
-            sink.len = len;
         }
         self.held = Some(Held {
             prof,
@@ -267,21 +273,37 @@ impl Buffer {
                 } else {
                     Origin::Corrected
                 };
-                sink.line(x, &p.end, p.feed, p.rapid, origin);
+                sink.line(sink.end_point(x, &p.end), p.feed, p.rapid, origin);
             }
             Contour::Arc { centre, sigma, .. } => {
                 if a.approach {
-                    sink.line(a.off.start, &p.start, p.feed, p.rapid, Origin::Approach);
+                    sink.line(
+                        sink.end_point(a.off.start, &p.start),
+                        p.feed,
+                        p.rapid,
+                        Origin::Approach,
+                    );
                 }
                 let zero_sweep = (sink.here() - x).norm() <= 1e-12;
                 if !zero_sweep || is_full_circle(&p.contour) {
-                    sink.arc(x, centre, sigma > 0.0, &p.end, p.feed, Origin::Corrected);
+                    sink.arc(
+                        sink.end_point(x, &p.end),
+                        centre,
+                        sigma > 0.0,
+                        p.feed,
+                        Origin::Corrected,
+                    );
                 }
             }
         }
         for n in self.nulls.drain(..) {
             let here = sink.here();
-            sink.line(here, &n.end, n.feed, n.rapid, Origin::Corrected);
+            sink.line(
+                sink.end_point(here, &n.end),
+                n.feed,
+                n.rapid,
+                Origin::Corrected,
+            );
         }
     }
 }

@@ -321,18 +321,15 @@ impl Part {
             }
         }
     }
-
-    fn carrier(&self) -> (V2, OffsetPath) {
-        (self.to, self.path)
-    }
 }
 
 /// The inside-corner point: the intersection of the offsets of `a` and `b`
 /// lying on both parts that is nearest to the programmed corner `k`.
 /// `None` means the tool does not fit (KorrError).
 pub fn inside_point(a: &Part, b: &Part, k: V2) -> Option<V2> {
-    let (pa, path_a) = a.carrier();
-    let (pb_any, path_b) = b.carrier();
+    // `to` is a point on each carrier line or circle.
+    let (pa, path_a) = (a.to, a.path);
+    let (pb_any, path_b) = (b.to, b.path);
     let (pts, n) = match (path_a, path_b) {
         (OffsetPath::Line { dir: da }, OffsetPath::Line { dir: db }) => {
             let den = cross(da, db);
