@@ -7,11 +7,15 @@
 //! The server and the clients each run on one current-thread runtime, so
 //! the two cores of the machine are split evenly between them.
 
+// Test and bench helpers may stop loudly on a broken setup.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+#![allow(missing_docs)]
+
 use std::future::Future;
 use std::net::SocketAddr;
 use std::time::{Duration, Instant};
 
-use addipos::remote::EmulatorService;
+use addipos::service::EmulatorService;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
 use tokio_modbus::prelude::{ExceptionCode, Request as MbRequest, Response as MbResponse};
@@ -31,7 +35,7 @@ struct Proto {
 }
 
 fn ours() -> Proto {
-    let mut request = Vec::new();
+    let mut request = bytes::BytesMut::new();
     encode_request(
         1,
         &Request::Read(ObjectAddress::new(1300, 0, 3, 0), ValueType::I32),
@@ -39,7 +43,7 @@ fn ours() -> Proto {
     );
     Proto {
         name: "addipos UOI",
-        request,
+        request: request.to_vec(),
         answer_len: 28,
         check: |a| a[12..16] == [0, 0, 0, 0] && a[20] == 17,
     }

@@ -4,11 +4,14 @@
 //!
 //! Run: `cargo run --example trc_pictures`
 
+#![allow(clippy::panic)]
+
 use std::fmt::Write as _;
 
-use addipos::trace::{parse_trace, Request};
+use addipos::trace::parse_trace;
 use addipos::Emulator;
 use tc_module::{Origin, SpoolElement};
+use tc_request::Reply;
 
 struct Picture {
     file: &'static str,
@@ -85,13 +88,10 @@ fn run(program: &str, correction: Option<(&str, bool)>) -> Vec<SpoolElement> {
     let mut emu = Emulator::default();
     emu.set_spool_log(true);
     for step in &trace.steps {
-        match &step.request {
-            Request::Write(a, v) => emu.write(*a, *v).expect("picture write"),
-            Request::Motion(m) => emu.command(m).expect("picture motion"),
-            _ => {}
-        }
+        let reply = emu.run(&step.request);
+        assert_eq!(reply, Reply::Ok, "picture program: {}", step.text);
     }
-    emu.take_spool_log()
+    emu.tc_mut().spooler_mut().take_log()
 }
 
 fn polyline(e: &SpoolElement) -> Vec<[f64; 2]> {

@@ -1,18 +1,25 @@
-//! The emulator: an object server with the TC module on bus 1300, plus the
-//! motion side (commands, executor, spool log) that traces drive.
+//! The emulator: the TC module with the OTC extension on bus 1300, driven
+//! by the one request model.
 
 use otc_ext::OtcExtension;
-use tc_module::{AxisPos, Motion, SpoolElement, TcModule};
-use uoi::{AccessError, ObjectAddress, ObjectServer, Value, ValueType};
+use tc_module::executor::DEFAULT_CYCLE_S;
+use tc_module::{AxisPos, Motion, TcModule, AXES};
+use tc_request::{Reply, Request, SpoolRecord};
+use uoi::wire::ProtocolError;
+use uoi::{AccessError, ObjectAddress, ObjectBus, Value, ValueType};
+
+/// The TC module as the emulator runs it.
+pub type Tc = TcModule<OtcExtension>;
 
 /// One emulated controller.
+#[derive(Debug)]
 pub struct Emulator {
-    server: ObjectServer,
+    tc: Tc,
 }
 
 impl Default for Emulator {
     fn default() -> Self {
-        Self::new([0.0; tc_module::AXES], tc_module::executor::DEFAULT_CYCLE_S)
+        Self::new([0.0; AXES], DEFAULT_CYCLE_S)
     }
 }
 
@@ -20,64 +27,80 @@ impl Emulator {
     /// A controller whose machine stands at `start`, with an interpolation
     /// cycle of `cycle_s` seconds.
     pub fn new(start: AxisPos, cycle_s: f64) -> Self {
-        let mut server = ObjectServer::new();
-        // A fresh server has no bus yet, so registering cannot collide.
-        let tc = TcModule::new(start, cycle_s).with_extension(Box::new(OtcExtension::default()));
-        let _ = server.register(tc);
-        Self { server }
+        Self {
+            tc: TcModule::new(start, cycle_s, OtcExtension::default()),
+        }
     }
 
     /// The TC module.
-    pub fn tc(&self) -> &TcModule {
-        self.server
-            .module::<TcModule>()
-            .expect("the TC module is registered in Emulator::new")
+    pub fn tc(&self) -> &Tc {
+        &self.tc
     }
 
     /// The TC module, mutable.
-    pub fn tc_mut(&mut self) -> &mut TcModule {
-        self.server
-            .module_mut::<TcModule>()
-            .expect("the TC module is registered in Emulator::new")
+    pub fn tc_mut(&mut self) -> &mut Tc {
+        &mut self.tc
+    }
+
+    /// Carries out a request of a controller (everything but the
+    /// emulator-control ops `SETUP` and `SPOOL_LOG`, which belong to a
+    /// connection and are answered `UnknownOp` here).
+    pub fn run(&mut self, req: &Request) -> Reply {
+        match req {
+            Request::Read(addr, ty) => self.read(*addr, *ty).into(),
+            Request::Write(addr, v) => self.write(*addr, *v).into(),
+            Request::Motion(m) => self.command(m).into(),
+            Request::Exec(n) => {
+                self.exec(*n);
+                Reply::Ok
+            }
+            Request::Pos => Reply::Pos(self.position()),
+            // A queue length always fits u64.
+            Request::Queue => Reply::Queue(self.queue_len() as u64),
+            Request::Setup { .. } | Request::SpoolLog { .. } => {
+                Reply::Protocol(ProtocolError::UnknownOp)
+            }
+        }
     }
 
     /// Reads an object.
     pub fn read(&mut self, addr: ObjectAddress, ty: ValueType) -> Result<Value, AccessError> {
-        self.server.read(addr, ty)
+        self.tc.read_checked(addr, ty)
     }
 
     /// Writes an object.
     pub fn write(&mut self, addr: ObjectAddress, value: Value) -> Result<(), AccessError> {
-        self.server.write(addr, value)
+        self.tc.write_checked(addr, value)
     }
 
     /// Executes a motion command.
     pub fn command(&mut self, m: &Motion) -> Result<(), AccessError> {
-        self.tc_mut().command(m)
+        self.tc.command(m)
     }
 
     /// Runs the executor `cycles` cycles, or until the spooler is empty.
     pub fn exec(&mut self, cycles: Option<u64>) {
-        self.tc_mut().exec(cycles)
+        self.tc.exec(cycles)
     }
 
     /// The executed position.
     pub fn position(&self) -> AxisPos {
-        *self.tc().position()
+        self.tc.position()
     }
 
     /// Elements waiting in the spooler.
     pub fn queue_len(&self) -> usize {
-        self.tc().queue_len()
+        self.tc.queue_len()
     }
 
     /// Keeps every spooled element in a log (for trace replay).
     pub fn set_spool_log(&mut self, on: bool) {
-        self.tc_mut().spooler_mut().set_logging(on)
+        self.tc.spooler_mut().set_logging(on)
     }
 
-    /// Takes the elements spooled since the last call.
-    pub fn take_spool_log(&mut self) -> Vec<SpoolElement> {
-        self.tc_mut().spooler_mut().take_log()
+    /// Takes the elements spooled since the last call, as reported.
+    pub fn take_spool_log(&mut self) -> Vec<SpoolRecord> {
+        let log = self.tc.spooler_mut().take_log();
+        log.iter().map(|e| e.record()).collect()
     }
 }

@@ -1,8 +1,10 @@
 //! # addipos — emulator of the ADDIPOS TC module and its conformance traces
 //!
-//! Wires the [`uoi`] object server, the [`tc_module`] and the [`otc_ext`]
-//! extension into one [`Emulator`], and replays conformance traces
-//! (`shared/spec/trace-format.md`) against it.
+//! Wires the TC module ([`tc_module`]) with the OTC extension ([`otc_ext`])
+//! into one [`Emulator`] driven by the one request model ([`tc_request`]),
+//! serves it over TCP ([`service`]), and replays conformance traces
+//! (docs/trace-format.md) in-process or over the wire ([`trace`],
+//! [`remote`]).
 //!
 //! ```
 //! use addipos::trace::{parse_trace, replay};
@@ -12,12 +14,10 @@
 //! assert!(replay(&trace).is_empty());
 //! ```
 
-#![forbid(unsafe_code)]
-#![warn(missing_docs)]
-
 pub mod config;
 pub mod emulator;
 pub mod remote;
+pub mod service;
 pub mod trace;
 
 pub use emulator::Emulator;

@@ -6,10 +6,12 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use addipos::config::{Config, DEFAULT_CONFIG};
-use addipos::remote::{replay_remote, request_to_wire, EmulatorService, RemoteTarget};
-use addipos::trace::{load_trace, parse_request, replay, trace_files, Mismatch};
+use addipos::remote::{replay_remote, RemoteTarget};
+use addipos::service::EmulatorService;
+use addipos::trace::{load_trace, replay, trace_files, Mismatch};
+use tc_request::text::parse_request;
+use tc_request::Reply;
 use uoi::tcp::Server;
-use uoi::wire::Answer;
 
 /// Emulator of the ADDIPOS TC module (UOI bus 1300) with OTC wear compensation.
 #[derive(Parser)]
@@ -135,18 +137,18 @@ fn cmd_call(addr: &str, words: &[String]) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let mut client = match uoi::tcp::BlockingClient::connect(addr) {
+    let mut client = match RemoteTarget::connect(addr) {
         Ok(c) => c,
         Err(e) => {
             eprintln!("error: cannot connect to {addr}: {e}");
             return ExitCode::from(2);
         }
     };
-    match client.call(&request_to_wire(&req)) {
-        Ok(Answer::Ok) => println!("ok"),
-        Ok(Answer::Value(v)) => println!("{v}"),
-        Ok(Answer::Queue(n)) => println!("{n}"),
-        Ok(Answer::Pos(p)) => {
+    match client.call(&req) {
+        Ok(Reply::Ok) => println!("ok"),
+        Ok(Reply::Value(v)) => println!("{v}"),
+        Ok(Reply::Queue(n)) => println!("{n}"),
+        Ok(Reply::Pos(p)) => {
             let words: Vec<String> = tc_module::AXIS_NAMES
                 .iter()
                 .zip(p)
@@ -154,7 +156,7 @@ fn cmd_call(addr: &str, words: &[String]) -> ExitCode {
                 .collect();
             println!("{}", words.join(" "));
         }
-        Ok(Answer::Access(e)) => {
+        Ok(Reply::Access(e)) => {
             println!("err {}", e.name());
             return ExitCode::FAILURE;
         }

@@ -1,6 +1,9 @@
 //! Random input to the trace parser: never a panic, and every error names
 //! the line it came from.
 
+// Test and bench helpers may stop loudly on a broken setup.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
 use addipos::trace::parse_trace;
 use proptest::prelude::*;
 

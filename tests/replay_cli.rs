@@ -1,5 +1,8 @@
 //! The `addipos replay` command: output, exit code, and the line it names.
 
+// Test and bench helpers may stop loudly on a broken setup.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
 use std::process::Command;
 
 fn write_trace(name: &str, text: &str) -> std::path::PathBuf {

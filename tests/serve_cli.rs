@@ -1,6 +1,9 @@
 //! `addipos serve` with the built-in settings, `addipos call` against it,
 //! and a graceful stop on SIGTERM.
 
+// Test and bench helpers may stop loudly on a broken setup.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};

@@ -1,12 +1,18 @@
 //! The object server over TCP: the corpus on the wire, many clients at once,
 //! malformed input, limits and shutdown. Every test binds 127.0.0.1:0.
 
+// Test and bench helpers may stop loudly on a broken setup.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::path::PathBuf;
 use std::time::Duration;
 
-use addipos::remote::{replay_remote, EmulatorService, RemoteTarget};
+use addipos::remote::{replay_remote, RemoteTarget};
+use addipos::service::EmulatorService;
+use bytes::BytesMut;
+use tc_request::{Reply, Request as TcRequest};
 use uoi::tcp::{BlockingClient, Client, Core, Server, ServerConfig};
 use uoi::wire::{encode_request, Answer, Op, ProtocolError, Request, PREFIX_LEN};
 use uoi::{AccessError, ObjectAddress, Value, ValueType};
@@ -162,9 +168,15 @@ fn read_answer(s: &mut TcpStream) -> Option<(u32, u8, u32)> {
 }
 
 fn frame(id: u32, req: &Request) -> Vec<u8> {
-    let mut out = Vec::new();
+    let mut out = BytesMut::new();
     encode_request(id, req, &mut out);
-    out
+    out.to_vec()
+}
+
+/// A TC request's reply over a blocking client.
+fn call(c: &mut BlockingClient, req: &TcRequest) -> Result<Reply, String> {
+    let ans = c.call(&req.to_wire()).map_err(|e| e.to_string())?;
+    Reply::from_wire(req.wire_op(), &ans).ok_or_else(|| format!("{ans:?}"))
 }
 
 fn is_closed(s: &mut TcpStream) -> bool {
@@ -196,14 +208,8 @@ fn snapshot(c: &mut BlockingClient) -> Vec<String> {
             c.read(addr(a), ValueType::F64).map_err(|e| e.to_string())
         ));
     }
-    out.push(format!(
-        "{:?}",
-        c.call(&Request::Pos).map_err(|e| e.to_string())
-    ));
-    out.push(format!(
-        "{:?}",
-        c.call(&Request::Queue).map_err(|e| e.to_string())
-    ));
+    out.push(format!("{:?}", call(c, &TcRequest::Pos)));
+    out.push(format!("{:?}", call(c, &TcRequest::Queue)));
     out
 }
 
@@ -225,7 +231,7 @@ fn malformed_input_is_answered_or_closed_and_changes_nothing() {
         Some((0, 0, ProtocolError::FrameTooShort.code()))
     );
     s.write_all(&pos_req).expect("write");
-    assert_eq!(read_answer(&mut s), Some((7, Op::Read as u8, 0)));
+    assert_eq!(read_answer(&mut s), Some((7, Op::Read.code(), 0)));
 
     // Length 0.
     let mut s = raw(&server);
@@ -253,7 +259,7 @@ fn malformed_input_is_answered_or_closed_and_changes_nothing() {
     s.write_all(&f).expect("write");
     assert_eq!(
         read_answer(&mut s),
-        Some((9, Op::Write as u8, ProtocolError::BadMagic.code()))
+        Some((9, Op::Write.code(), ProtocolError::BadMagic.code()))
     );
     // Unknown version and unknown op.
     let mut f = frame(10, &Request::Write(addr("1300/0/3/0"), Value::I32(18)));
@@ -263,7 +269,7 @@ fn malformed_input_is_answered_or_closed_and_changes_nothing() {
         read_answer(&mut s),
         Some((
             10,
-            Op::Write as u8,
+            Op::Write.code(),
             ProtocolError::UnsupportedVersion.code()
         ))
     );
@@ -282,10 +288,10 @@ fn malformed_input_is_answered_or_closed_and_changes_nothing() {
     s.write_all(&f).expect("write");
     assert_eq!(
         read_answer(&mut s),
-        Some((12, Op::Write as u8, ProtocolError::BadPayload.code()))
+        Some((12, Op::Write.code(), ProtocolError::BadPayload.code()))
     );
     s.write_all(&pos_req).expect("write");
-    assert_eq!(read_answer(&mut s), Some((7, Op::Read as u8, 0)));
+    assert_eq!(read_answer(&mut s), Some((7, Op::Read.code(), 0)));
 
     // Random bytes (deterministic): only error answers, or a close.
     let mut s = raw(&server);
@@ -389,7 +395,8 @@ fn non_loopback_needs_allow_remote() {
 fn shutdown_closes_connections_and_returns() {
     let server = TestServer::local(Core::Lock);
     let mut s = raw(&server);
-    s.write_all(&frame(1, &Request::Queue)).expect("write");
+    s.write_all(&frame(1, &TcRequest::Queue.to_wire()))
+        .expect("write");
     assert_eq!(read_answer(&mut s).map(|a| a.2), Some(0));
     drop(server); // sends the stop and joins the server thread
     assert!(is_closed(&mut s));
@@ -479,5 +486,5 @@ fn two_hundred_clients_a_thousand_requests_each() {
         .expect("finished within 120 s");
     assert_eq!(result, 200 * 1000);
     let mut c = BlockingClient::connect(&a.to_string()).expect("connect");
-    assert_eq!(c.call(&Request::Queue).expect("queue"), Answer::Queue(0));
+    assert_eq!(call(&mut c, &TcRequest::Queue), Ok(Reply::Queue(0)));
 }

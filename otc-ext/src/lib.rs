@@ -1,15 +1,17 @@
 //! # otc-ext — OTC online wear compensation for the TC module
 //!
-//! Serves devices 3 and 4 of bus 1300 (`shared/spec/otc.md`, uoi-map.md) as
-//! a [`TcExtension`] of the TC module: the per-group OTC registers, the OTC
-//! fields of every tool entry, the PLC control units, the switching rules
+//! Serves devices 3 and 4 of bus 1300 as a [`TcExtension`] of the TC
+//! module: it declares its objects (appended to the module's one map),
+//! keeps the OTC state of each group in the group and the OTC fields of
+//! each tool entry in the entry, and implements the switching rules
 //! (`ToolType`, `Sequence`, `PosRequest`) and the read-back of wear at
 //! switch-off and tool change.
 //!
 //! Not yet here: the per-cycle wear model (continuous wear along the path,
 //! the ramped discrete offset and its application to the executed
-//! position). Until it lands the wear accumulators stay 0, so switch-off
-//! and tool change hand back zero wear.
+//! position). The seam for it is `TcExtension::cycle`; until the model
+//! lands the wear accumulators stay 0, so switch-off and tool change hand
+//! back zero wear.
 //!
 //! ```
 //! use otc_ext::OtcExtension;
@@ -17,16 +19,21 @@
 //! use uoi::{AccessError, ObjectServer, Value, ValueType};
 //!
 //! let mut server = ObjectServer::new();
-//! server.register(TcModule::default().with_extension(Box::new(OtcExtension::default()))).unwrap();
+//! server.register(TcModule::new([0.0; 8], 1e-3, OtcExtension::default())).unwrap();
 //! let wear = "1300/3/1/10".parse().unwrap();
 //! assert_eq!(server.read(wear, ValueType::F64), Ok(Value::F64(0.0)));
 //! assert_eq!(server.write(wear, Value::F64(1.0)), Err(AccessError::ReadOnly));
 //! ```
 
-#![forbid(unsafe_code)]
-#![warn(missing_docs)]
-
+mod objects;
 mod registers;
+mod state;
 
-pub use registers::{OtcErrorBits, OtcExtension, OtcMode, ProcType};
+pub use objects::{
+    OtcObject, AXIS_DEVICE, AXIS_OBJECTS, GROUP_DEVICE, GROUP_OBJECTS, WEAR_AXIS_SUBS,
+};
+pub use registers::OtcExtension;
+pub use state::{
+    clamp_command, OtcErrorBits, OtcGroup, OtcMode, OtcTool, PlcUnit, ProcType, GRINDING,
+};
 pub use tc_module::TcExtension;

@@ -1,13 +1,14 @@
-//! Conformance traces (`*.trace`, trace-format.md v1): the parser and the
-//! replayer.
+//! Conformance traces (`*.trace`, trace format v1, docs/trace-format.md):
+//! the parser and the replayer.
 
+mod expect;
+mod model;
 mod parse;
 mod replay;
 
-pub use parse::{
-    parse_request, parse_trace, Expect, Request, SpoolExpect, SpoolKind, Step, Trace, TraceError,
-};
-pub use replay::{format_element, replay, replay_on, Mismatch, Target, TargetAnswer};
+pub use model::{Expect, SpoolExpect, SpoolKind, Step, Trace, TraceError};
+pub use parse::parse_trace;
+pub use replay::{format_record, replay, replay_on, Mismatch, Target};
 
 /// The `*.trace` files of a folder, sorted by name.
 pub fn trace_files(dir: &std::path::Path) -> std::io::Result<Vec<std::path::PathBuf>> {

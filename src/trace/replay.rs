@@ -3,10 +3,12 @@
 
 use std::fmt::Write as _;
 
-use tc_module::{AxisPos, Path, SpoolElement, AXES, AXIS_NAMES};
+use tc_module::{AXES, AXIS_NAMES};
+use tc_request::text::write_axis_words;
+use tc_request::{Reply, Request, SpoolRecord};
 use uoi::Value;
 
-use super::parse::{Expect, Request, SpoolExpect, SpoolKind, Step, Trace};
+use super::model::{Expect, SpoolExpect, SpoolKind, Step, Trace};
 use crate::Emulator;
 
 /// One line whose answer differs from the trace.
@@ -37,21 +39,19 @@ impl std::fmt::Display for Mismatch {
 /// `X1 Y2 ...` for the given axes.
 fn axis_words(words: [Option<f64>; AXES]) -> String {
     let mut s = String::new();
-    for (name, v) in AXIS_NAMES.iter().zip(words) {
-        if let Some(v) = v {
-            let _ = write!(s, "{name}{v} ");
-        }
-    }
-    s.trim_end().to_string()
+    let _ = write_axis_words(&mut s, &words);
+    s.trim_start().to_string()
 }
 
-fn describe(a: &Answer) -> String {
+fn describe(a: &Result<Reply, String>) -> String {
     match a {
-        Answer::Ok => "ok".into(),
-        Answer::Err(e) => format!("err {e}"),
-        Answer::Value(v) => v.to_string(),
-        Answer::Pos(p) => axis_words(p.map(Some)),
-        Answer::Queue(n) => n.to_string(),
+        Ok(Reply::Ok) => "ok".into(),
+        Ok(Reply::Access(e)) => format!("err {}", e.name()),
+        Ok(Reply::Value(v)) => v.to_string(),
+        Ok(Reply::Pos(p)) => axis_words(p.map(Some)),
+        Ok(Reply::Queue(n)) => n.to_string(),
+        Ok(other) => format!("err (unexpected answer {other:?})"),
+        Err(e) => format!("err {e}"),
     }
 }
 
@@ -71,19 +71,20 @@ fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol || (a.is_nan() && b.is_nan()) || (a.is_infinite() && a == b)
 }
 
-fn matches(expect: &Expect, got: &Answer, tol: f64) -> bool {
+fn matches(expect: &Expect, got: &Result<Reply, String>, tol: f64) -> bool {
+    let Ok(got) = got else { return false };
     match (expect, got) {
-        (Expect::Success, Answer::Err(_)) => false,
+        (Expect::Success, Reply::Access(_) | Reply::Protocol(_)) => false,
         (Expect::Success, _) => true,
-        (Expect::Ok, Answer::Ok) => true,
-        (Expect::Err(e), Answer::Err(g)) => e.name() == g,
-        (Expect::Int(e), Answer::Value(Value::I32(g))) => e == g,
-        (Expect::Double(e), Answer::Value(Value::F64(g))) => close(*e, *g, tol),
-        (Expect::Pos(w), Answer::Pos(p)) => w
+        (Expect::Ok, Reply::Ok) => true,
+        (Expect::Err(e), Reply::Access(g)) => e == g,
+        (Expect::Int(e), Reply::Value(Value::I32(g))) => e == g,
+        (Expect::Double(e), Reply::Value(Value::F64(g))) => close(*e, *g, tol),
+        (Expect::Pos(w), Reply::Pos(p)) => w
             .iter()
             .zip(p)
             .all(|(e, g)| e.is_none_or(|e| close(e, *g, tol))),
-        (Expect::Queue(e), Answer::Queue(g)) => e == g,
+        (Expect::Queue(e), Reply::Queue(g)) => u64::try_from(*e) == Ok(*g),
         _ => false,
     }
 }
@@ -91,56 +92,21 @@ fn matches(expect: &Expect, got: &Answer, tol: f64) -> bool {
 /// What a trace is replayed against: the emulator in this process, or a
 /// server over the wire.
 pub trait Target {
-    /// Carries out one request.
-    fn run(&mut self, req: &Request) -> TargetAnswer;
+    /// Carries out one request; `Err` when it could not be carried to the
+    /// target (a broken connection).
+    fn run(&mut self, req: &Request) -> Result<Reply, String>;
     /// The elements spooled since the last call.
-    fn take_spooled(&mut self) -> Result<Vec<SpoolElement>, String>;
+    fn take_spooled(&mut self) -> Result<Vec<SpoolRecord>, String>;
     /// Device 0 AxisNr X/Y/Z (to read `I J K` of spooled arcs).
     fn axis_nr(&mut self) -> Result<[u8; 3], String>;
 }
 
-/// The answer to one request, as the replayer compares it.
-#[derive(Debug, Clone, PartialEq)]
-pub enum TargetAnswer {
-    /// Done.
-    Ok,
-    /// Refused: the access error's name (or a transport failure in brackets).
-    Err(String),
-    /// A value read.
-    Value(Value),
-    /// The executed position.
-    Pos(AxisPos),
-    /// The spooler length.
-    Queue(usize),
-}
-
-use TargetAnswer as Answer;
-
 impl Target for Emulator {
-    fn run(&mut self, req: &Request) -> Answer {
-        match req {
-            Request::Write(addr, v) => match self.write(*addr, *v) {
-                Ok(()) => Answer::Ok,
-                Err(e) => Answer::Err(e.name().to_string()),
-            },
-            Request::Read(addr, ty) => match self.read(*addr, *ty) {
-                Ok(v) => Answer::Value(v),
-                Err(e) => Answer::Err(e.name().to_string()),
-            },
-            Request::Motion(m) => match self.command(m) {
-                Ok(()) => Answer::Ok,
-                Err(e) => Answer::Err(e.name().to_string()),
-            },
-            Request::Exec(n) => {
-                self.exec(*n);
-                Answer::Ok
-            }
-            Request::Pos => Answer::Pos(self.position()),
-            Request::Queue => Answer::Queue(self.queue_len()),
-        }
+    fn run(&mut self, req: &Request) -> Result<Reply, String> {
+        Ok(Emulator::run(self, req))
     }
 
-    fn take_spooled(&mut self) -> Result<Vec<SpoolElement>, String> {
+    fn take_spooled(&mut self) -> Result<Vec<SpoolRecord>, String> {
         Ok(self.take_spool_log())
     }
 
@@ -149,61 +115,58 @@ impl Target for Emulator {
     }
 }
 
-/// Writes an element in trace syntax: changed axes, and `I J K` of an arc
-/// along the axes allocated as X, Y, Z (`axis_nr`).
-pub fn format_element(e: &SpoolElement, axis_nr: [u8; 3]) -> String {
+/// The offset of an arc's centre from its start along machine axis `m`,
+/// if `m` is one of its plane axes.
+fn centre_offset(e: &SpoolRecord, m: u8) -> Option<f64> {
+    let a = e.arc?;
+    let start = *e.start.get(usize::from(m))?;
+    if m == a.plane[0] {
+        Some(a.centre[0] - start)
+    } else if m == a.plane[1] {
+        Some(a.centre[1] - start)
+    } else {
+        None
+    }
+}
+
+/// Writes a spooled element in trace syntax: changed axes, and `I J K` of
+/// an arc along the axes allocated as X, Y, Z (`axis_nr`).
+pub fn format_record(e: &SpoolRecord, axis_nr: [u8; 3]) -> String {
     let mut s = String::new();
-    match &e.path {
-        Path::Line => s.push_str("LIN"),
-        Path::Arc(a) => s.push_str(if a.ccw { "CIR CCW" } else { "CIR CW" }),
+    match &e.arc {
+        None => s.push_str("LIN"),
+        Some(a) => s.push_str(if a.ccw { "CIR CCW" } else { "CIR CW" }),
     }
     for (i, name) in AXIS_NAMES.iter().enumerate() {
         if e.end[i] != e.start[i] || i < 2 {
             let _ = write!(s, " {}{}", name, e.end[i]);
         }
     }
-    if let Path::Arc(a) = &e.path {
-        for (letter, &m) in ['I', 'J', 'K'].iter().zip(&axis_nr) {
-            let off = if m == a.plane.h {
-                Some(a.centre[0] - e.start[m as usize])
-            } else if m == a.plane.v {
-                Some(a.centre[1] - e.start[m as usize])
-            } else {
-                None
-            };
-            if let Some(o) = off {
-                let _ = write!(s, " {letter}{o}");
-            }
+    for (letter, &m) in ['I', 'J', 'K'].iter().zip(&axis_nr) {
+        if let Some(o) = centre_offset(e, m) {
+            let _ = write!(s, " {letter}{o}");
         }
     }
     s
 }
 
-fn element_matches(exp: &SpoolExpect, got: &SpoolElement, axis_nr: [u8; 3], tol: f64) -> bool {
-    let arc = match (&exp.kind, &got.path) {
-        (SpoolKind::Line, Path::Line) => None,
-        (SpoolKind::Arc(d), Path::Arc(a)) if (*d == tc_module::ArcDir::Ccw) == a.ccw => Some(a),
-        _ => return false,
+fn element_matches(exp: &SpoolExpect, got: &SpoolRecord, axis_nr: [u8; 3], tol: f64) -> bool {
+    let kind_ok = match (&exp.kind, &got.arc) {
+        (SpoolKind::Line, None) => true,
+        (SpoolKind::Arc(d), Some(a)) => (*d == tc_module::ArcDir::Ccw) == a.ccw,
+        _ => false,
     };
     let end_ok = (0..AXES).all(|i| close(exp.words[i].unwrap_or(got.start[i]), got.end[i], tol));
-    let centre_ok = arc.is_none_or(|a| {
-        axis_nr.iter().zip(exp.centre).all(|(&m, c)| {
-            let got_off = if m == a.plane.h {
-                a.centre[0] - got.start[m as usize]
-            } else if m == a.plane.v {
-                a.centre[1] - got.start[m as usize]
-            } else {
-                return true;
-            };
-            close(c.unwrap_or(0.0), got_off, tol)
-        })
-    });
-    end_ok && centre_ok
+    let centre_ok = axis_nr
+        .iter()
+        .zip(exp.centre)
+        .all(|(&m, c)| centre_offset(got, m).is_none_or(|off| close(c.unwrap_or(0.0), off, tol)));
+    kind_ok && end_ok && centre_ok
 }
 
 fn check_spool(
     step: &Step,
-    got: &[SpoolElement],
+    got: &[SpoolRecord],
     axis_nr: [u8; 3],
     tol: f64,
     file: &str,
@@ -224,7 +187,7 @@ fn check_spool(
                 request: step.text.clone(),
                 expected: exp.map_or("nothing more spooled".into(), |e| format!("spooled `{e}`")),
                 got: g.map_or("nothing".into(), |g| {
-                    format!("`{}`", format_element(g, axis_nr))
+                    format!("`{}`", format_record(g, axis_nr))
                 }),
             });
         }

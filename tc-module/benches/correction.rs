@@ -1,10 +1,13 @@
 //! Throughput of the correction (profiles/s through the one-profile buffer)
 //! and cost of one executor cycle. Figures go to docs/performance.md.
 
+#![allow(missing_docs, clippy::expect_used)]
+
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use tc_module::executor::Executor;
+use tc_module::NoModel;
 use tc_module::{ArcDir, Motion, Origin, SpoolElement, Spooler, TcModule, AXES};
 use uoi::{ObjectBus, Value};
 
@@ -24,7 +27,6 @@ fn contour(n: usize) -> Vec<Motion> {
                 out.push(Motion::Lin {
                     words: w,
                     feed: Some(6000.0),
-                    rapid: false,
                 });
             }
             k => {
@@ -95,10 +97,10 @@ fn executor(c: &mut Criterion) {
             far,
             1000.0,
             false,
-            Origin::Plain,
+            Origin::Uncorrected,
         ));
         let mut ex = Executor::default();
-        b.iter(|| ex.step(black_box(&mut sp)));
+        b.iter(|| ex.step(black_box(&mut sp), &mut NoModel));
     });
     g.bench_function("step on an arc", |b| {
         let mut sp = Spooler::default();
@@ -113,10 +115,10 @@ fn executor(c: &mut Criterion) {
             [0.0, 0.0],
             true,
             1000.0,
-            Origin::Plain,
+            Origin::Uncorrected,
         ));
         let mut ex = Executor::default();
-        b.iter(|| ex.step(black_box(&mut sp)));
+        b.iter(|| ex.step(black_box(&mut sp), &mut NoModel));
     });
     g.finish();
 }

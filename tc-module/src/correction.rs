@@ -4,16 +4,19 @@
 //! arrives, the held one is corrected together with the corner to the new
 //! one and both are spooled; the new one is held. Everything is computed
 //! before anything is spooled, so an error never leaves half a corner in
-//! the spooler.
+//! the spooler. Every element it spools carries its origin and its
+//! contour normal (otc.md rules 3 and 4).
 
 use crate::bits::ErrorBits;
+use crate::element::{ContourNormal, NormalRule, Origin, SpoolElement};
+use crate::geometry::tolerance::{FULL_CIRCLE_ANGLE, ZERO_ARC};
 use crate::geometry::{
     classify, inside_point, transition, Contour, CornerKind, Offset, OffsetError, Part, Transition,
     V2,
 };
 use crate::group::TransitionMode;
 use crate::plane::{AxisPos, PlaneAxes, AXES};
-use crate::spooler::{Origin, SpoolElement, Spooler};
+use crate::spooler::Spooler;
 
 /// A programmed profile as it enters the correction (rotated, machine axes).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -44,6 +47,10 @@ pub struct Sink<'a> {
     pub len: f64,
 }
 
+fn rule_of(n: V2) -> NormalRule {
+    NormalRule::Fixed([n.x, n.y])
+}
+
 impl Sink<'_> {
     /// End point: plane point `p`, other axes from `prog` with the tool
     /// length on the third axis.
@@ -65,22 +72,39 @@ impl Sink<'_> {
         e
     }
 
-    fn line(&mut self, end: AxisPos, feed: f64, rapid: bool, origin: Origin) {
-        self.spooler
-            .push(SpoolElement::line(self.q, end, feed, rapid, origin));
+    fn normal(&self, rule: Option<NormalRule>) -> Option<ContourNormal> {
+        rule.map(|rule| ContourNormal {
+            plane: self.plane,
+            rule,
+        })
+    }
+
+    fn line(
+        &mut self,
+        end: AxisPos,
+        feed: f64,
+        rapid: bool,
+        origin: Origin,
+        n: Option<NormalRule>,
+    ) {
+        let e = SpoolElement::line(self.q, end, feed, rapid, origin).with_normal(self.normal(n));
+        self.spooler.push(e);
         self.q = end;
     }
 
-    fn arc(&mut self, end: AxisPos, centre: V2, ccw: bool, feed: f64, origin: Origin) {
-        self.spooler.push(SpoolElement::arc(
-            self.q,
-            end,
-            self.plane,
-            [centre.x, centre.y],
-            ccw,
-            feed,
-            origin,
-        ));
+    fn arc(
+        &mut self,
+        end: AxisPos,
+        centre: V2,
+        ccw: bool,
+        feed: f64,
+        origin: Origin,
+        n: NormalRule,
+    ) {
+        let c = [centre.x, centre.y];
+        let e = SpoolElement::arc(self.q, end, self.plane, c, ccw, feed, origin)
+            .with_normal(self.normal(Some(n)));
+        self.spooler.push(e);
         self.q = end;
     }
 
@@ -95,11 +119,35 @@ impl Sink<'_> {
 struct Held {
     prof: Profile,
     off: Offset,
-    d: f64,
     /// First profile after start, flush or direct command.
     approach: bool,
     /// Where its corrected element starts; `None` for an approach line.
     from: Option<V2>,
+}
+
+impl Held {
+    /// Its part for an inside corner: from the corrected start to `pa`;
+    /// a programmed full circle starting on its offset start keeps its
+    /// whole turn.
+    fn part(&self) -> Part {
+        Part {
+            path: self.off.path,
+            from: self.from,
+            to: self.off.end,
+            full: self.prof.contour.is_full_circle()
+                && self.from.is_some_and(|x| on_offset_start(&self.off, x)),
+        }
+    }
+}
+
+/// Whether `x` lies within [`FULL_CIRCLE_ANGLE`] of the offset start about
+/// the arc centre.
+fn on_offset_start(off: &Offset, x: V2) -> bool {
+    let crate::geometry::OffsetPath::Arc { centre, .. } = off.path else {
+        return false;
+    };
+    let (u, w) = (x - centre, off.start - centre);
+    crate::geometry::cross(u, w).abs().atan2(u.dot(&w)) <= FULL_CIRCLE_ANGLE
 }
 
 /// A plane-null profile waiting with the held one.
@@ -110,12 +158,25 @@ struct NullMove {
     rapid: bool,
 }
 
+/// How a corner joins the held element `a` to the next `b`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Join {
+    /// Where a's corrected element ends.
+    a_end: V2,
+    /// What is inserted between them.
+    transition: Option<Transition>,
+    /// Where b's corrected element starts.
+    b_from: V2,
+}
+
 /// The one-profile buffer of a group. Empty means the next profile is an
 /// approach.
 #[derive(Debug, Clone, Default)]
 pub struct Buffer {
     held: Option<Held>,
     nulls: Vec<NullMove>,
+    /// The contour normal at the end of the last element spooled.
+    last_normal: Option<V2>,
 }
 
 fn offset_error(e: OffsetError) -> ErrorBits {
@@ -125,8 +186,41 @@ fn offset_error(e: OffsetError) -> ErrorBits {
     }
 }
 
-fn is_full_circle(c: &Contour) -> bool {
-    matches!(*c, Contour::Arc { from, to, .. } if from == to)
+/// The corner between the held `a` and the next profile's offset `b`
+/// (trc-geometry.md "Corner").
+fn corner(a: &Held, b: &Offset, b_full: bool, mode: TransitionMode) -> Result<Join, ErrorBits> {
+    let k = a.prof.contour.ends().1;
+    let pa = a.off.end;
+    match classify(a.off.t_end, b.t_start, b.d, &a.off.path, &b.path) {
+        CornerKind::Smooth => Ok(Join {
+            a_end: pa,
+            transition: None,
+            b_from: pa,
+        }),
+        CornerKind::Outside => {
+            let linear = mode == TransitionMode::Linear;
+            let t = transition(linear, k, pa, b.start, a.off.t_end, b.t_start, b.d);
+            Ok(Join {
+                a_end: pa,
+                transition: Some(t),
+                b_from: b.start,
+            })
+        }
+        CornerKind::Inside => {
+            let part_b = Part {
+                path: b.path,
+                from: Some(b.start),
+                to: b.end,
+                full: b_full,
+            };
+            let x = inside_point(&a.part(), &part_b, k).ok_or(ErrorBits::KORR_ERROR)?;
+            Ok(Join {
+                a_end: x,
+                transition: None,
+                b_from: x,
+            })
+        }
+    }
 }
 
 impl Buffer {
@@ -135,16 +229,23 @@ impl Buffer {
         self.held.is_some()
     }
 
+    /// The contour normal at the end of the last element the correction
+    /// spooled: what a departure leaves (otc.md rule 4).
+    pub fn last_normal(&self) -> Option<[f64; 2]> {
+        self.last_normal.map(|n| [n.x, n.y])
+    }
+
     /// Drops the held profile without spooling it (ReInit, direct command,
-    /// RESET, fault).
+    /// RESET, fault, start).
     pub fn clear(&mut self) {
         self.held = None;
         self.nulls.clear();
+        self.last_normal = None;
     }
 
     /// A new profile enters with offset `d` (side × radius). On error the
-    /// bit to set is returned and nothing was spooled; the caller drops the
-    /// buffer and faults the group.
+    /// bit to set is returned and nothing was spooled; the caller faults
+    /// the group.
     pub fn push(
         &mut self,
         prof: Profile,
@@ -153,103 +254,53 @@ impl Buffer {
         sink: &mut Sink,
     ) -> Result<(), ErrorBits> {
         if prof.contour.is_plane_null() {
-            let null = NullMove {
-                end: prof.end,
-                feed: prof.feed,
-                rapid: prof.rapid,
-            };
-            if self.held.is_some() {
-                self.nulls.push(null);
-            } else {
-                let here = sink.here();
-                sink.line(
-                    sink.end_point(here, &null.end),
-                    null.feed,
-                    null.rapid,
-                    Origin::Corrected,
-                );
-            }
+            self.push_plane_null(prof, sink);
             return Ok(());
         }
         let off = prof.contour.offset(d).map_err(offset_error)?;
-        let approach = |from| Held {
-            prof,
-            off,
-            d,
-            approach: true,
-            from,
-        };
-        let approach_from = match prof.contour {
-            Contour::Line { .. } => None,
-            Contour::Arc { .. } => Some(off.start),
-        };
-        let Some(a) = self.held else {
-            self.held = Some(approach(approach_from));
-            return Ok(());
-        };
-        if a.d != d {
-            // Radius changed while running: finish as at SSF 2001.
-            self.flush(sink);
-            self.held = Some(approach(approach_from));
-            return Ok(());
-        }
-        let k = match a.prof.contour {
-            Contour::Line { to, .. } | Contour::Arc { to, .. } => to,
-        };
-        let (x, trans, b_from) = match classify(a.off.t_end, off.t_start, d, &a.off.path, &off.path)
-        {
-            CornerKind::Smooth => (a.off.end, None, a.off.end),
-            CornerKind::Outside => {
-                let t = transition(
-                    mode == TransitionMode::Linear,
-                    k,
-                    a.off.end,
-                    off.start,
-                    a.off.t_end,
-                    off.t_start,
-                    d,
-                );
-                (a.off.end, Some(t), off.start)
-            }
-            CornerKind::Inside => {
-                let part_a = Part {
-                    path: a.off.path,
-                    from: a.from,
-                    to: a.off.end,
-                    full: is_full_circle(&a.prof.contour) && a.from == Some(a.off.end),
-                };
-                let part_b = Part {
-                    path: off.path,
-                    from: Some(off.start),
-                    to: off.end,
-                    full: is_full_circle(&prof.contour),
-                };
-                let x = inside_point(&part_a, &part_b, k).ok_or(ErrorBits::KORR_ERROR)?;
-                (x, None, x)
-            }
-        };
-        self.spool_held(&a, x, sink);
-        if let Some(t) = trans {
-            let (feed, rapid) = (prof.feed, prof.rapid);
-            match t {
-                Transition::Arc { centre, ccw, to } => {
-                    sink.arc(sink.in_plane(to), centre, ccw, feed, Origin::Transition)
+        match self.held {
+            Some(a) if a.off.d == d => {
+                let join = corner(&a, &off, prof.contour.is_full_circle(), mode)?;
+                self.spool_held(&a, join.a_end, sink);
+                if let Some(t) = join.transition {
+                    spool_transition(t, a.prof.contour.ends().1, &prof, sink);
                 }
-                Transition::Lines { points, count } => {
-                    for p in &points[..count] {
-                        sink.line(sink.in_plane(*p), feed, rapid, Origin::Transition);
-                    }
+                self.hold(prof, off, false, Some(join.b_from));
+            }
+            held => {
+                if held.is_some() {
+                    // Radius changed while running: finish as at SSF 2001.
+                    self.flush(sink);
                 }
+                let from = matches!(prof.contour, Contour::Arc { .. }).then_some(off.start);
+                self.hold(prof, off, true, from);
             }
         }
+        Ok(())
+    }
+
+    fn hold(&mut self, prof: Profile, off: Offset, approach: bool, from: Option<V2>) {
         self.held = Some(Held {
             prof,
             off,
-            d,
-            approach: false,
-            from: Some(b_from),
+            approach,
+            from,
         });
-        Ok(())
+    }
+
+    /// A plane-null profile waits with the held one, or is spooled at once
+    /// at the current tool position when nothing is held.
+    fn push_plane_null(&mut self, prof: Profile, sink: &mut Sink) {
+        let null = NullMove {
+            end: prof.end,
+            feed: prof.feed,
+            rapid: prof.rapid,
+        };
+        if self.held.is_some() {
+            self.nulls.push(null);
+        } else {
+            spool_null(&null, self.last_normal, sink);
+        }
     }
 
     /// Spools the held profile with its own offset end, then the plane-null
@@ -266,6 +317,7 @@ impl Buffer {
     /// plane-null profiles waiting with it.
     fn spool_held(&mut self, a: &Held, x: V2, sink: &mut Sink) {
         let p = &a.prof;
+        let n_end = a.off.normal_at(x);
         match p.contour {
             Contour::Line { .. } => {
                 let origin = if a.approach {
@@ -273,37 +325,53 @@ impl Buffer {
                 } else {
                     Origin::Corrected
                 };
-                sink.line(sink.end_point(x, &p.end), p.feed, p.rapid, origin);
+                let end = sink.end_point(x, &p.end);
+                sink.line(end, p.feed, p.rapid, origin, Some(rule_of(n_end)));
             }
             Contour::Arc { centre, sigma, .. } => {
                 if a.approach {
-                    sink.line(
-                        sink.end_point(a.off.start, &p.start),
-                        p.feed,
-                        p.rapid,
-                        Origin::Approach,
-                    );
+                    let end = sink.end_point(a.off.start, &p.start);
+                    let n = rule_of(a.off.normal_at(a.off.start));
+                    sink.line(end, p.feed, p.rapid, Origin::Approach, Some(n));
                 }
-                let zero_sweep = (sink.here() - x).norm() <= 1e-12;
-                if !zero_sweep || is_full_circle(&p.contour) {
-                    sink.arc(
-                        sink.end_point(x, &p.end),
-                        centre,
-                        sigma > 0.0,
-                        p.feed,
-                        Origin::Corrected,
-                    );
+                let zero = (sink.here() - x).norm() <= ZERO_ARC;
+                if !zero || p.contour.is_full_circle() {
+                    let end = sink.end_point(x, &p.end);
+                    let rule = NormalRule::Radial {
+                        centre: [centre.x, centre.y],
+                        outward: a.off.tool_outside_arc(sigma),
+                    };
+                    sink.arc(end, centre, sigma > 0.0, p.feed, Origin::Corrected, rule);
                 }
             }
         }
+        self.last_normal = Some(n_end);
         for n in self.nulls.drain(..) {
-            let here = sink.here();
-            sink.line(
-                sink.end_point(here, &n.end),
-                n.feed,
-                n.rapid,
-                Origin::Corrected,
-            );
+            spool_null(&n, Some(n_end), sink);
+        }
+    }
+}
+
+/// Spools a plane-null profile at the current tool position; it keeps the
+/// normal the tool has there.
+fn spool_null(n: &NullMove, normal: Option<V2>, sink: &mut Sink) {
+    let end = sink.end_point(sink.here(), &n.end);
+    sink.line(end, n.feed, n.rapid, Origin::Corrected, normal.map(rule_of));
+}
+
+/// Spools the transition at corner `k`, at the next profile's feed.
+fn spool_transition(t: Transition, k: V2, next: &Profile, sink: &mut Sink) {
+    let rule = NormalRule::FromCorner([k.x, k.y]);
+    match t {
+        Transition::Arc { centre, ccw, to } => {
+            let end = sink.in_plane(to);
+            sink.arc(end, centre, ccw, next.feed, Origin::Transition, rule);
+        }
+        Transition::Lines(lines) => {
+            for p in lines.points() {
+                let end = sink.in_plane(*p);
+                sink.line(end, next.feed, next.rapid, Origin::Transition, Some(rule));
+            }
         }
     }
 }

@@ -1,83 +1,273 @@
-//! The hook through which an extension (OTC, in `otc-ext`) serves the
-//! objects of devices 3 and 4 and follows what the TC module does.
+//! The seam through which an extension (OTC, in `otc-ext`) adds objects to
+//! bus 1300, keeps its own state in the TC state it belongs to, follows
+//! what the TC module does, and acts on every interpolation cycle.
+//!
+//! * Objects: the extension declares its rows ([`TcExtension::GROUP_OBJECTS`]
+//!   indexed by compensation group, [`TcExtension::OBJECTS`] on devices of
+//!   its own); the module appends them to its one map.
+//! * State: [`TcExtension::Group`] lives in each compensation group,
+//!   [`TcExtension::Tool`] in each tool entry. TC data is read-only to the
+//!   extension except through named operations of [`GroupAccess`].
+//! * Events: tool change, group reset, Clean, position requests.
+//! * Cycles: [`TcExtension::cycle`] is the per-cycle model.
 
 use std::fmt::Debug;
 
-use uoi::{AccessError, ObjectAddress, Value};
+use uoi::{AccessError, ObjectAddress, ObjectDesc, Value};
 
+use crate::cycle::Cycle;
 use crate::group::CorrGroup;
-use crate::object_map::OtcObject;
-use crate::tool_table::WkzIndex;
+use crate::plane::{AxisPos, AXES};
+use crate::tool_table::{ToolEntry, WkzIndex};
 
-/// The compensation group an access to device 3 addresses.
+/// A compensation group as the module stores it for extension `E`.
+pub type Group<E> = CorrGroup<<E as TcExtension>::Group, <E as TcExtension>::Tool>;
+
+/// The module's group slots (index - 1), created on first access.
+pub type GroupSlots<E> = [Option<Box<Group<E>>>];
+
+/// One compensation group as an extension sees it.
 #[derive(Debug)]
-pub struct GroupContext<'a> {
-    /// Group number 1..=32.
-    pub index: u16,
-    /// The group (created on first access, like every group).
-    pub group: &'a mut CorrGroup,
-    /// Whether its correction runs (STATUS bit Run).
-    pub running: bool,
+pub struct GroupAccess<'a, E: TcExtension> {
+    index: u16,
+    group: &'a mut Group<E>,
+    running: bool,
 }
 
-/// An extension of the TC module. The table in `object_map` declares its
-/// objects; type, access and range are checked before these calls.
-pub trait TcExtension: Send + Debug + 'static {
-    /// Reads an object of device 3 (`group` is `Some`) or 4 (`None`).
-    fn read(
+impl<'a, E: TcExtension> GroupAccess<'a, E> {
+    /// The group at `index` (1..=32), running or not.
+    pub fn new(index: u16, group: &'a mut Group<E>, running: bool) -> Self {
+        Self {
+            index,
+            group,
+            running,
+        }
+    }
+
+    /// The group number, 1..=32.
+    pub fn index(&self) -> u16 {
+        self.index
+    }
+
+    /// Whether its correction runs (STATUS bit Run).
+    pub fn running(&self) -> bool {
+        self.running
+    }
+
+    /// Its WKZINDEX.
+    pub fn wkz(&self) -> WkzIndex {
+        self.group.wkz
+    }
+
+    /// The tool entry at WKZINDEX (TC fields and the extension's).
+    pub fn tool(&self) -> &ToolEntry<E::Tool> {
+        self.group.tool()
+    }
+
+    /// The extension's fields of the tool entry at WKZINDEX.
+    pub fn tool_ext(&mut self) -> &mut E::Tool {
+        &mut self.group.tool_mut().ext
+    }
+
+    /// The extension's state of this group.
+    pub fn state(&self) -> &E::Group {
+        &self.group.ext
+    }
+
+    /// The extension's state of this group, mutable.
+    pub fn state_mut(&mut self) -> &mut E::Group {
+        &mut self.group.ext
+    }
+
+    /// Reduces the radius of the entry at WKZINDEX by `w` (wear booked on
+    /// the tool).
+    pub fn reduce_radius(&mut self, w: f64) {
+        self.group.tool_mut().radius -= w;
+    }
+
+    /// Reduces the length of the entry at WKZINDEX by `w`.
+    pub fn reduce_length(&mut self, w: f64) {
+        self.group.tool_mut().length -= w;
+    }
+}
+
+/// Every compensation group that exists, as an extension sees them.
+#[derive(Debug)]
+pub struct Groups<'a, E: TcExtension> {
+    slots: &'a mut GroupSlots<E>,
+    running: Option<usize>,
+}
+
+impl<'a, E: TcExtension> Groups<'a, E> {
+    /// The groups in `slots` (slot = index - 1); `running` is the slot of
+    /// the running group.
+    pub fn new(slots: &'a mut GroupSlots<E>, running: Option<usize>) -> Self {
+        Self { slots, running }
+    }
+
+    /// The same view, borrowed again.
+    pub fn reborrow(&mut self) -> Groups<'_, E> {
+        Groups {
+            slots: &mut *self.slots,
+            running: self.running,
+        }
+    }
+
+    /// The group at `index` (1..=32), if it was created.
+    pub fn get(&mut self, index: u16) -> Option<GroupAccess<'_, E>> {
+        let slot = usize::from(index).checked_sub(1)?;
+        let running = self.running == Some(slot);
+        let g = self.slots.get_mut(slot)?.as_deref_mut()?;
+        Some(GroupAccess::new(index, g, running))
+    }
+
+    /// Every group that was created, in index order.
+    pub fn iter_mut(&mut self) -> impl Iterator<Item = GroupAccess<'_, E>> {
+        let running = self.running;
+        self.slots
+            .iter_mut()
+            .enumerate()
+            .filter_map(move |(slot, g)| {
+                let g = g.as_deref_mut()?;
+                // slot < GROUP_COUNT (32) fits u16.
+                Some(GroupAccess::new(slot as u16 + 1, g, running == Some(slot)))
+            })
+    }
+}
+
+/// An extension of the TC module.
+///
+/// Type, access and range of an access are checked against the declared
+/// rows before `read_group`/`write_group`/`read`/`write` are called.
+pub trait TcExtension: Debug + Send + Sized + 'static {
+    /// The extension's own name for its objects.
+    type Key: Copy + Debug + PartialEq + Send + Sync + 'static;
+    /// Its state of one compensation group.
+    type Group: Debug + Default + Clone + Send + 'static;
+    /// Its fields of one tool entry.
+    type Tool: Debug + Default + Copy + PartialEq + Send + 'static;
+
+    /// Its objects indexed by compensation group (index range `GROUPS`);
+    /// the group is created on first access like every group.
+    const GROUP_OBJECTS: &'static [ObjectDesc<Self::Key>];
+    /// Its other objects, on devices of its own.
+    const OBJECTS: &'static [ObjectDesc<Self::Key>];
+
+    /// Reads a group object.
+    fn read_group(
         &mut self,
-        obj: OtcObject,
+        key: Self::Key,
         addr: ObjectAddress,
-        group: Option<GroupContext<'_>>,
+        group: GroupAccess<'_, Self>,
     ) -> Result<Value, AccessError>;
 
-    /// Writes an object of device 3 (`group` is `Some`) or 4 (`None`).
-    fn write(
+    /// Writes a group object.
+    fn write_group(
         &mut self,
-        obj: OtcObject,
+        key: Self::Key,
         addr: ObjectAddress,
         value: Value,
-        group: Option<GroupContext<'_>>,
+        group: GroupAccess<'_, Self>,
     ) -> Result<(), AccessError>;
 
-    /// WKZINDEX of `group` changed from `outgoing` (the tool handed back)
-    /// to `incoming`.
-    fn tool_changed(&mut self, _group: u16, _outgoing: WkzIndex, _incoming: WkzIndex) {}
+    /// Reads one of its other objects.
+    fn read(
+        &mut self,
+        key: Self::Key,
+        addr: ObjectAddress,
+        groups: Groups<'_, Self>,
+    ) -> Result<Value, AccessError>;
 
-    /// The group RESET of `group` (its tool table entries go back to default).
-    fn group_reset(&mut self, _group: u16) {}
+    /// Writes one of its other objects.
+    fn write(
+        &mut self,
+        key: Self::Key,
+        addr: ObjectAddress,
+        value: Value,
+        groups: Groups<'_, Self>,
+    ) -> Result<(), AccessError>;
 
-    /// Device 0 Clean: everything back to defaults.
+    /// The group's WKZINDEX changed from `outgoing` (the tool handed back)
+    /// to the group's current one.
+    fn tool_changed(&mut self, _outgoing: WkzIndex, _group: GroupAccess<'_, Self>) {}
+
+    /// The group RESET (its tool entries, the extension's fields included,
+    /// are back to default).
+    fn group_reset(&mut self, _group: GroupAccess<'_, Self>) {}
+
+    /// Device 0 Clean: every group is gone; the extension's own state
+    /// goes back to defaults.
     fn clean(&mut self) {}
 
     /// A position request (`JA`, `JS`, ReInit) is about to happen; an error
     /// refuses it.
-    fn position_request(&mut self) -> Result<(), AccessError> {
+    fn position_request(&mut self, _groups: Groups<'_, Self>) -> Result<(), AccessError> {
         Ok(())
     }
+
+    /// Whether the per-cycle model acts now (asked before every `EXEC` and
+    /// after every write to the extension's objects).
+    fn cycle_active(&mut self, _groups: Groups<'_, Self>) -> bool {
+        false
+    }
+
+    /// One interpolation cycle, while [`TcExtension::cycle_active`]: the
+    /// offset to add to the nominal position.
+    fn cycle(&mut self, _cycle: &Cycle<'_>, _groups: Groups<'_, Self>) -> AxisPos {
+        [0.0; AXES]
+    }
 }
+
+/// The key of an extension without objects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NoKey {}
 
 /// No extension: devices 3 and 4 do not exist (`NoObject`).
 #[derive(Debug, Default, Clone, Copy)]
 pub struct NoExtension;
 
 impl TcExtension for NoExtension {
+    type Key = NoKey;
+    type Group = ();
+    type Tool = ();
+    const GROUP_OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
+    const OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
+
+    fn read_group(
+        &mut self,
+        k: NoKey,
+        _: ObjectAddress,
+        _: GroupAccess<'_, Self>,
+    ) -> Result<Value, AccessError> {
+        match k {}
+    }
+
+    fn write_group(
+        &mut self,
+        k: NoKey,
+        _: ObjectAddress,
+        _: Value,
+        _: GroupAccess<'_, Self>,
+    ) -> Result<(), AccessError> {
+        match k {}
+    }
+
     fn read(
         &mut self,
-        _: OtcObject,
+        k: NoKey,
         _: ObjectAddress,
-        _: Option<GroupContext<'_>>,
+        _: Groups<'_, Self>,
     ) -> Result<Value, AccessError> {
-        Err(AccessError::NoObject)
+        match k {}
     }
 
     fn write(
         &mut self,
-        _: OtcObject,
+        k: NoKey,
         _: ObjectAddress,
         _: Value,
-        _: Option<GroupContext<'_>>,
+        _: Groups<'_, Self>,
     ) -> Result<(), AccessError> {
-        Err(AccessError::NoObject)
+        match k {}
     }
 }

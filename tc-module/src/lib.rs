@@ -1,8 +1,11 @@
 //! # tc-module — the ADDIPOS tool radius correction module (bus 1300)
 //!
-//! Implements the objects of devices 0, 1 and 2 of `shared/spec/uoi-map.md`
-//! on top of the [`uoi`] dispatcher, the one-profile correction buffer of
-//! `trc-geometry.md`, coordinate rotation, the spooler and the executor.
+//! The objects of devices 0, 1 and 2 of the TC object map on top of the
+//! [`uoi`] dispatcher, the one-profile correction buffer, coordinate
+//! rotation, the spooler and the executor; an extension (OTC) plugs in
+//! through [`TcExtension`]: its objects are appended to the one map, its
+//! state lives in the groups and tool entries, and it may act on every
+//! interpolation cycle ([`cycle`]).
 //!
 //! ```
 //! use tc_module::TcModule;
@@ -17,29 +20,32 @@
 //! assert_eq!(server.write(wkz, Value::I32(1024)), Err(uoi::AccessError::Range));
 //! ```
 
-#![forbid(unsafe_code)]
-#![warn(missing_docs)]
-
 pub mod bits;
 pub mod correction;
+pub mod cycle;
+pub mod element;
 pub mod executor;
 pub mod extension;
 pub mod geometry;
 pub mod group;
 pub mod module;
-pub mod motion;
 pub mod object_map;
 pub mod plane;
 pub mod rotation;
 pub mod spooler;
 pub mod tool_table;
 
+pub use tc_request::motion;
+
 pub use bits::{ErrorBits, StatusBits};
-pub use extension::{GroupContext, NoExtension, TcExtension};
+pub use cycle::{Cycle, CycleModel, NoModel, PathPart};
+pub use element::{ContourNormal, NormalRule, Origin, Path, SpoolElement};
+pub use extension::{Group, GroupAccess, Groups, NoExtension, TcExtension};
 pub use group::{CorrGroup, Side, TransitionMode};
-pub use module::TcModule;
-pub use motion::{ArcDir, AxisWords, Motion};
-pub use object_map::{OtcObject, TcObject, TC_BUS, TC_OBJECTS};
+pub use module::{TcModule, MAX_COORD};
+pub use motion::{ArcDir, Motion};
+pub use object_map::{TcKey, TcObject, GROUPS, GROUP_COUNT, TC_BUS, TC_OBJECTS};
 pub use plane::{AxisPos, PlaneAxes, TcPlane, AXES, AXIS_NAMES};
-pub use spooler::{Origin, Path, SpoolElement, Spooler};
+pub use spooler::Spooler;
+pub use tc_request::AxisWords;
 pub use tool_table::{ToolEntry, ToolTable, WkzIndex};

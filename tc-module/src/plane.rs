@@ -1,20 +1,7 @@
 //! Main planes and axis allocation (uoi-map.md device 0 index 2 and 3;
 //! trc-geometry.md "Coordinates").
 
-/// Number of machine axes (trace names `X Y Z A B C U V`).
-pub const AXES: usize = 8;
-
-/// Trace names of the machine axes, by index.
-pub const AXIS_NAMES: [char; AXES] = ['X', 'Y', 'Z', 'A', 'B', 'C', 'U', 'V'];
-
-/// The machine axis index of a trace axis letter (case-insensitive).
-pub fn axis_index(letter: char) -> Option<usize> {
-    let up = letter.to_ascii_uppercase();
-    AXIS_NAMES.iter().position(|&n| n == up)
-}
-
-/// A position of all machine axes.
-pub type AxisPos = [f64; AXES];
+pub use tc_request::axes::{axis_index, AxisPos, AxisWords, AXES, AXIS_NAMES};
 
 /// The main plane for circles and correction: 17 X-Y, 18 Z-X, 19 Y-Z
 /// (NC G17/G18/G19).

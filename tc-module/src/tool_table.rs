@@ -1,7 +1,9 @@
 //! Tool tables: 1024 entries per compensation group (uoi-map.md device 1,
-//! RADIUS/WKZINDEX/WkzLen).
+//! RADIUS/WKZINDEX/WkzLen). An extension keeps its own fields of every
+//! entry in the entry itself (`ext`).
 
-/// Number of entries in a tool table.
+/// Number of entries in a tool table (uoi-map.md: "a tool table of 1024
+/// entries (WKZINDEX 0..1023)").
 pub const TOOL_ENTRIES: usize = 1024;
 
 /// An index into a tool table (WKZINDEX, 0..=1023).
@@ -13,7 +15,7 @@ impl WkzIndex {
     pub fn new(value: i32) -> Option<Self> {
         u16::try_from(value)
             .ok()
-            .filter(|&v| (v as usize) < TOOL_ENTRIES)
+            .filter(|&v| usize::from(v) < TOOL_ENTRIES)
             .map(WkzIndex)
     }
 
@@ -23,41 +25,45 @@ impl WkzIndex {
     }
 }
 
-/// One tool entry: every field defaults to 0.0.
+/// One tool entry: radius and length default to 0.0; `ext` holds an
+/// extension's fields of the same entry (OTC: tool type, wear constant...).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct ToolEntry {
+pub struct ToolEntry<T = ()> {
     /// Tool radius (RADIUS), interpolation units.
     pub radius: f64,
     /// Tool length (WkzLen), interpolation units.
     pub length: f64,
+    /// The extension's fields of this entry.
+    pub ext: T,
 }
 
 /// The tool table of one compensation group.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ToolTable {
-    entries: Box<[ToolEntry; TOOL_ENTRIES]>,
+pub struct ToolTable<T = ()> {
+    entries: Box<[ToolEntry<T>]>,
 }
 
-impl Default for ToolTable {
+impl<T: Copy + Default> Default for ToolTable<T> {
     fn default() -> Self {
         Self {
-            entries: Box::new([ToolEntry::default(); TOOL_ENTRIES]),
+            entries: vec![ToolEntry::default(); TOOL_ENTRIES].into_boxed_slice(),
         }
     }
 }
 
-impl ToolTable {
+impl<T: Copy + Default> ToolTable<T> {
     /// The entry at `index`.
-    pub fn entry(&self, index: WkzIndex) -> &ToolEntry {
+    pub fn entry(&self, index: WkzIndex) -> &ToolEntry<T> {
+        // A WkzIndex is below TOOL_ENTRIES, the table's length.
         &self.entries[index.get()]
     }
 
     /// The entry at `index`, mutable.
-    pub fn entry_mut(&mut self, index: WkzIndex) -> &mut ToolEntry {
+    pub fn entry_mut(&mut self, index: WkzIndex) -> &mut ToolEntry<T> {
         &mut self.entries[index.get()]
     }
 
-    /// Every entry back to its default.
+    /// Every entry, every field back to its default.
     pub fn clear(&mut self) {
         self.entries.fill(ToolEntry::default());
     }
@@ -76,11 +82,12 @@ mod tests {
     }
 
     #[test]
-    fn clear_restores_defaults() {
-        let mut t = ToolTable::default();
+    fn clear_restores_defaults_of_every_field() {
+        let mut t = ToolTable::<i32>::default();
         let i = WkzIndex::new(1023).unwrap();
         t.entry_mut(i).radius = 3.0;
         t.entry_mut(i).length = 4.0;
+        t.entry_mut(i).ext = 2;
         t.clear();
         assert_eq!(*t.entry(i), ToolEntry::default());
     }

@@ -4,10 +4,13 @@
 //! the requested side, consecutive elements are continuous, and the
 //! executor ends exactly on the last spooled end point.
 
+// Test and bench helpers may stop loudly on a broken setup.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
 use std::f64::consts::{FRAC_PI_3, TAU};
 
 use proptest::prelude::*;
-use tc_module::{ArcDir, Motion, Origin, Path, SpoolElement, TcModule, AXES};
+use tc_module::{ArcDir, Motion, NoExtension, Origin, Path, SpoolElement, TcModule, AXES};
 use uoi::{ObjectAddress, ObjectBus, Value};
 
 /// A programmed plane element, for measuring distances.
@@ -90,7 +93,7 @@ fn check(
     let mut pos = [0.0; AXES];
     pos[0] = start[0];
     pos[1] = start[1];
-    let mut tc = TcModule::new(pos, 1e-3);
+    let mut tc = TcModule::new(pos, 1e-3, NoExtension);
     tc.spooler_mut().set_logging(true);
     write(&mut tc, "1300/1/1/8", Value::I32(1));
     write(&mut tc, "1300/1/1/6", Value::F64(radius));
@@ -106,7 +109,6 @@ fn check(
             Prog::Line(_, b) => Motion::Lin {
                 words: words(b),
                 feed: Some(60000.0),
-                rapid: false,
             },
             Prog::Arc(s, t, c, ccw) => Motion::Cir {
                 dir: if ccw { ArcDir::Ccw } else { ArcDir::Cw },
@@ -199,7 +201,7 @@ fn check(
     // The executor, stepped cycle by cycle, ends exactly on the last end point.
     tc.exec(Some(u64::MAX / 4));
     prop_assert_eq!(tc.queue_len(), 0);
-    prop_assert_eq!(*tc.position(), prev_end);
+    prop_assert_eq!(tc.position(), prev_end);
     Ok(())
 }
 
@@ -337,7 +339,7 @@ proptest! {
             write(&mut tc, "1300/1/1/3", Value::I32(1));
             for e in &prog {
                 let m = match *e {
-                    Prog::Line(_, b) => Motion::Lin { words: words(b), feed: None, rapid: false },
+                    Prog::Line(_, b) => Motion::Lin { words: words(b), feed: None },
                     Prog::Arc(s, t, c, ccw) => Motion::Cir {
                         dir: if ccw { ArcDir::Ccw } else { ArcDir::Cw },
                         words: words(t),
@@ -418,7 +420,7 @@ proptest! {
                     w[0] = Some(x);
                     w[1] = Some(y);
                     w[2] = Some(z);
-                    let _ = tc.command(&Motion::Lin { words: w, feed: None, rapid: false });
+                    let _ = tc.command(&Motion::Lin { words: w, feed: None });
                 }
                 Cmd::Cir(ccw, x, y, i, j) => {
                     w[0] = Some(x);

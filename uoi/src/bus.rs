@@ -17,7 +17,7 @@ pub trait Bus: Send + 'static {
     fn number(&self) -> u16;
 
     /// The module's object table.
-    fn objects(&self) -> &'static [ObjectDesc<Self::Key>];
+    fn objects(&self) -> &[ObjectDesc<Self::Key>];
 
     /// Reads an object that exists and is readable. The returned value must
     /// have the object's type.

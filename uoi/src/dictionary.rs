@@ -148,6 +148,21 @@ impl<K> ObjectDesc<K> {
         self
     }
 
+    /// The same row under another key (a module appending an extension's
+    /// rows to its own table).
+    pub fn with_key<K2>(&self, key: K2) -> ObjectDesc<K2> {
+        ObjectDesc {
+            key,
+            name: self.name,
+            device: self.device,
+            index: self.index.clone(),
+            sub: self.sub.clone(),
+            ty: self.ty,
+            access: self.access,
+            range: self.range,
+        }
+    }
+
     /// Whether this row answers for `addr` (bus not considered).
     pub fn matches(&self, addr: ObjectAddress) -> bool {
         self.device == addr.device

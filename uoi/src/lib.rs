@@ -3,7 +3,8 @@
 //! A UOI object is addressed by `BusNumber/DeviceNumber/Index/SubIndex`
 //! ([`ObjectAddress`]) and read or written as an `i32` or an `f64`
 //! ([`Value`]). Every access either succeeds or fails with one of the
-//! CANopen-style [`AccessError`] codes of `shared/spec/uoi-map.md`.
+//! CANopen-style [`AccessError`] codes (the access-error table of the TC
+//! object map, docs/object-map.md).
 //!
 //! A module (the TC module on bus 1300, say) implements [`Bus`] and declares
 //! all of its objects in ONE table of [`ObjectDesc`]. The checked entry points
@@ -23,7 +24,7 @@
 //! impl Bus for Counter {
 //!     type Key = Key;
 //!     fn number(&self) -> u16 { 7 }
-//!     fn objects(&self) -> &'static [ObjectDesc<Key>] { &OBJECTS }
+//!     fn objects(&self) -> &[ObjectDesc<Key>] { &OBJECTS }
 //!     fn read(&mut self, _: Key, _: ObjectAddress) -> Result<Value, AccessError> { Ok(Value::I32(self.0)) }
 //!     fn write(&mut self, _: Key, _: ObjectAddress, v: Value) -> Result<(), AccessError> {
 //!         if let Value::I32(v) = v { self.0 = v }
@@ -40,9 +41,6 @@
 //! assert_eq!(server.write(addr, Value::F64(1.0)), Err(AccessError::TypeMismatch));
 //! assert_eq!(server.read("7/0/2/0".parse().unwrap(), uoi::ValueType::I32), Err(AccessError::NoObject));
 //! ```
-
-#![forbid(unsafe_code)]
-#![warn(missing_docs)]
 
 mod address;
 mod bus;

@@ -1,5 +1,9 @@
 //! The byte example of docs/protocol.md is what the encoder produces.
 
+// Test and bench helpers may stop loudly on a broken setup.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
+use bytes::BytesMut;
 use uoi::wire::{encode_answer, encode_request, Answer, Op, Request};
 use uoi::{ObjectAddress, Value, ValueType};
 
@@ -12,7 +16,7 @@ fn hex(b: &[u8]) -> String {
 
 #[test]
 fn documented_example_bytes() {
-    let mut req = Vec::new();
+    let mut req = BytesMut::new();
     encode_request(
         1,
         &Request::Read(ObjectAddress::new(1300, 0, 3, 0), ValueType::I32),
@@ -22,8 +26,8 @@ fn documented_example_bytes() {
         hex(&req),
         "18 00 00 00 55 4f 01 01 01 00 00 00 00 00 00 00 14 05 00 00 03 00 00 00 69 00 00 00"
     );
-    let mut ans = Vec::new();
-    encode_answer(1, Op::Read as u8, &Answer::Value(Value::I32(17)), &mut ans);
+    let mut ans = BytesMut::new();
+    encode_answer(1, Op::Read.code(), &Answer::Value(Value::I32(17)), &mut ans);
     assert_eq!(
         hex(&ans),
         "18 00 00 00 55 4f 01 01 01 00 00 00 00 00 00 00 69 00 00 00 11 00 00 00 00 00 00 00"

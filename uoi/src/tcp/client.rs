@@ -2,13 +2,12 @@
 
 use std::io;
 
-use tokio::io::{AsyncReadExt, AsyncWriteExt, BufReader, BufWriter};
+use futures_util::{SinkExt, StreamExt};
 use tokio::net::tcp::{OwnedReadHalf, OwnedWriteHalf};
 use tokio::net::{TcpStream, ToSocketAddrs};
+use tokio_util::codec::{FramedRead, FramedWrite};
 
-use crate::wire::{
-    decode_answer, encode_request, Answer, Op, ProtocolError, Request, MAX_FRAME, PREFIX_LEN,
-};
+use crate::wire::{decode_answer, Answer, ClientCodec, CodecError, Op, ProtocolError, Request};
 use crate::{AccessError, ObjectAddress, Value, ValueType};
 
 /// Why a call failed.
@@ -28,13 +27,20 @@ pub enum ClientError {
     Unexpected(String),
 }
 
+impl From<CodecError> for ClientError {
+    fn from(e: CodecError) -> Self {
+        match e {
+            CodecError::Io(e) => ClientError::Io(e),
+            CodecError::FrameTooLarge(n) => ClientError::Unexpected(format!("frame of {n} bytes")),
+        }
+    }
+}
+
 /// An async connection to an object server.
 pub struct Client {
-    r: BufReader<OwnedReadHalf>,
-    w: BufWriter<OwnedWriteHalf>,
+    reader: FramedRead<OwnedReadHalf, ClientCodec>,
+    writer: FramedWrite<OwnedWriteHalf, ClientCodec>,
     next_id: u32,
-    out: Vec<u8>,
-    body: Vec<u8>,
 }
 
 impl Client {
@@ -44,39 +50,32 @@ impl Client {
         s.set_nodelay(true)?;
         let (r, w) = s.into_split();
         Ok(Self {
-            r: BufReader::with_capacity(MAX_FRAME + PREFIX_LEN, r),
-            w: BufWriter::with_capacity(64 * 1024, w),
+            reader: FramedRead::new(r, ClientCodec),
+            writer: FramedWrite::new(w, ClientCodec),
             next_id: 1,
-            out: Vec::with_capacity(256),
-            body: Vec::with_capacity(256),
         })
     }
 
     /// Queues a request (not flushed); returns its id.
-    pub async fn send(&mut self, req: &Request) -> io::Result<u32> {
+    pub async fn send(&mut self, req: &Request) -> Result<u32, ClientError> {
         let id = self.next_id;
         self.next_id = self.next_id.wrapping_add(1);
-        self.out.clear();
-        encode_request(id, req, &mut self.out);
-        self.w.write_all(&self.out).await?;
+        self.writer.feed((id, req)).await?;
         Ok(id)
     }
 
     /// Sends what is queued.
-    pub async fn flush(&mut self) -> io::Result<()> {
-        self.w.flush().await
+    pub async fn flush(&mut self) -> Result<(), ClientError> {
+        Ok(SinkExt::<(u32, &Request)>::flush(&mut self.writer).await?)
     }
 
     /// Receives the next answer, to a request of op `op`.
     pub async fn recv(&mut self, op: Op) -> Result<(u32, Answer), ClientError> {
-        let len = self.r.read_u32_le().await? as usize;
-        if len > MAX_FRAME {
-            return Err(ClientError::Unexpected(format!("frame of {len} bytes")));
-        }
-        self.body.resize(len, 0);
-        self.r.read_exact(&mut self.body).await?;
-        decode_answer(&self.body, op)
-            .ok_or_else(|| ClientError::Unexpected("undecodable answer".into()))
+        let body = match self.reader.next().await {
+            Some(frame) => frame?,
+            None => return Err(io::Error::from(io::ErrorKind::UnexpectedEof).into()),
+        };
+        decode_answer(body, op).ok_or_else(|| ClientError::Unexpected("undecodable answer".into()))
     }
 
     /// One request, one answer.
@@ -131,7 +130,7 @@ impl Client {
 }
 
 /// The error an unexpected answer stands for.
-pub(crate) fn answer_error(a: Answer) -> ClientError {
+pub fn answer_error(a: Answer) -> ClientError {
     match a {
         Answer::Access(e) => ClientError::Access(e),
         Answer::Protocol(e) => ClientError::Protocol(e),

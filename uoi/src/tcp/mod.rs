@@ -4,5 +4,5 @@
 mod client;
 mod server;
 
-pub use client::{BlockingClient, Client, ClientError};
+pub use client::{answer_error, BlockingClient, Client, ClientError};
 pub use server::{Core, Handler, Server, ServerConfig};

@@ -10,20 +10,25 @@ use std::time::Duration;
 
 use tokio::time::Instant;
 
-use tokio::io::{AsyncReadExt, AsyncWriteExt, BufReader, BufWriter};
+use futures_util::{SinkExt, StreamExt};
+use tokio::io::AsyncWriteExt;
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::{mpsc, oneshot, watch, Semaphore};
 use tokio::task::JoinSet;
+use tokio_util::codec::{FramedRead, FramedWrite};
 use tracing::{debug, info, warn};
 
 use crate::wire::{
-    decode_request, encode_answer, Answer, ProtocolError, Request, MAX_FRAME, PREFIX_LEN,
+    Answer, CodecError, ProtocolError, Rejected, Reply, Request, ServerCodec, MAX_FRAME, PREFIX_LEN,
 };
+
+/// Answers buffered before they are written out even if more requests wait.
+const WRITE_BATCH: usize = 64 * 1024;
 
 /// What serves the requests: the emulator, in `addipos`.
 pub trait Handler: Send + 'static {
     /// Answers one request.
-    fn handle(&mut self, req: &Request) -> Answer;
+    fn handle(&mut self, req: Request) -> Answer;
 }
 
 /// How connections share the handler.
@@ -85,7 +90,7 @@ impl<H: Handler> Shared<H> {
         match self {
             Shared::Lock(m) => {
                 let mut h = m.lock().unwrap_or_else(|p| p.into_inner());
-                h.handle(&req)
+                h.handle(req)
             }
             Shared::Owner(tx) => {
                 let (atx, arx) = oneshot::channel();
@@ -126,7 +131,7 @@ impl<H: Handler> Server<H> {
                 let mut h = handler;
                 tokio::spawn(async move {
                     while let Some((req, answer)) = rx.recv().await {
-                        let _ = answer.send(h.handle(&req));
+                        let _ = answer.send(h.handle(req));
                     }
                 });
                 Shared::Owner(tx)
@@ -204,12 +209,26 @@ impl<H: Handler> Server<H> {
     }
 }
 
-async fn refuse(mut stream: TcpStream) {
-    let mut out = Vec::new();
-    encode_answer(0, 0, &Answer::Protocol(ProtocolError::Busy), &mut out);
-    let _ = stream.write_all(&out).await;
-    let _ = stream.shutdown().await;
+async fn refuse(stream: TcpStream) {
+    let mut w = FramedWrite::new(stream, ServerCodec);
+    let _ = w
+        .send(reply(0, 0, Answer::Protocol(ProtocolError::Busy)))
+        .await;
+    let _ = w.into_inner().shutdown().await;
 }
+
+fn reply(id: u32, op: u8, answer: Answer) -> Reply {
+    Reply { id, op, answer }
+}
+
+/// What ended the wait for the next frame.
+enum Next {
+    Frame(Option<Result<Incoming, CodecError>>),
+    Idle,
+    Stop,
+}
+
+type Incoming = Result<(u32, Request), Rejected>;
 
 async fn serve_connection<H: Handler>(
     stream: TcpStream,
@@ -218,10 +237,9 @@ async fn serve_connection<H: Handler>(
     mut stop: watch::Receiver<bool>,
 ) {
     let (r, w) = stream.into_split();
-    let mut r = BufReader::with_capacity(MAX_FRAME + PREFIX_LEN, r);
-    let mut w = BufWriter::with_capacity(64 * 1024, w);
-    let mut body = Vec::with_capacity(256);
-    let mut out = Vec::with_capacity(256);
+    let mut reader = FramedRead::with_capacity(r, ServerCodec, MAX_FRAME + PREFIX_LEN);
+    let mut writer = FramedWrite::new(w, ServerCodec);
+    writer.set_backpressure_boundary(WRITE_BATCH);
     // One timer for the connection, moved on only when it fires: a request
     // costs a clock read, not a timer update.
     let mut last = Instant::now();
@@ -231,73 +249,53 @@ async fn serve_connection<H: Handler>(
     let stopped = stop.changed();
     tokio::pin!(stopped);
     loop {
-        let mut prefix = [0u8; PREFIX_LEN];
-        if r.buffer().len() >= PREFIX_LEN {
-            // Pipelined: the next prefix is already here.
-            if r.read_exact(&mut prefix).await.is_err() {
+        let next = tokio::select! {
+            biased;
+            f = reader.next() => Next::Frame(f),
+            () = &mut watchdog => {
+                if last.elapsed() < idle {
+                    watchdog.as_mut().reset(last + idle);
+                    continue;
+                }
+                Next::Idle
+            }
+            _ = &mut stopped => Next::Stop,
+        };
+        let item = match next {
+            Next::Frame(Some(Ok(item))) => item,
+            Next::Frame(Some(Err(CodecError::FrameTooLarge(len)))) => {
+                warn!(len, "frame too large, closing");
+                let ans = Answer::Protocol(ProtocolError::FrameTooLarge);
+                let _ = writer.send(reply(0, 0, ans)).await;
                 break;
             }
-        } else {
-            let got = loop {
-                tokio::select! {
-                    res = r.read_exact(&mut prefix) => break res.is_ok(),
-                    () = &mut watchdog => {
-                        if last.elapsed() >= idle {
-                            debug!("idle timeout");
-                            break false;
-                        }
-                        watchdog.as_mut().reset(last + idle);
-                    }
-                    _ = &mut stopped => break false,
-                }
-            };
-            if !got {
-                break; // closed, half a frame then closed, idle, or shutdown
+            // Closed, half a frame then closed, a broken connection.
+            Next::Frame(_) => break,
+            Next::Idle => {
+                debug!("idle timeout");
+                break;
             }
-        }
-        let len = u32::from_le_bytes(prefix) as usize;
-        if len > MAX_FRAME {
-            warn!(len, "frame too large, closing");
-            out.clear();
-            encode_answer(
-                0,
-                0,
-                &Answer::Protocol(ProtocolError::FrameTooLarge),
-                &mut out,
-            );
-            let _ = w.write_all(&out).await;
-            break;
-        }
-        body.resize(len, 0);
-        let complete = if r.buffer().len() >= len {
-            r.read_exact(&mut body).await.is_ok()
-        } else {
-            matches!(
-                tokio::time::timeout(idle, r.read_exact(&mut body)).await,
-                Ok(Ok(_))
-            )
+            Next::Stop => break,
         };
-        if !complete {
-            break;
-        }
         last = Instant::now();
-        let (id, op, answer) = match decode_request(&body) {
-            Ok((id, req)) => (id, req.op() as u8, shared.handle(req).await),
-            Err((id, op, e)) => {
-                debug!(error = %e, "bad request");
-                (id, op, Answer::Protocol(e))
+        let out = match item {
+            Ok((id, req)) => {
+                let op = req.op().code();
+                reply(id, op, shared.handle(req).await)
+            }
+            Err(r) => {
+                debug!(error = %r.error, "bad request");
+                reply(r.id, r.op, Answer::Protocol(r.error))
             }
         };
-        out.clear();
-        encode_answer(id, op, &answer, &mut out);
-        if w.write_all(&out).await.is_err() {
+        if writer.feed(out).await.is_err() {
             break;
         }
         // Answer pipelined requests in batches: flush when nothing more waits.
-        if r.buffer().is_empty() && w.flush().await.is_err() {
+        if reader.read_buffer().is_empty() && writer.flush().await.is_err() {
             break;
         }
     }
-    let _ = w.flush().await;
-    let _ = w.shutdown().await;
+    let _ = writer.flush().await;
+    let _ = writer.into_inner().shutdown().await;
 }

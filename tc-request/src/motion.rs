@@ -1,11 +1,8 @@
-//! Commands a host program sends besides object accesses: interpolation
-//! profiles (`LIN`, `RAP`, `CIR`), direct commands (`JA`, `JS`), special
-//! functions (`SSF`) and `rs()` (trace-format.md, "Requests").
+//! Commands to the motion side of the controller: interpolation profiles
+//! (`LIN`, `RAP`, `CIR`), direct commands (`JA`, `JS`), special functions
+//! (`SSF`) and the legacy `rs()` (trace-format.md, "Requests").
 
-use crate::plane::AXES;
-
-/// Axis words of a command: `Some(v)` for each named machine axis.
-pub type AxisWords = [Option<f64>; AXES];
+use crate::axes::{AxisWords, AXES};
 
 /// Arc direction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -25,7 +22,7 @@ impl ArcDir {
         }
     }
 
-    /// The trace keyword.
+    /// The trace keyword, `CW` or `CCW`.
     pub const fn keyword(self) -> &'static str {
         match self {
             ArcDir::Cw => "CW",
@@ -34,17 +31,23 @@ impl ArcDir {
     }
 }
 
-/// One command to the motion side of the controller.
+/// One motion command: the only list of motion kinds in the project.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Motion {
-    /// `LIN`/`RAP`: straight line to an absolute end point.
+    /// `LIN`: feed line to an absolute end point.
     Lin {
         /// End point words; unnamed axes keep their value.
         words: AxisWords,
         /// Modal feed `F` (units/min), if given.
         feed: Option<f64>,
-        /// `RAP`: at the rapid feed, no wear.
-        rapid: bool,
+    },
+    /// `RAP`: rapid line at the rapid feed (no wear).
+    Rap {
+        /// End point words.
+        words: AxisWords,
+        /// An `F` word sets the modal feed of later commands; the rapid
+        /// itself runs at the rapid feed.
+        feed: Option<f64>,
     },
     /// `CIR CW|CCW`: arc in the main plane.
     Cir {
@@ -71,12 +74,13 @@ pub enum Motion {
     Ssf {
         /// Machine axis.
         axis: u8,
-        /// Function number (2001: flush the correction buffer).
+        /// Function number ([`SSF_FLUSH`]: flush the correction buffer).
         function: i32,
     },
     /// `RS`: the legacy `rs()`, rotation back to 0.
     Rs,
 }
 
-/// The special function that spools the buffered profile and keeps running.
+/// The special function that spools the buffered profile and keeps the
+/// correction running (trc-geometry.md, "`SSF 2001`").
 pub const SSF_FLUSH: i32 = 2001;

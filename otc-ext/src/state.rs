@@ -1,0 +1,224 @@
+//! The OTC state: of each compensation group (kept in the group), of each
+//! tool entry (kept in the entry), and of the machine axes' PLC units.
+
+use bitflags::bitflags;
+use tc_module::AXES;
+
+bitflags! {
+    /// OtcError register bits (device 3 sub 7).
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+    pub struct OtcErrorBits: i32 {
+        /// bit0: OTC ON with a tool that is not a grinding tool (P-ERR-21391).
+        const TOOL_TYPE = 1;
+        /// bit1: command out of sequence (ISG 90050).
+        const SEQUENCE = 2;
+        /// bit2: position request refused while OTC is on (ISG 21572).
+        const POS_REQUEST = 4;
+        /// bit3: a PLC unit used with a type or mode that ignores it.
+        const NOT_ALLOWED = 8;
+    }
+}
+
+/// Tool type of a grinding tool (P-TOOL-00001; otc.md "Switching": `OtcOn=1`
+/// needs ToolType 2).
+pub const GRINDING: i32 = 2;
+
+/// Default AccWeight in percent (uoi-map.md device 3 sub 6).
+pub const DEFAULT_ACC_WEIGHT: i32 = 100;
+
+/// Default OriAxis: B (uoi-map.md device 3 sub 41).
+pub const DEFAULT_ORI_AXIS: i32 = 4;
+
+/// Processing type (device 3 sub 2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum ProcType {
+    /// 0: wear as a radius change.
+    Radius,
+    /// 1: wear along the tool length (default).
+    #[default]
+    Length,
+    /// 2: wear along the tool direction.
+    ToolDir,
+    /// 3: wear along the surface normal.
+    SurfNormDir,
+}
+
+impl ProcType {
+    /// The type for a register value (the table allows 0..=3).
+    pub fn from_code(v: i32) -> Self {
+        match v {
+            0 => ProcType::Radius,
+            2 => ProcType::ToolDir,
+            3 => ProcType::SurfNormDir,
+            _ => ProcType::Length,
+        }
+    }
+
+    /// The register value.
+    pub fn code(self) -> i32 {
+        match self {
+            ProcType::Radius => 0,
+            ProcType::Length => 1,
+            ProcType::ToolDir => 2,
+            ProcType::SurfNormDir => 3,
+        }
+    }
+}
+
+/// OTC mode (device 3 sub 3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum OtcMode {
+    /// 0: discrete offsets from the PLC only.
+    Disc,
+    /// 1: continuous wear only.
+    Cont,
+    /// 2: both (default).
+    #[default]
+    Auto,
+}
+
+impl OtcMode {
+    /// The mode for a register value (the table allows 0..=2).
+    pub fn from_code(v: i32) -> Self {
+        match v {
+            0 => OtcMode::Disc,
+            1 => OtcMode::Cont,
+            _ => OtcMode::Auto,
+        }
+    }
+
+    /// The register value.
+    pub fn code(self) -> i32 {
+        match self {
+            OtcMode::Disc => 0,
+            OtcMode::Cont => 1,
+            OtcMode::Auto => 2,
+        }
+    }
+}
+
+/// The OTC fields of one tool entry (P-TOOL parameters), kept in the
+/// entry itself.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct OtcTool {
+    /// P-TOOL-00001: 0 milling, 1 turning, 2 grinding, 3 wire.
+    pub tool_type: i32,
+    /// P-TOOL-00030, 0.1 µm/m.
+    pub wear_const: f64,
+    /// P-TOOL-00031, 0.1 µm.
+    pub max_infeed: f64,
+    /// P-TOOL-00138, 0.0001°.
+    pub tilt: f64,
+}
+
+/// A PLC control unit: command, enable, applied state (0.1 µm).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct PlcUnit {
+    /// `command_w`.
+    pub command: i32,
+    /// `enable_w`.
+    pub enable: bool,
+    /// `state_r`: the value applied now.
+    pub state: i32,
+}
+
+/// Clamps a PLC command to ± the tool's maximum infeed (0: no discrete
+/// offset).
+pub fn clamp_command(command: i32, max_infeed: f64) -> i32 {
+    let bound = max_infeed.abs().min(f64::from(i32::MAX)).floor();
+    // Within ±i32::MAX after the clamp.
+    f64::from(command).clamp(-bound, bound) as i32
+}
+
+/// OTC state of one compensation group, kept in the group itself.
+#[derive(Debug, Clone)]
+pub struct OtcGroup {
+    /// `#OTC ON`.
+    pub on: bool,
+    /// ProcType.
+    pub proc_type: ProcType,
+    /// Mode.
+    pub mode: OtcMode,
+    /// WearConst written since the last WearConstTool.
+    pub wear_const_override: Option<f64>,
+    /// The constant fixed at OTC ON.
+    pub const_in_force: f64,
+    /// AccWeight, percent.
+    pub acc_weight: i32,
+    /// OtcError.
+    pub error: OtcErrorBits,
+    /// `V.G.WZ_AKT.WEAR_RADIUS`.
+    pub wear_radius: f64,
+    /// `V.G.WZ_AKT.WEAR_RADIUS_CONT`.
+    pub wear_radius_cont: f64,
+    /// `V.G.WZ_AKT.WEAR[idx]`.
+    pub wear_axis: [f64; AXES],
+    /// AllowPosReq.
+    pub allow_pos_req: bool,
+    /// OriAxis.
+    pub ori_axis: i32,
+    /// The channel unit `otc_radius_offset`.
+    pub radius_unit: PlcUnit,
+    /// Continuous wear accumulated since OTC ON.
+    pub w_cont: f64,
+    /// Discrete wear applied since OTC ON.
+    pub w_disc: f64,
+    /// Tool changes reported to external tool management.
+    pub handoff_count: i32,
+    /// WKZINDEX of the tool last handed back.
+    pub handoff_tool: i32,
+    /// Its wear radius.
+    pub handoff_wear_radius: f64,
+    /// Its continuous wear radius.
+    pub handoff_wear_radius_cont: f64,
+}
+
+impl Default for OtcGroup {
+    fn default() -> Self {
+        Self {
+            on: false,
+            proc_type: ProcType::default(),
+            mode: OtcMode::default(),
+            wear_const_override: None,
+            const_in_force: 0.0,
+            acc_weight: DEFAULT_ACC_WEIGHT,
+            error: OtcErrorBits::empty(),
+            wear_radius: 0.0,
+            wear_radius_cont: 0.0,
+            wear_axis: [0.0; AXES],
+            allow_pos_req: false,
+            ori_axis: DEFAULT_ORI_AXIS,
+            radius_unit: PlcUnit::default(),
+            w_cont: 0.0,
+            w_disc: 0.0,
+            handoff_count: 0,
+            handoff_tool: 0,
+            handoff_wear_radius: 0.0,
+            handoff_wear_radius_cont: 0.0,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clamp() {
+        assert_eq!(clamp_command(500, 100.0), 100);
+        assert_eq!(clamp_command(-500, 100.0), -100);
+        assert_eq!(clamp_command(50, 100.0), 50);
+        assert_eq!(clamp_command(50, 0.0), 0);
+        assert_eq!(clamp_command(i32::MIN, 1e300), i32::MIN + 1);
+    }
+
+    #[test]
+    fn codes_round_trip() {
+        for c in 0..=3 {
+            assert_eq!(ProcType::from_code(c).code(), c);
+        }
+        for c in 0..=2 {
+            assert_eq!(OtcMode::from_code(c).code(), c);
+        }
+    }
+}

@@ -1,0 +1,110 @@
+//! A parsed trace: its header, its requests and what each must answer and
+//! spool.
+
+use std::fmt;
+
+use tc_module::{ArcDir, AxisPos, AxisWords};
+use tc_request::text::write_axis_words;
+use tc_request::Request;
+use uoi::AccessError;
+
+/// A malformed trace line.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{file}:{line}: {message}")]
+pub struct TraceError {
+    /// The trace file.
+    pub file: String,
+    /// 1-based line number.
+    pub line: usize,
+    /// What is wrong.
+    pub message: String,
+}
+
+/// What the controller must answer.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Expect {
+    /// No `=>`: the request must succeed; the answer is not checked.
+    Success,
+    /// `=> ok`.
+    Ok,
+    /// `=> err NAME`.
+    Err(AccessError),
+    /// `=> 5` / `=> 0x1f` for an `i` read.
+    Int(i32),
+    /// `=> 2.5` for a `d` read, within `@tol`.
+    Double(f64),
+    /// `=> X.. Y..` for `POS`: named axes within `@tol`.
+    Pos(AxisWords),
+    /// `=> n` for `QUEUE`.
+    Queue(usize),
+}
+
+/// Line or arc in a spool expectation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SpoolKind {
+    /// `< LIN` (or `< RAP`).
+    Line,
+    /// `< CIR CW|CCW`.
+    Arc(ArcDir),
+}
+
+/// One `<` line: an element the request must have spooled.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpoolExpect {
+    /// Line number.
+    pub line: usize,
+    /// Line or arc.
+    pub kind: SpoolKind,
+    /// End point words; unnamed axes keep the element's start value.
+    pub words: AxisWords,
+    /// Centre offsets I J K from the element's start.
+    pub centre: [Option<f64>; 3],
+}
+
+/// One request with its expectations.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Step {
+    /// Line number of the request.
+    pub line: usize,
+    /// The request text (comment stripped).
+    pub text: String,
+    /// The request.
+    pub request: Request,
+    /// The answer expected.
+    pub expect: Expect,
+    /// The complete list of elements it must spool.
+    pub spool: Vec<SpoolExpect>,
+}
+
+/// A parsed trace.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trace {
+    /// The file it came from.
+    pub file: String,
+    /// `@name`.
+    pub name: Option<String>,
+    /// `@tol`: absolute tolerance for doubles.
+    pub tol: f64,
+    /// `@start`: initial machine position.
+    pub start: AxisPos,
+    /// `@cycle` in seconds.
+    pub cycle_s: f64,
+    /// The requests.
+    pub steps: Vec<Step>,
+}
+
+impl fmt::Display for SpoolExpect {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.kind {
+            SpoolKind::Line => write!(f, "LIN")?,
+            SpoolKind::Arc(d) => write!(f, "CIR {}", d.keyword())?,
+        }
+        write_axis_words(f, &self.words)?;
+        for (l, c) in ['I', 'J', 'K'].iter().zip(self.centre) {
+            if let Some(v) = c {
+                write!(f, " {l}{v}")?;
+            }
+        }
+        Ok(())
+    }
+}

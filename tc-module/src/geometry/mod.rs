@@ -1,0 +1,18 @@
+//! Plane geometry of the tool radius correction (trc-geometry.md "Offset
+//! geometry" and "Corner"), one module per concept: offsets of lines and
+//! arcs, corner classes, transitions at outside corners, the carriers'
+//! intersections, and the parts an inside-corner point must lie on. Pure
+//! functions on plane points `(h, v)`; every tolerance in [`tolerance`].
+
+pub mod corner;
+pub mod intersect;
+pub mod offset;
+pub mod part;
+pub mod tolerance;
+pub mod transition;
+
+pub use corner::{classify, turn_angle, CornerKind};
+pub use intersect::Intersections;
+pub use offset::{cross, left_normal, Contour, Offset, OffsetError, OffsetPath, V2};
+pub use part::{inside_point, Part};
+pub use transition::{transition, Transition, TransitionLines};

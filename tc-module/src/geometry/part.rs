@@ -1,0 +1,166 @@
+//! Inside corners (trc-geometry.md "Inside corner"): the part of each
+//! offset element a cut point may lie on, and the cut point itself.
+
+use std::f64::consts::TAU;
+
+use super::intersect::{circle_circle, line_circle, line_line, Intersections};
+use super::offset::{OffsetPath, V2};
+use super::tolerance::{ON_ARC, ON_PART};
+
+/// The part of an offset element on which an inside-corner point may lie.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Part {
+    /// Offset line or circle.
+    pub path: OffsetPath,
+    /// Where the part starts, or `None` for an unbounded start (an
+    /// approach line).
+    pub from: Option<V2>,
+    /// Where it ends (a point on the carrier).
+    pub to: V2,
+    /// For an arc part: the whole circle (a programmed full circle whose
+    /// corrected start lies on its offset start).
+    pub full: bool,
+}
+
+impl Part {
+    /// Whether `x` (a point on the carrier) lies on the part.
+    pub fn contains(&self, x: V2) -> bool {
+        let Some(from) = self.from else { return true };
+        match self.path {
+            OffsetPath::Line { dir } => {
+                let len = (self.to - from).dot(&dir);
+                let u = (x - from).dot(&dir);
+                u >= -ON_PART && u <= len + ON_PART
+            }
+            OffsetPath::Arc { .. } if self.full => true,
+            OffsetPath::Arc { centre, sigma, .. } => {
+                let ang = |p: V2| (p.y - centre.y).atan2(p.x - centre.x);
+                let sweep = (sigma * (ang(self.to) - ang(from))).rem_euclid(TAU);
+                let at = (sigma * (ang(x) - ang(from))).rem_euclid(TAU);
+                at <= sweep + ON_ARC || at >= TAU - ON_ARC
+            }
+        }
+    }
+}
+
+/// Where the carriers of two parts meet.
+fn carriers_meet(a: &Part, b: &Part) -> Intersections {
+    match (a.path, b.path) {
+        (OffsetPath::Line { dir: da }, OffsetPath::Line { dir: db }) => {
+            line_line(a.to, da, b.to, db).map_or(Intersections::None, Intersections::One)
+        }
+        (OffsetPath::Line { dir }, OffsetPath::Arc { centre, radius, .. }) => {
+            line_circle(a.to, dir, centre, radius)
+        }
+        (OffsetPath::Arc { centre, radius, .. }, OffsetPath::Line { dir }) => {
+            line_circle(b.to, dir, centre, radius)
+        }
+        (
+            OffsetPath::Arc {
+                centre: c1,
+                radius: r1,
+                ..
+            },
+            OffsetPath::Arc {
+                centre: c2,
+                radius: r2,
+                ..
+            },
+        ) => circle_circle(c1, r1, c2, r2),
+    }
+}
+
+/// The inside-corner point: the intersection of the offsets of `a` and `b`
+/// lying on both parts that is nearest to the programmed corner `k`.
+/// `None` means the tool does not fit (`KorrError`).
+pub fn inside_point(a: &Part, b: &Part, k: V2) -> Option<V2> {
+    carriers_meet(a, b)
+        .points()
+        .filter(|&x| x.x.is_finite() && x.y.is_finite() && a.contains(x) && b.contains(x))
+        .min_by(|x, y| (x - k).norm().total_cmp(&(y - k).norm()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn v(x: f64, y: f64) -> V2 {
+        V2::new(x, y)
+    }
+
+    fn line(dir: V2, from: Option<V2>, to: V2) -> Part {
+        Part {
+            path: OffsetPath::Line { dir },
+            from,
+            to,
+            full: false,
+        }
+    }
+
+    #[test]
+    fn line_part_bounds() {
+        let p = line(v(1.0, 0.0), Some(v(0.0, 0.0)), v(10.0, 0.0));
+        assert!(p.contains(v(0.0, 0.0)) && p.contains(v(10.0, 0.0)));
+        assert!(!p.contains(v(10.0 + 10.0 * ON_PART, 0.0)));
+        assert!(!p.contains(v(-1.0, 0.0)));
+        assert!(line(v(1.0, 0.0), None, v(10.0, 0.0)).contains(v(-100.0, 0.0)));
+    }
+
+    #[test]
+    fn arc_part_bounds_follow_direction() {
+        let ccw = Part {
+            path: OffsetPath::Arc {
+                centre: v(0.0, 0.0),
+                radius: 1.0,
+                sigma: 1.0,
+            },
+            from: Some(v(1.0, 0.0)),
+            to: v(0.0, 1.0),
+            full: false,
+        };
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        assert!(ccw.contains(v(s, s)));
+        assert!(!ccw.contains(v(-s, -s)));
+        let cw = Part {
+            path: OffsetPath::Arc {
+                centre: v(0.0, 0.0),
+                radius: 1.0,
+                sigma: -1.0,
+            },
+            ..ccw
+        };
+        assert!(!cw.contains(v(s, s)));
+        assert!(cw.contains(v(-s, -s)));
+        assert!(Part { full: true, ..cw }.contains(v(s, s)));
+    }
+
+    #[test]
+    fn inside_point_of_two_lines() {
+        let a = line(v(1.0, 0.0), None, v(10.0, 2.0));
+        let b = line(v(0.0, 1.0), Some(v(8.0, 0.0)), v(8.0, 10.0));
+        assert_eq!(inside_point(&a, &b, v(10.0, 0.0)), Some(v(8.0, 2.0)));
+        let short = Part {
+            to: v(8.0, 1.0),
+            ..b
+        };
+        assert_eq!(inside_point(&a, &short, v(10.0, 0.0)), None);
+    }
+
+    #[test]
+    fn inside_point_nearest_the_corner() {
+        // A line through a circle: two candidates, the one nearer K wins.
+        let a = line(v(1.0, 0.0), None, v(0.0, 0.0));
+        let b = Part {
+            path: OffsetPath::Arc {
+                centre: v(0.0, 0.0),
+                radius: 2.0,
+                sigma: 1.0,
+            },
+            from: Some(v(2.0, 0.0)),
+            to: v(2.0, 0.0),
+            full: true,
+        };
+        assert_eq!(inside_point(&a, &b, v(3.0, 0.0)), Some(v(2.0, 0.0)));
+        assert_eq!(inside_point(&a, &b, v(-3.0, 0.0)), Some(v(-2.0, 0.0)));
+    }
+}

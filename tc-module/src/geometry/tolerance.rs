@@ -1,0 +1,42 @@
+//! Every tolerance of the correction geometry, named once with the rule it
+//! comes from (trc-geometry.md unless said otherwise).
+
+/// "Corner", case 1: a turn of at most this many radians is treated as
+/// smooth (LinuxCNC's tolerance, so programs with 4-decimal coordinates
+/// keep their tangencies); case 2: within this of π is a near-reversal.
+pub const TANGENT_TOL: f64 = 0.05;
+
+/// "Offset geometry", arcs: start and end radius may differ by this much
+/// (rounding); more is a `CenterError`.
+pub const CENTER_TOL: f64 = 0.002;
+
+/// "Offset geometry", arcs: an offset radius at or below this is a
+/// `CalcError`. Also the length below which a profile has no plane part
+/// (a plane-null profile), and an arc without radius.
+pub const MIN_RADIUS: f64 = 1e-9;
+
+/// "Inside corner", full circles: a corrected start within this angle of
+/// the offset start keeps the whole turn of a programmed full circle.
+pub const FULL_CIRCLE_ANGLE: f64 = 1e-7;
+
+/// Inside corners: a candidate point may lie this far (units) outside a
+/// line part, and two circles this far apart still touch. Absorbs the
+/// rounding of the intersection itself, not a rule of the spec.
+pub const ON_PART: f64 = 1e-7;
+
+/// Inside corners: a candidate point may lie this far (radians) outside
+/// an arc part, for the same reason.
+pub const ON_ARC: f64 = 1e-9;
+
+/// Below this, a cross product of unit vectors counts as parallel (no
+/// line/line intersection) and two centres as one (no circle/circle
+/// intersection): numerical, not a rule of the spec.
+pub const PARALLEL: f64 = 1e-12;
+
+/// An arc element whose sweep is within this of 0 (radians) is a full
+/// circle (start = end): numerical.
+pub const ZERO_SWEEP: f64 = 1e-12;
+
+/// "Inside corner": an arc whose corrected part is at most this long
+/// (units, chord) has zero length and is not spooled: numerical.
+pub const ZERO_ARC: f64 = 1e-12;

@@ -1,0 +1,52 @@
+//! The `Bus` face of the TC module: each row of the map goes to its owner,
+//! the module's registers or the extension.
+
+use uoi::{AccessError, Bus, ObjectAddress, ObjectDesc, Value};
+
+use super::registers::slot_of;
+use super::TcModule;
+use crate::extension::{Groups, TcExtension};
+use crate::object_map::{TcKey, TC_BUS};
+
+impl<E: TcExtension> Bus for TcModule<E> {
+    type Key = TcKey<E::Key>;
+
+    fn number(&self) -> u16 {
+        TC_BUS
+    }
+
+    fn objects(&self) -> &[ObjectDesc<Self::Key>] {
+        &self.table
+    }
+
+    fn read(&mut self, key: Self::Key, addr: ObjectAddress) -> Result<Value, AccessError> {
+        match key {
+            TcKey::Tc(obj) => self.read_register(obj, addr),
+            TcKey::Group(k) => self.with_group(slot_of(addr), |ext, g| ext.read_group(k, addr, g)),
+            TcKey::Ext(k) => {
+                let groups = Groups::new(&mut self.groups[..], self.running);
+                self.ext.read(k, addr, groups)
+            }
+        }
+    }
+
+    fn write(
+        &mut self,
+        key: Self::Key,
+        addr: ObjectAddress,
+        value: Value,
+    ) -> Result<(), AccessError> {
+        let result = match key {
+            TcKey::Tc(obj) => return self.write_global(obj, addr, value),
+            TcKey::Group(k) => {
+                self.with_group(slot_of(addr), |ext, g| ext.write_group(k, addr, value, g))
+            }
+            TcKey::Ext(k) => {
+                let groups = Groups::new(&mut self.groups[..], self.running);
+                self.ext.write(k, addr, value, groups)
+            }
+        };
+        self.sync_offset();
+        result
+    }
+}

@@ -1,0 +1,142 @@
+//! The programmed frame: how a command's words become a machine target
+//! (limits, modal feed, unnamed axes, coordinate rotation of end point and
+//! arc centre: trc-geometry.md "Coordinates", "Coordinate rotation").
+
+use uoi::AccessError;
+
+use super::TcModule;
+use crate::extension::TcExtension;
+use crate::motion::ArcDir;
+use crate::plane::AxisWords;
+use crate::plane::{AxisPos, TcPlane};
+use crate::rotation::Rotation;
+
+/// Default feed in units/min (trc-geometry.md "Spooler and execution").
+pub const DEFAULT_FEED: f64 = 1000.0;
+
+/// Default rapid feed in units/min (same section).
+pub const RAPID_FEED: f64 = 10000.0;
+
+/// Largest coordinate, offset or feed magnitude accepted (interpolation
+/// units): beyond it a command is refused with `Range` (decisions.md).
+pub const MAX_COORD: f64 = 1e9;
+
+/// `Range` unless every given word is finite and within [`MAX_COORD`].
+pub fn check_words<const N: usize>(words: &[Option<f64>; N]) -> Result<(), AccessError> {
+    if words
+        .iter()
+        .flatten()
+        .all(|v| v.is_finite() && v.abs() <= MAX_COORD)
+    {
+        Ok(())
+    } else {
+        Err(AccessError::Range)
+    }
+}
+
+/// An interpolation command after intake: checked, rotated, in machine
+/// coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Intake {
+    /// Start: the end of the last programmed profile.
+    pub start: AxisPos,
+    /// Machine target (rotated).
+    pub target: AxisPos,
+    /// The new programmed position (before rotation).
+    pub programmed: AxisPos,
+    /// Arc direction and centre in the main plane (rotated).
+    pub arc: Option<(ArcDir, [f64; 2])>,
+    /// The feed it runs at (the rapid feed for a rapid).
+    pub feed: f64,
+    /// The modal feed after it.
+    pub modal_feed: f64,
+    /// A rapid move.
+    pub rapid: bool,
+}
+
+impl<E: TcExtension> TcModule<E> {
+    /// Checks and rotates an interpolation command; `Range` for a word or
+    /// feed out of limits. Nothing changes here.
+    pub(super) fn intake(
+        &self,
+        words: &AxisWords,
+        arc: Option<(ArcDir, [Option<f64>; 3])>,
+        feed: Option<f64>,
+        rapid: bool,
+    ) -> Result<Intake, AccessError> {
+        check_words(words)?;
+        if let Some((_, ijk)) = arc {
+            check_words(&ijk)?;
+        }
+        let modal_feed = self.feed_for(feed)?;
+        let (target, programmed) = self.target(words);
+        let start = self.contour_end;
+        Ok(Intake {
+            start,
+            target,
+            programmed,
+            arc: arc.map(|(dir, ijk)| (dir, self.centre(&start, ijk))),
+            feed: if rapid { RAPID_FEED } else { modal_feed },
+            modal_feed,
+            rapid,
+        })
+    }
+
+    /// The feed a command runs at: its `F` word (checked) or the modal one.
+    fn feed_for(&self, feed: Option<f64>) -> Result<f64, AccessError> {
+        match feed {
+            Some(f) if !(f.is_finite() && f > 0.0 && f <= MAX_COORD) => Err(AccessError::Range),
+            Some(f) => Ok(f),
+            None => Ok(self.feed),
+        }
+    }
+
+    /// Takes over an accepted interpolation command's modal feed and end point.
+    pub(super) fn accept(&mut self, cmd: &Intake) {
+        self.feed = cmd.modal_feed;
+        self.programmed = cmd.programmed;
+        self.contour_end = cmd.target;
+    }
+
+    /// The machine target and the new programmed position for axis words.
+    fn target(&self, words: &AxisWords) -> (AxisPos, AxisPos) {
+        let mut programmed = self.programmed;
+        for (p, w) in programmed.iter_mut().zip(words) {
+            if let Some(v) = *w {
+                *p = v;
+            }
+        }
+        let mut target = programmed;
+        let plane = self.main_plane();
+        plane.set_point(&mut target, self.rotation.apply(plane.point(&programmed)));
+        (target, programmed)
+    }
+
+    /// The arc centre in machine coordinates from I J K (along the axes
+    /// allocated as X, Y, Z), rotated with the command.
+    fn centre(&self, start: &AxisPos, ijk: [Option<f64>; 3]) -> [f64; 2] {
+        let off = ijk.map(|v| v.unwrap_or(0.0));
+        let plane_off = match self.plane {
+            TcPlane::Xy => [off[0], off[1]],
+            TcPlane::Zx => [off[2], off[0]],
+            TcPlane::Yz => [off[1], off[2]],
+        };
+        let s = self.main_plane().point(start);
+        let turn = Rotation {
+            angle_deg: self.rotation.angle_deg,
+            center: [0.0, 0.0],
+        };
+        let o = turn.apply(plane_off);
+        [s[0] + o[0], s[1] + o[1]]
+    }
+
+    /// After a direct command the programmed position follows the machine.
+    pub(super) fn resync_programmed(&mut self) {
+        let q = *self.executor.nominal();
+        self.contour_end = q;
+        let plane = self.main_plane();
+        let mut p = q;
+        plane.set_point(&mut p, self.rotation.invert(plane.point(&q)));
+        self.programmed = p;
+    }
+}

@@ -1,0 +1,12 @@
+//! The trace syntax of a request (trace-format.md): parsing, one function
+//! per verb, and writing it back.
+
+mod format;
+mod verbs;
+mod words;
+
+pub use format::write_axis_words;
+pub use verbs::{parse_dir, parse_request};
+pub use words::{
+    parse_addr, parse_axis, parse_f64, parse_int, parse_type, parse_words, Allow, TextResult, Words,
+};

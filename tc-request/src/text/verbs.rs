@@ -1,0 +1,214 @@
+//! Requests in trace syntax, one function per verb
+//! (trace-format.md, "Requests and expectations").
+
+use uoi::{Value, ValueType};
+
+use super::words::{
+    parse_addr, parse_axis, parse_f64, parse_int, parse_type, parse_words, Allow, TextResult,
+};
+use crate::axes::AXES;
+use crate::motion::{ArcDir, Motion, SSF_FLUSH};
+use crate::request::Request;
+
+/// Parses one request in trace syntax (`R 1300/0/3/0 i`, `LIN X10`, ...).
+pub fn parse_request(text: &str) -> TextResult<Request> {
+    let tokens: Vec<&str> = text.split_whitespace().collect();
+    let (verb, rest) = tokens.split_first().ok_or("empty request")?;
+    let parse = match verb.to_ascii_uppercase().as_str() {
+        "W" => write,
+        "R" => read,
+        "LIN" => lin,
+        "RAP" => rap,
+        "CIR" => cir,
+        "JA" => ja,
+        "JS" => js,
+        "SSF" => ssf,
+        "RS" => rs,
+        "EXEC" => exec,
+        "POS" => pos,
+        "QUEUE" => queue,
+        other => return Err(format!("unknown request `{other}`")),
+    };
+    parse(rest)
+}
+
+fn no_more(tokens: &[&str], verb: &str) -> TextResult<()> {
+    match tokens.first() {
+        None => Ok(()),
+        Some(t) => Err(format!("unexpected `{t}` after {verb}")),
+    }
+}
+
+/// `W 1300/1/1/8 i 5`.
+fn write(rest: &[&str]) -> TextResult<Request> {
+    let [addr, ty, val] = rest else {
+        return Err("W needs an address, a type and a value: `W 1300/1/1/8 i 5`".into());
+    };
+    let addr = parse_addr(addr)?;
+    let value = match parse_type(ty)? {
+        ValueType::I32 => Value::I32(parse_int(val)?),
+        ValueType::F64 => Value::F64(parse_f64(val)?),
+    };
+    Ok(Request::Write(addr, value))
+}
+
+/// `R 1300/1/1/3 i`.
+fn read(rest: &[&str]) -> TextResult<Request> {
+    let [addr, ty] = rest else {
+        return Err("R needs an address and a type: `R 1300/1/1/3 i`".into());
+    };
+    Ok(Request::Read(parse_addr(addr)?, parse_type(ty)?))
+}
+
+const FEED: Allow = Allow {
+    centre: false,
+    feed: true,
+};
+
+/// `LIN X20 Y5 [F600]`.
+fn lin(rest: &[&str]) -> TextResult<Request> {
+    let w = parse_words(rest, FEED)?;
+    Ok(Request::Motion(Motion::Lin {
+        words: w.axes,
+        feed: w.feed,
+    }))
+}
+
+/// `RAP X20 Y5`.
+fn rap(rest: &[&str]) -> TextResult<Request> {
+    let w = parse_words(rest, FEED)?;
+    Ok(Request::Motion(Motion::Rap {
+        words: w.axes,
+        feed: w.feed,
+    }))
+}
+
+/// The direction word of `CIR`.
+pub fn parse_dir(s: Option<&&str>) -> TextResult<ArcDir> {
+    match s.map(|s| s.to_ascii_uppercase()).as_deref() {
+        Some("CW") => Ok(ArcDir::Cw),
+        Some("CCW") => Ok(ArcDir::Ccw),
+        _ => Err("CIR needs a direction CW or CCW".into()),
+    }
+}
+
+/// `CIR CW X30 Y5 I5 J0 [F..]`.
+fn cir(rest: &[&str]) -> TextResult<Request> {
+    let dir = parse_dir(rest.first())?;
+    let w = parse_words(
+        &rest[1..],
+        Allow {
+            centre: true,
+            feed: true,
+        },
+    )?;
+    Ok(Request::Motion(Motion::Cir {
+        dir,
+        words: w.axes,
+        centre: w.centre,
+        feed: w.feed,
+    }))
+}
+
+/// `JA X10`.
+fn ja(rest: &[&str]) -> TextResult<Request> {
+    let w = parse_words(rest, Allow::AXES)?;
+    if w.axes.iter().all(Option::is_none) {
+        return Err("JA needs at least one axis word".into());
+    }
+    Ok(Request::Motion(Motion::Ja { words: w.axes }))
+}
+
+/// `JS X [Y ...]`.
+fn js(rest: &[&str]) -> TextResult<Request> {
+    if rest.is_empty() {
+        return Err("JS needs at least one axis".into());
+    }
+    let mut axes = [false; AXES];
+    for t in rest {
+        axes[parse_axis(t)?] = true;
+    }
+    Ok(Request::Motion(Motion::Js { axes }))
+}
+
+/// `SSF X 2001`.
+fn ssf(rest: &[&str]) -> TextResult<Request> {
+    let [axis, func] = rest else {
+        return Err(format!(
+            "SSF needs an axis and a function: `SSF X {SSF_FLUSH}`"
+        ));
+    };
+    let axis = parse_axis(axis)?;
+    Ok(Request::Motion(Motion::Ssf {
+        // An axis index is below AXES (8).
+        axis: axis as u8,
+        function: parse_int(func)?,
+    }))
+}
+
+/// `RS`.
+fn rs(rest: &[&str]) -> TextResult<Request> {
+    no_more(rest, "RS")?;
+    Ok(Request::Motion(Motion::Rs))
+}
+
+/// `EXEC` / `EXEC 25`.
+fn exec(rest: &[&str]) -> TextResult<Request> {
+    match rest {
+        [] => Ok(Request::Exec(None)),
+        [n] => n
+            .parse::<u64>()
+            .map(|n| Request::Exec(Some(n)))
+            .map_err(|_| format!("bad cycle count `{n}`")),
+        _ => Err("EXEC takes at most one cycle count".into()),
+    }
+}
+
+/// `POS`.
+fn pos(rest: &[&str]) -> TextResult<Request> {
+    no_more(rest, "POS")?;
+    Ok(Request::Pos)
+}
+
+/// `QUEUE`.
+fn queue(rest: &[&str]) -> TextResult<Request> {
+    no_more(rest, "QUEUE")?;
+    Ok(Request::Queue)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_verb() {
+        for (text, ok) in [
+            ("W 1300/1/1/8 i 5", true),
+            ("w 1300/1/1/6 d nan", true),
+            ("R 1300/1/1/3 i", true),
+            ("LIN X1 Y2 F600", true),
+            ("RAP X1", true),
+            ("RAP X1 F5", true),
+            ("RAP X1 I5", false),
+            ("CIR ccw X1 I1 J0", true),
+            ("CIR X1", false),
+            ("JA X1", true),
+            ("JA", false),
+            ("JS X Y", true),
+            ("JS", false),
+            ("SSF Z 2001", true),
+            ("SSF Z", false),
+            ("RS", true),
+            ("RS 1", false),
+            ("EXEC", true),
+            ("EXEC 5", true),
+            ("EXEC -1", false),
+            ("POS", true),
+            ("QUEUE 1", false),
+            ("FROB", false),
+            ("", false),
+        ] {
+            assert_eq!(parse_request(text).is_ok(), ok, "{text}");
+        }
+    }
+}

@@ -1,0 +1,213 @@
+//! The TC requests on the UOI wire: READ and WRITE are the object layer's
+//! own ops; every other request is an extension op whose payload is laid
+//! out here (docs/protocol.md, "Operations").
+
+mod element;
+pub mod layout;
+mod motion;
+
+use bytes::{BufMut, Bytes, BytesMut};
+use uoi::wire::{exact, Answer, Op, ProtocolError, Request as WireRequest};
+use zerocopy::{FromBytes, IntoBytes};
+
+pub use layout::SPOOL_BATCH;
+use layout::{ExecReq, PosAns, QueueAns, SetupReq, SpoolLogAns, SpoolLogReq, WireElement};
+
+use crate::request::{Reply, Request};
+
+/// The extension ops of the TC side (codes in `uoi::wire::EXT_OPS`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum TcOp {
+    /// A motion command.
+    Motion = 0x10,
+    /// Run the executor.
+    Exec = 0x20,
+    /// Executed position.
+    Pos = 0x21,
+    /// Spooler length.
+    Queue = 0x22,
+    /// A private fresh emulator (conformance replay).
+    Setup = 0x30,
+    /// Take logged spool elements (conformance replay).
+    SpoolLog = 0x31,
+}
+
+impl TcOp {
+    /// Every TC op.
+    pub const ALL: [TcOp; 6] = [
+        TcOp::Motion,
+        TcOp::Exec,
+        TcOp::Pos,
+        TcOp::Queue,
+        TcOp::Setup,
+        TcOp::SpoolLog,
+    ];
+
+    /// The op with this code.
+    pub fn from_code(code: u8) -> Option<Self> {
+        Self::ALL.into_iter().find(|op| *op as u8 == code)
+    }
+}
+
+fn ext(op: TcOp, payload: &[u8]) -> WireRequest {
+    WireRequest::Ext(op as u8, Bytes::copy_from_slice(payload))
+}
+
+impl Request {
+    /// The wire form of this request.
+    pub fn to_wire(&self) -> WireRequest {
+        match self {
+            Request::Read(a, ty) => WireRequest::Read(*a, *ty),
+            Request::Write(a, v) => WireRequest::Write(*a, *v),
+            Request::Motion(m) => ext(TcOp::Motion, motion::encode(m).as_bytes()),
+            Request::Exec(n) => {
+                let e = ExecReq {
+                    cycles: n.unwrap_or(u64::MAX).into(),
+                };
+                ext(TcOp::Exec, e.as_bytes())
+            }
+            Request::Pos => ext(TcOp::Pos, &[]),
+            Request::Queue => ext(TcOp::Queue, &[]),
+            Request::Setup { start, cycle_s } => {
+                let s = SetupReq {
+                    start: start.map(Into::into),
+                    cycle_s: (*cycle_s).into(),
+                };
+                ext(TcOp::Setup, s.as_bytes())
+            }
+            Request::SpoolLog { logging } => {
+                let s = SpoolLogReq {
+                    logging: u8::from(*logging),
+                    pad: [0; 3],
+                };
+                ext(TcOp::SpoolLog, s.as_bytes())
+            }
+        }
+    }
+
+    /// The op this request travels under.
+    pub fn wire_op(&self) -> Op {
+        let tc = match self {
+            Request::Read(..) => return Op::Read,
+            Request::Write(..) => return Op::Write,
+            Request::Motion(_) => TcOp::Motion,
+            Request::Exec(_) => TcOp::Exec,
+            Request::Pos => TcOp::Pos,
+            Request::Queue => TcOp::Queue,
+            Request::Setup { .. } => TcOp::Setup,
+            Request::SpoolLog { .. } => TcOp::SpoolLog,
+        };
+        Op::Ext(tc as u8)
+    }
+
+    /// The TC request a wire request stands for: `UnknownOp` for an
+    /// extension op the TC side does not have, `BadPayload` for a payload
+    /// that does not fit its op.
+    pub fn from_wire(req: &WireRequest) -> Result<Request, ProtocolError> {
+        let (code, payload) = match req {
+            WireRequest::Read(a, ty) => return Ok(Request::Read(*a, *ty)),
+            WireRequest::Write(a, v) => return Ok(Request::Write(*a, *v)),
+            WireRequest::Ext(code, payload) => (*code, payload),
+        };
+        let op = TcOp::from_code(code).ok_or(ProtocolError::UnknownOp)?;
+        let bad = ProtocolError::BadPayload;
+        Ok(match op {
+            TcOp::Motion => Request::Motion(motion::decode(exact(payload)?).ok_or(bad)?),
+            TcOp::Exec => {
+                let n = exact::<ExecReq>(payload)?.cycles.get();
+                Request::Exec((n != u64::MAX).then_some(n))
+            }
+            TcOp::Pos | TcOp::Queue if !payload.is_empty() => return Err(bad),
+            TcOp::Pos => Request::Pos,
+            TcOp::Queue => Request::Queue,
+            TcOp::Setup => {
+                let s: &SetupReq = exact(payload)?;
+                Request::Setup {
+                    start: s.start.map(|v| v.get()),
+                    cycle_s: s.cycle_s.get(),
+                }
+            }
+            TcOp::SpoolLog => Request::SpoolLog {
+                logging: exact::<SpoolLogReq>(payload)?.logging == 1,
+            },
+        })
+    }
+}
+
+fn spool_payload(els: &[crate::element::SpoolRecord], more: bool) -> Bytes {
+    let n = els.len().min(SPOOL_BATCH);
+    let mut out = BytesMut::with_capacity(4 + n * std::mem::size_of::<WireElement>());
+    let head = SpoolLogAns {
+        // n <= SPOOL_BATCH (400) fits u16.
+        count: (n as u16).into(),
+        more: u8::from(more || els.len() > n),
+        pad: 0,
+    };
+    out.put_slice(head.as_bytes());
+    for e in &els[..n] {
+        out.put_slice(element::encode(e).as_bytes());
+    }
+    out.freeze()
+}
+
+fn spool_from(payload: &[u8]) -> Option<Reply> {
+    let (head, rest) = SpoolLogAns::ref_from_prefix(payload).ok()?;
+    let els = <[WireElement]>::ref_from_bytes(rest).ok()?;
+    if els.len() != usize::from(head.count.get()) {
+        return None;
+    }
+    let list = els
+        .iter()
+        .map(element::decode)
+        .collect::<Option<Vec<_>>>()?;
+    Some(Reply::Spool(list, head.more == 1))
+}
+
+impl Reply {
+    /// The wire answer of this reply (a `Spool` reply carries at most
+    /// [`SPOOL_BATCH`] elements; `more` is set when it had more).
+    pub fn to_wire(&self) -> Answer {
+        match self {
+            Reply::Ok => Answer::Ok,
+            Reply::Value(v) => Answer::Value(*v),
+            Reply::Pos(p) => {
+                let a = PosAns {
+                    pos: p.map(Into::into),
+                };
+                Answer::Ext(Bytes::copy_from_slice(a.as_bytes()))
+            }
+            Reply::Queue(n) => {
+                let q = QueueAns { count: (*n).into() };
+                Answer::Ext(Bytes::copy_from_slice(q.as_bytes()))
+            }
+            Reply::Spool(els, more) => Answer::Ext(spool_payload(els, *more)),
+            Reply::Access(e) => Answer::Access(*e),
+            Reply::Protocol(e) => Answer::Protocol(*e),
+        }
+    }
+
+    /// The reply a wire answer to a request of `op` stands for; `None`
+    /// when the answer cannot belong to that op.
+    pub fn from_wire(op: Op, ans: &Answer) -> Option<Reply> {
+        let payload = match ans {
+            Answer::Ok => return Some(Reply::Ok),
+            Answer::Value(v) => return Some(Reply::Value(*v)),
+            Answer::Access(e) => return Some(Reply::Access(*e)),
+            Answer::Protocol(e) => return Some(Reply::Protocol(*e)),
+            Answer::Ext(p) => p,
+        };
+        let Op::Ext(code) = op else { return None };
+        match TcOp::from_code(code)? {
+            TcOp::Motion | TcOp::Exec | TcOp::Setup if payload.is_empty() => Some(Reply::Ok),
+            TcOp::Pos => Some(Reply::Pos(
+                PosAns::ref_from_bytes(payload).ok()?.pos.map(|v| v.get()),
+            )),
+            TcOp::Queue => Some(Reply::Queue(
+                QueueAns::ref_from_bytes(payload).ok()?.count.get(),
+            )),
+            TcOp::SpoolLog => spool_from(payload),
+            _ => None,
+        }
+    }
+}

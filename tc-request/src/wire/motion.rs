@@ -1,0 +1,96 @@
+//! A motion command in its `MOTION` payload.
+
+use zerocopy::byteorder::little_endian::F64;
+
+use super::layout::{MotionReq, SLOT_F, SLOT_I, WORD_SLOTS};
+use crate::axes::{AxisWords, AXES};
+use crate::motion::{ArcDir, Motion};
+
+/// The words of a command: axes, `I J K`, `F`.
+type Slots = [Option<f64>; WORD_SLOTS];
+
+fn slots(words: &AxisWords, centre: &[Option<f64>; 3], feed: Option<f64>) -> Slots {
+    let mut s = [None; WORD_SLOTS];
+    s[..AXES].copy_from_slice(words);
+    s[SLOT_I..SLOT_F].copy_from_slice(centre);
+    s[SLOT_F] = feed;
+    s
+}
+
+fn axes_of(s: &Slots) -> AxisWords {
+    std::array::from_fn(|k| s[k])
+}
+
+/// The kind code, the CCW flag, the SSF axis and function, and the words.
+fn parts(m: &Motion) -> (u8, bool, u8, i32, Slots) {
+    let none = [None; 3];
+    match *m {
+        Motion::Lin { words, feed } => (1, false, 0, 0, slots(&words, &none, feed)),
+        Motion::Rap { words, feed } => (2, false, 0, 0, slots(&words, &none, feed)),
+        Motion::Cir {
+            dir,
+            words,
+            centre,
+            feed,
+        } => (3, dir == ArcDir::Ccw, 0, 0, slots(&words, &centre, feed)),
+        Motion::Ja { words } => (4, false, 0, 0, slots(&words, &none, None)),
+        Motion::Js { axes } => (
+            5,
+            false,
+            0,
+            0,
+            slots(&axes.map(|a| a.then_some(0.0)), &none, None),
+        ),
+        Motion::Ssf { axis, function } => (6, false, axis, function, [None; WORD_SLOTS]),
+        Motion::Rs => (7, false, 0, 0, [None; WORD_SLOTS]),
+    }
+}
+
+/// The `MOTION` payload of a command.
+pub fn encode(m: &Motion) -> MotionReq {
+    let (kind, ccw, axis, function, s) = parts(m);
+    let mut present = 0u16;
+    for (k, w) in s.iter().enumerate() {
+        if w.is_some() {
+            present |= 1 << k;
+        }
+    }
+    MotionReq {
+        kind,
+        ccw: u8::from(ccw),
+        axis,
+        pad: 0,
+        present: present.into(),
+        pad2: [0; 2],
+        function: function.into(),
+        words: s.map(|w| F64::new(w.unwrap_or(0.0))),
+    }
+}
+
+/// The command a `MOTION` payload carries; `None` for an unknown kind.
+pub fn decode(r: &MotionReq) -> Option<Motion> {
+    let present = r.present.get();
+    let s: Slots = std::array::from_fn(|k| (present & (1 << k) != 0).then(|| r.words[k].get()));
+    let words = axes_of(&s);
+    let feed = s[SLOT_F];
+    Some(match r.kind {
+        1 => Motion::Lin { words, feed },
+        2 => Motion::Rap { words, feed },
+        3 => Motion::Cir {
+            dir: if r.ccw == 1 { ArcDir::Ccw } else { ArcDir::Cw },
+            words,
+            centre: [s[SLOT_I], s[SLOT_I + 1], s[SLOT_I + 2]],
+            feed,
+        },
+        4 => Motion::Ja { words },
+        5 => Motion::Js {
+            axes: words.map(|w| w.is_some()),
+        },
+        6 => Motion::Ssf {
+            axis: r.axis,
+            function: r.function.get(),
+        },
+        7 => Motion::Rs,
+        _ => return None,
+    })
+}

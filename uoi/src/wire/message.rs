@@ -1,0 +1,265 @@
+//! Requests and answers of the object layer, and their frames. READ and
+//! WRITE are decoded here; an extension op's payload is handed on as bytes
+//! for the request layer above to decode (this layer does not know what
+//! the bus behind it does with it).
+
+use bytes::{BufMut, Bytes, BytesMut};
+use zerocopy::{FromBytes, Immutable, IntoBytes, KnownLayout, Unaligned};
+
+use super::frame::{Header, Op, ProtocolError, HEADER_LEN, MAGIC, PREFIX_LEN, VERSION};
+use super::layout::{type_from_wire, ReadReq, WireValue, WriteReq};
+use crate::{AccessError, ObjectAddress, Value, ValueType};
+
+/// A decoded request.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Request {
+    /// Read an object asking for a type.
+    Read(ObjectAddress, ValueType),
+    /// Write an object.
+    Write(ObjectAddress, Value),
+    /// An extension op (a code in [`super::EXT_OPS`]) with its payload.
+    Ext(u8, Bytes),
+}
+
+impl Request {
+    /// The op of this request.
+    pub fn op(&self) -> Op {
+        match self {
+            Request::Read(..) => Op::Read,
+            Request::Write(..) => Op::Write,
+            Request::Ext(code, _) => Op::Ext(*code),
+        }
+    }
+}
+
+/// An answer.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Answer {
+    /// Done, nothing to report (empty payload).
+    Ok,
+    /// A value read.
+    Value(Value),
+    /// The payload of an extension op's answer (status 0).
+    Ext(Bytes),
+    /// A UOI access error.
+    Access(AccessError),
+    /// A protocol error.
+    Protocol(ProtocolError),
+}
+
+impl Answer {
+    /// The status code carried in the header.
+    pub fn status(&self) -> u32 {
+        match self {
+            Answer::Access(e) => e.code(),
+            Answer::Protocol(e) => e.code(),
+            _ => 0,
+        }
+    }
+}
+
+/// A frame the server could not take as a request: what it answers, with
+/// the request id and op echoed where the header was readable.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Rejected {
+    /// The request id (0 when the header was unreadable).
+    pub id: u32,
+    /// The op byte (0 when the header was unreadable).
+    pub op: u8,
+    /// Why.
+    pub error: ProtocolError,
+}
+
+/// Reads a payload of exactly `T`'s size.
+pub fn exact<T: FromBytes + KnownLayout + Immutable + Unaligned>(
+    payload: &[u8],
+) -> Result<&T, ProtocolError> {
+    T::ref_from_bytes(payload).map_err(|_| ProtocolError::BadPayload)
+}
+
+/// Decodes a frame body (header + payload, without the length prefix).
+pub fn decode_request(body: Bytes) -> Result<(u32, Request), Rejected> {
+    let Ok((h, payload)) = Header::ref_from_prefix(&body) else {
+        return Err(Rejected {
+            id: 0,
+            op: 0,
+            error: ProtocolError::FrameTooShort,
+        });
+    };
+    let (id, code) = (h.request_id.get(), h.op);
+    let reject = |error| Rejected {
+        id,
+        op: code,
+        error,
+    };
+    if h.magic != MAGIC {
+        return Err(reject(ProtocolError::BadMagic));
+    }
+    if h.version != VERSION {
+        return Err(reject(ProtocolError::UnsupportedVersion));
+    }
+    let op = Op::from_code(code).ok_or(reject(ProtocolError::UnknownOp))?;
+    let req = match op {
+        Op::Read => {
+            let r: &ReadReq = exact(payload).map_err(reject)?;
+            let ty = type_from_wire(r.ty).ok_or(reject(ProtocolError::BadPayload))?;
+            Request::Read((&r.addr).into(), ty)
+        }
+        Op::Write => {
+            let w: &WriteReq = exact(payload).map_err(reject)?;
+            let v = w.value.value().ok_or(reject(ProtocolError::BadPayload))?;
+            Request::Write((&w.addr).into(), v)
+        }
+        Op::Ext(c) => Request::Ext(c, body.slice(HEADER_LEN..)),
+    };
+    Ok((id, req))
+}
+
+/// Appends a whole frame (prefix, header, payload) to `out`.
+pub fn encode_frame(out: &mut BytesMut, header: Header, payload: &[u8]) {
+    let len = HEADER_LEN + payload.len();
+    out.reserve(PREFIX_LEN + len);
+    // A frame body never exceeds MAX_FRAME, far below u32::MAX.
+    out.put_u32_le(len as u32);
+    out.put_slice(header.as_bytes());
+    out.put_slice(payload);
+}
+
+/// Appends a whole request frame to `out`.
+pub fn encode_request(id: u32, req: &Request, out: &mut BytesMut) {
+    let header = Header::new(req.op().code(), id, 0);
+    match req {
+        Request::Read(a, ty) => {
+            let r = ReadReq {
+                addr: (*a).into(),
+                ty: ty.letter() as u8,
+                pad: [0; 3],
+            };
+            encode_frame(out, header, r.as_bytes());
+        }
+        Request::Write(a, v) => {
+            let w = WriteReq {
+                addr: (*a).into(),
+                value: (*v).into(),
+            };
+            encode_frame(out, header, w.as_bytes());
+        }
+        Request::Ext(_, payload) => encode_frame(out, header, payload),
+    }
+}
+
+/// Appends a whole answer frame for request `id` of op code `op` to `out`.
+/// An answer with a non-zero status has an empty payload.
+pub fn encode_answer(id: u32, op: u8, ans: &Answer, out: &mut BytesMut) {
+    let header = Header::new(op, id, ans.status());
+    match ans {
+        Answer::Value(v) => encode_frame(out, header, WireValue::from(*v).as_bytes()),
+        Answer::Ext(payload) => encode_frame(out, header, payload),
+        Answer::Ok | Answer::Access(_) | Answer::Protocol(_) => encode_frame(out, header, &[]),
+    }
+}
+
+/// Decodes an answer frame body (header + payload) to a request of op
+/// `op`. Returns the request id and the answer; `None` when the frame
+/// cannot be an answer to that op.
+pub fn decode_answer(body: Bytes, op: Op) -> Option<(u32, Answer)> {
+    let (h, payload) = Header::ref_from_prefix(&body).ok()?;
+    if h.magic != MAGIC || h.version != VERSION {
+        return None;
+    }
+    let id = h.request_id.get();
+    let status = h.status.get();
+    if status != 0 {
+        let ans = AccessError::from_code(status)
+            .map(Answer::Access)
+            .or_else(|| ProtocolError::from_code(status).map(Answer::Protocol))?;
+        return Some((id, ans));
+    }
+    let ans = match op {
+        Op::Read => Answer::Value(WireValue::ref_from_bytes(payload).ok()?.value()?),
+        Op::Write if payload.is_empty() => Answer::Ok,
+        Op::Write => return None,
+        Op::Ext(_) => Answer::Ext(body.slice(HEADER_LEN..)),
+    };
+    Some((id, ans))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn body(frame: &BytesMut) -> Bytes {
+        let len = u32::from_le_bytes([frame[0], frame[1], frame[2], frame[3]]) as usize;
+        assert_eq!(len, frame.len() - PREFIX_LEN);
+        Bytes::copy_from_slice(&frame[PREFIX_LEN..])
+    }
+
+    #[test]
+    fn requests_round_trip() {
+        let a = ObjectAddress::new(1300, 1, 2, 8);
+        for req in [
+            Request::Read(a, ValueType::I32),
+            Request::Write(a, Value::I32(-5)),
+            Request::Write(a, Value::F64(2.5)),
+            Request::Ext(0x10, Bytes::from_static(&[1, 2, 3])),
+            Request::Ext(0x21, Bytes::new()),
+        ] {
+            let mut out = BytesMut::new();
+            encode_request(7, &req, &mut out);
+            assert_eq!(decode_request(body(&out)), Ok((7, req)));
+        }
+    }
+
+    #[test]
+    fn answers_round_trip() {
+        for (op, ans) in [
+            (Op::Read, Answer::Value(Value::I32(-7))),
+            (Op::Read, Answer::Value(Value::F64(1.5))),
+            (Op::Write, Answer::Ok),
+            (Op::Write, Answer::Access(AccessError::Range)),
+            (Op::Ext(0x10), Answer::Protocol(ProtocolError::BadPayload)),
+            (Op::Ext(0x21), Answer::Ext(Bytes::from_static(&[9; 64]))),
+        ] {
+            let mut out = BytesMut::new();
+            encode_answer(9, op.code(), &ans, &mut out);
+            assert_eq!(decode_answer(body(&out), op), Some((9, ans)));
+        }
+    }
+
+    #[test]
+    fn protocol_errors_keep_id_and_op() {
+        let mut out = BytesMut::new();
+        encode_request(42, &Request::Ext(0x21, Bytes::new()), &mut out);
+        let mut b = BytesMut::from(&out[PREFIX_LEN..]);
+        let reject = |b: &BytesMut| decode_request(Bytes::copy_from_slice(b));
+        b[2] = 9; // version
+        assert_eq!(
+            reject(&b),
+            Err(Rejected {
+                id: 42,
+                op: 0x21,
+                error: ProtocolError::UnsupportedVersion
+            })
+        );
+        b[2] = VERSION;
+        b[3] = 0x03;
+        assert_eq!(
+            reject(&b).map_err(|r| r.error),
+            Err(ProtocolError::UnknownOp)
+        );
+        b[3] = 0x01;
+        assert_eq!(
+            reject(&b).map_err(|r| r.error),
+            Err(ProtocolError::BadPayload)
+        );
+        b[0] = b'X';
+        assert_eq!(
+            reject(&b).map_err(|r| r.error),
+            Err(ProtocolError::BadMagic)
+        );
+        assert_eq!(
+            decode_request(Bytes::from_static(&[1, 2, 3])).map_err(|r| r.error),
+            Err(ProtocolError::FrameTooShort)
+        );
+    }
+}
