@@ -3,42 +3,22 @@
 
 use crate::axes::AxisPos;
 
-/// Who put an element into the spooler. OTC's continuous wear only counts
-/// on elements the running correction spooled, and its RADIUS weight rises
-/// along the approach and falls along the departure (otc.md).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[repr(u8)]
-pub enum Origin {
-    /// No correction running (also a move after a fault or a RESET).
-    Uncorrected = 0,
-    /// The approach element of a correction.
-    Approach = 1,
-    /// A corrected profile element (plane-null profiles included).
-    Corrected = 2,
-    /// A transition inserted at an outside corner.
-    Transition = 3,
-    /// The departure: the first element after STATUS=0.
-    Departure = 4,
-}
-
-impl Origin {
-    /// Every origin, by code.
-    pub const ALL: [Origin; 5] = [
-        Origin::Uncorrected,
-        Origin::Approach,
-        Origin::Corrected,
-        Origin::Transition,
-        Origin::Departure,
-    ];
-
-    /// The code carried on the wire.
-    pub const fn code(self) -> u8 {
-        self as u8
-    }
-
-    /// The origin with this code.
-    pub fn from_code(code: u8) -> Option<Self> {
-        Self::ALL.get(usize::from(code)).copied()
+crate::codes::byte_enum! {
+    /// Who put an element into the spooler. OTC's continuous wear only
+    /// counts on elements the running correction spooled, and its RADIUS
+    /// weight rises along the approach and falls along the departure
+    /// (otc.md).
+    pub enum Origin {
+        /// No correction running (also a move after a fault or a RESET).
+        Uncorrected = 0,
+        /// The approach element of a correction.
+        Approach = 1,
+        /// A corrected profile element (plane-null profiles included).
+        Corrected = 2,
+        /// A transition inserted at an outside corner.
+        Transition = 3,
+        /// The departure: the first element after STATUS=0.
+        Departure = 4,
     }
 }
 
@@ -76,7 +56,7 @@ mod tests {
 
     #[test]
     fn origin_codes_round_trip() {
-        for o in Origin::ALL {
+        for &o in Origin::ALL {
             assert_eq!(Origin::from_code(o.code()), Some(o));
         }
         assert_eq!(Origin::from_code(5), None);

@@ -27,6 +27,7 @@
 //! ```
 
 pub mod axes;
+mod codes;
 pub mod element;
 pub mod motion;
 pub mod request;

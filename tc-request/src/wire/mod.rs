@@ -15,43 +15,26 @@ use layout::{ExecReq, PosAns, QueueAns, SetupReq, SpoolLogAns, SpoolLogReq, Wire
 
 use crate::request::{Reply, Request};
 
-/// The extension ops of the TC side (codes in `uoi::wire::EXT_OPS`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[repr(u8)]
-pub enum TcOp {
-    /// A motion command.
-    Motion = 0x10,
-    /// Run the executor.
-    Exec = 0x20,
-    /// Executed position.
-    Pos = 0x21,
-    /// Spooler length.
-    Queue = 0x22,
-    /// A private fresh emulator (conformance replay).
-    Setup = 0x30,
-    /// Take logged spool elements (conformance replay).
-    SpoolLog = 0x31,
-}
-
-impl TcOp {
-    /// Every TC op.
-    pub const ALL: [TcOp; 6] = [
-        TcOp::Motion,
-        TcOp::Exec,
-        TcOp::Pos,
-        TcOp::Queue,
-        TcOp::Setup,
-        TcOp::SpoolLog,
-    ];
-
-    /// The op with this code.
-    pub fn from_code(code: u8) -> Option<Self> {
-        Self::ALL.into_iter().find(|op| *op as u8 == code)
+crate::codes::byte_enum! {
+    /// The extension ops of the TC side (codes in `uoi::wire::EXT_OPS`).
+    pub enum TcOp {
+        /// A motion command.
+        Motion = 0x10,
+        /// Run the executor.
+        Exec = 0x20,
+        /// Executed position.
+        Pos = 0x21,
+        /// Spooler length.
+        Queue = 0x22,
+        /// A fresh emulator (conformance replay).
+        Setup = 0x30,
+        /// Take logged spool elements (conformance replay).
+        SpoolLog = 0x31,
     }
 }
 
 fn ext(op: TcOp, payload: &[u8]) -> WireRequest {
-    WireRequest::Ext(op as u8, Bytes::copy_from_slice(payload))
+    WireRequest::Ext(op.code(), Bytes::copy_from_slice(payload))
 }
 
 impl Request {
@@ -98,7 +81,7 @@ impl Request {
             Request::Setup { .. } => TcOp::Setup,
             Request::SpoolLog { .. } => TcOp::SpoolLog,
         };
-        Op::Ext(tc as u8)
+        Op::Ext(tc.code())
     }
 
     /// The TC request a wire request stands for: `UnknownOp` for an
