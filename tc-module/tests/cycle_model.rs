@@ -9,7 +9,7 @@
 
 use tc_module::extension::NoKey;
 use tc_module::{
-    AxisPos, Cycle, GroupAccess, Groups, Motion, NoExtension, Origin, TcExtension, TcModule, AXES,
+    AxisPos, Cycle, GroupAccess, Groups, NoExtension, Origin, TcExtension, TcModule, AXES,
 };
 use tc_request::text::parse_request;
 use tc_request::Request;
