@@ -3,8 +3,7 @@
 //! A UOI object is addressed by `BusNumber/DeviceNumber/Index/SubIndex`
 //! ([`ObjectAddress`]) and read or written as an `i32` or an `f64`
 //! ([`Value`]). Every access either succeeds or fails with one of the
-//! CANopen-style [`AccessError`] codes (the access-error table of the TC
-//! object map, docs/object-map.md).
+//! CANopen-style [`AccessError`] codes (CiA 301 SDO abort codes).
 //!
 //! A module (the TC module on bus 1300, say) implements [`Bus`] and declares
 //! all of its objects in ONE table of [`ObjectDesc`]. The checked entry points
