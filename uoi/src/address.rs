@@ -3,15 +3,15 @@
 use std::fmt;
 use std::str::FromStr;
 
-/// The four-part address of a UOI object, written `1300/1/2/8`
-/// (uoi-map.md, "An object is addressed by ...").
+/// The four-part address of a UOI object, written
+/// `bus/device/index/subindex` (e.g. `1300/1/2/8`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct ObjectAddress {
-    /// BusNumber: the module (1300 = TC).
+    /// BusNumber: the module.
     pub bus: u16,
     /// DeviceNumber: the object group inside the module.
     pub device: u16,
-    /// Index: for TC devices 1..3 the compensation group number.
+    /// Index: within the device (a module gives it its meaning).
     pub index: u16,
     /// SubIndex: the function number.
     pub sub: u16,

@@ -13,7 +13,7 @@ pub trait Bus: Send + 'static {
     /// The module's own name for an object (the `key` of its table rows).
     type Key: Copy + 'static;
 
-    /// The BusNumber (1300 for TC).
+    /// The BusNumber.
     fn number(&self) -> u16;
 
     /// The module's object table.

@@ -4,7 +4,7 @@ use std::ops::RangeInclusive;
 
 use crate::{AccessError, ObjectAddress, Value, ValueType};
 
-/// Access right of an object: the `access` column of uoi-map.md.
+/// Access right of an object: `r`, `w` or `rw` in an object map.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Access {
     /// `r`: read only.
@@ -27,7 +27,7 @@ impl Access {
     }
 }
 
-/// Values a write may carry: the `range` column of uoi-map.md.
+/// Values a write may carry: the range column of an object map.
 /// A non-finite double is outside every range.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ValueRange {
@@ -75,11 +75,11 @@ impl ValueRange {
 pub struct ObjectDesc<K> {
     /// The module's own name for the object (an enum variant, typically).
     pub key: K,
-    /// The name of the object in uoi-map.md.
+    /// The name of the object in its map.
     pub name: &'static str,
     /// DeviceNumber.
     pub device: u16,
-    /// The indexes under which the object exists (e.g. groups `1..=32`).
+    /// The indexes under which the object exists (e.g. `1..=32`).
     pub index: RangeInclusive<u16>,
     /// The subindexes it occupies (one, or a run like `20..=27`).
     pub sub: RangeInclusive<u16>,

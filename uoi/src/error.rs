@@ -1,4 +1,4 @@
-//! Access errors of the UOI level (uoi-map.md, "Access errors").
+//! Access errors of the UOI level.
 
 /// Declares an error-code enum from ONE list: each variant's discriminant
 /// is its code, its name is the variant's identifier, and `ALL` lists the
@@ -65,8 +65,7 @@ macro_rules! code_enum {
 
 code_enum! {
     /// Why a UOI access failed. The values are the CANopen SDO abort codes
-    /// (CiA 301) of the table in uoi-map.md, "Access errors"; traces use the
-    /// names. A write that fails changes nothing.
+    /// (CiA 301); traces use the names. A write that fails changes nothing.
     pub enum AccessError {
         /// Bus, device or index does not exist.
         NoObject = 0x0602_0000 => "bus, device or index does not exist",
@@ -80,8 +79,8 @@ code_enum! {
         TypeMismatch = 0x0607_0010 => "the value type differs from the object's type",
         /// Value outside the object's range, or a non-finite double.
         Range = 0x0609_0030 => "value outside the object's range",
-        /// Refused in the current state (faulted group, position request).
-        State = 0x0800_0022 => "refused in the current state (faulted group or position request)",
+        /// Refused in the current state of the module.
+        State = 0x0800_0022 => "refused in the current state",
     }
 }
 

@@ -5,7 +5,7 @@
 //! ([`Value`]). Every access either succeeds or fails with one of the
 //! CANopen-style [`AccessError`] codes (CiA 301 SDO abort codes).
 //!
-//! A module (the TC module on bus 1300, say) implements [`Bus`] and declares
+//! A module implements [`Bus`] and declares
 //! all of its objects in ONE table of [`ObjectDesc`]. The checked entry points
 //! of [`ObjectBus`] (blanket-implemented for every [`Bus`]) enforce address,
 //! access, type and range from that table before the module sees the value,

@@ -49,8 +49,8 @@ impl Header {
     }
 }
 
-/// Operation codes a bus's request layer may define for itself (motion,
-/// executor, ...): their payload travels opaque through this layer.
+/// Operation codes a bus's request layer may define for itself: their
+/// payload travels opaque through this layer.
 pub const EXT_OPS: RangeInclusive<u8> = 0x10..=0x7F;
 
 /// An operation of the object layer, or one of a bus's own.
