@@ -43,8 +43,8 @@ impl Emulator {
     }
 
     /// Carries out a request of a controller (everything but the
-    /// emulator-control ops `SETUP` and `SPOOL_LOG`, which belong to a
-    /// connection and are answered `UnknownOp` here).
+    /// emulator-control ops `SETUP` and `SPOOL_LOG`, which the server's
+    /// handler serves; they are answered `UnknownOp` here).
     pub fn run(&mut self, req: &Request) -> Reply {
         match req {
             Request::Read(addr, ty) => self.read(*addr, *ty).into(),

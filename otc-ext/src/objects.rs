@@ -13,6 +13,11 @@ pub const AXIS_DEVICE: u16 = 4;
 /// Subindexes of WearAxis0..7 (uoi-map.md device 3 sub 20..27).
 pub const WEAR_AXIS_SUBS: RangeInclusive<u16> = 20..=27;
 
+// One WearAxis subindex per machine axis: the table checks the subindex,
+// so `sub - 20` always indexes the axes.
+const _: () =
+    assert!((*WEAR_AXIS_SUBS.end() - *WEAR_AXIS_SUBS.start() + 1) as usize == tc_module::AXES);
+
 /// The OTC objects.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum OtcObject {
@@ -124,3 +129,20 @@ pub static AXIS_OBJECTS: [ObjectDesc<OtcObject>; 4] = [
     ObjectDesc::int(O::AxisOffsetRequest, "OffsetRequest", AXIS_DEVICE, MACHINE_AXES, 3, R, ANY),
     ObjectDesc::int(O::AxisOffsetState, "OffsetState", AXIS_DEVICE, MACHINE_AXES, 4, R, ANY),
 ];
+
+#[cfg(test)]
+mod tests {
+    use tc_module::object_map::{object_table, overlapping_rows};
+
+    use crate::OtcExtension;
+
+    #[test]
+    fn otc_rows_extend_the_map_without_overlap() {
+        let table = object_table::<OtcExtension>();
+        assert_eq!(overlapping_rows(&table), vec![]);
+        assert_eq!(
+            table.len(),
+            tc_module::TC_OBJECTS.len() + super::GROUP_OBJECTS.len() + super::AXIS_OBJECTS.len()
+        );
+    }
+}

@@ -27,8 +27,10 @@ fn dbl(v: Value) -> f64 {
 }
 
 /// `#OTC OFF`: the wear accumulated since ON is booked on the tool and
-/// read back through the V.G. values (otc.md "Switching off").
-fn switch_off(g: &mut Access<'_>) {
+/// read back through the V.G. values (otc.md "Switching off"). A booking
+/// the tool entry refuses (a radius or length that would not stay finite)
+/// changes nothing.
+fn switch_off(g: &mut Access<'_>) -> Result<(), AccessError> {
     let s = g.state();
     let (w, w_cont, radius) = (
         s.w_cont + s.w_disc,
@@ -36,24 +38,25 @@ fn switch_off(g: &mut Access<'_>) {
         s.proc_type == ProcType::Radius,
     );
     if radius {
+        g.reduce_radius(w)?;
         let s = g.state_mut();
         s.wear_radius += w;
         s.wear_radius_cont += w_cont;
-        g.reduce_radius(w);
     } else {
         // The wear direction in force is the cycle model's; with w = 0
         // nothing changes per axis.
-        g.reduce_length(w);
+        g.reduce_length(w)?;
     }
     let s = g.state_mut();
     s.w_cont = 0.0;
     s.w_disc = 0.0;
     s.on = false;
+    Ok(())
 }
 
 /// `OtcOn` written: ON needs a grinding tool and fixes the wear constant;
 /// OFF while a RADIUS correction runs is out of sequence.
-fn write_on(on: bool, g: &mut Access<'_>) {
+fn write_on(on: bool, g: &mut Access<'_>) -> Result<(), AccessError> {
     let tool = g.tool().ext;
     let running = g.running();
     let s = g.state_mut();
@@ -68,9 +71,10 @@ fn write_on(on: bool, g: &mut Access<'_>) {
         if s.proc_type == ProcType::Radius && running {
             s.error |= OtcErrorBits::SEQUENCE;
         } else {
-            switch_off(g);
+            return switch_off(g);
         }
     }
+    Ok(())
 }
 
 fn read_group_state(
@@ -92,7 +96,7 @@ fn read_group_state(
         O::OtcError => i(s.error.bits()),
         O::WearRadius => d(s.wear_radius),
         O::WearRadiusCont => d(s.wear_radius_cont),
-        O::WearAxis => d(s.wear_axis[usize::from(addr.sub - WEAR_AXIS_SUBS.start()) % AXES]),
+        O::WearAxis => d(s.wear_axis[usize::from(addr.sub - WEAR_AXIS_SUBS.start())]),
         O::AllowPosReq => i(i32::from(s.allow_pos_req)),
         O::OriAxis => i(s.ori_axis),
         O::RadiusOffsetCommand => i(s.radius_unit.command),
@@ -169,8 +173,7 @@ impl TcExtension for OtcExtension {
         mut g: Access<'_>,
     ) -> Result<(), AccessError> {
         if obj == OtcObject::OtcOn {
-            write_on(int(v) == 1, &mut g);
-            return Ok(());
+            return write_on(int(v) == 1, &mut g);
         }
         if write_tool(obj, v, g.tool_ext()) || write_state(obj, v, g.state_mut()) {
             return Ok(());

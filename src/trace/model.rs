@@ -4,7 +4,7 @@
 use std::fmt;
 
 use tc_module::{ArcDir, AxisPos, AxisWords};
-use tc_request::text::write_axis_words;
+use tc_request::text::{write_axis_words, write_letters};
 use tc_request::Request;
 use uoi::AccessError;
 
@@ -100,11 +100,6 @@ impl fmt::Display for SpoolExpect {
             SpoolKind::Arc(d) => write!(f, "CIR {}", d.keyword())?,
         }
         write_axis_words(f, &self.words)?;
-        for (l, c) in ['I', 'J', 'K'].iter().zip(self.centre) {
-            if let Some(v) = c {
-                write!(f, " {l}{v}")?;
-            }
-        }
-        Ok(())
+        write_letters(f, &['I', 'J', 'K'], &self.centre)
     }
 }

@@ -2,6 +2,7 @@
 //! malformed line and no panic on any input. Requests are read by
 //! `tc_request::text`, one function per verb.
 
+use tc_module::executor::DEFAULT_CYCLE_S;
 use tc_module::AXES;
 use tc_request::text::{parse_f64, parse_request, parse_words, Allow, TextResult};
 
@@ -10,8 +11,6 @@ use super::model::{Expect, Step, Trace, TraceError};
 
 /// Default `@tol`.
 pub const DEFAULT_TOL: f64 = 1e-6;
-/// Default `@cycle`: 1 ms.
-pub const DEFAULT_CYCLE_S: f64 = 1e-3;
 
 fn parse_cycle(s: &str) -> TextResult<f64> {
     let lower: String = s

@@ -31,8 +31,11 @@ pub struct Executor {
     /// Cycle time in minutes (feeds are units/min).
     cycle_min: f64,
     cycles: u64,
-    /// The element that ended last (otc.md rule 2), kept while a model runs.
+    /// The element that ended last (otc.md rule 2); `None` before the
+    /// first and after a direct command.
     ended: Option<SpoolElement>,
+    /// The path of the current cycle, per element (kept between cycles
+    /// only to reuse its storage).
     parts: PathParts,
 }
 
@@ -89,16 +92,20 @@ impl Executor {
         self.nominal[axis] = value;
     }
 
-    /// Forgets progress along the element under way (the spooler was discarded).
+    /// Forgets the element under way and the one that ended (the spooler
+    /// was discarded by a direct command: the executor stands on none).
     pub fn abandon_element(&mut self) {
         self.done = 0.0;
+        self.ended = None;
     }
 
     /// Moves along the spooler for one cycle: distance left over at the
-    /// end of an element carries into the next; with nothing spooled the
-    /// cycle runs idle. With `track`, the parts and the ended element are
-    /// kept for a model.
-    fn advance(&mut self, spooler: &mut Spooler, track: bool) -> Stand {
+    /// end of an element carries into the next; elements without length
+    /// are passed; with nothing spooled the cycle runs idle. A cycle that
+    /// ends exactly on an end point stands on the element that ended
+    /// there (otc.md rule 2), though the next one is already entered.
+    fn advance(&mut self, spooler: &mut Spooler) -> Stand {
+        self.parts.clear();
         let Some(front) = spooler.front() else {
             return Stand::OnEnded;
         };
@@ -108,46 +115,41 @@ impl Executor {
             if budget < left {
                 self.done += budget;
                 self.nominal = e.point_at(self.done);
-                if track {
+                if budget > 0.0 {
                     self.parts.push(part(e, budget));
+                    return Stand::OnFront;
                 }
-                return Stand::OnFront;
+                return Stand::OnEnded;
             }
             budget -= left;
+            self.parts.push(part(e, left));
             self.nominal = e.end;
             self.done = 0.0;
-            if track {
-                self.parts.push(part(e, left));
-                self.ended = spooler.pop_front();
-                if budget <= 0.0 {
-                    return Stand::OnEnded;
-                }
-            } else {
-                spooler.pop_front();
-            }
+            self.ended = spooler.pop_front();
         }
         Stand::OnEnded
     }
 
     /// Runs one interpolation cycle; an active model is told of it and its
-    /// offset applies from this cycle on. Allocation-free.
+    /// offset applies from this cycle on (an inactive one has none).
+    /// Allocation-free.
     pub fn step<M: CycleModel>(&mut self, spooler: &mut Spooler, model: &mut M) {
         self.cycles += 1;
-        let active = model.active();
-        self.parts.clear();
-        let stand = self.advance(spooler, active);
-        if active {
-            let (current, done) = match stand {
-                Stand::OnFront => (spooler.front(), self.done),
-                Stand::OnEnded => (self.ended.as_ref(), self.ended.map_or(0.0, |e| e.length)),
-            };
-            self.offset = model.cycle(&Cycle {
-                parts: self.parts.as_slice(),
-                current,
-                done,
-                nominal: &self.nominal,
-            });
+        let stand = self.advance(spooler);
+        if !model.active() {
+            self.offset = [0.0; AXES];
+            return;
         }
+        let (current, done) = match stand {
+            Stand::OnFront => (spooler.front(), self.done),
+            Stand::OnEnded => (self.ended.as_ref(), self.ended.map_or(0.0, |e| e.length)),
+        };
+        self.offset = model.cycle(&Cycle {
+            parts: self.parts.as_slice(),
+            current,
+            done,
+            nominal: &self.nominal,
+        });
     }
 
     /// Runs `n` cycles. An active model sees every one; without one, idle
@@ -220,6 +222,7 @@ impl Executor {
             }
             self.nominal = e.end;
             self.done = 0.0;
+            self.ended = Some(e);
         }
         if time.is_finite() {
             self.cycles = self.cycles.saturating_add(time.ceil() as u64);

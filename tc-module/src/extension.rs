@@ -80,14 +80,33 @@ impl<'a, E: TcExtension> GroupAccess<'a, E> {
     }
 
     /// Reduces the radius of the entry at WKZINDEX by `w` (wear booked on
-    /// the tool).
-    pub fn reduce_radius(&mut self, w: f64) {
-        self.group.tool_mut().radius -= w;
+    /// the tool). `Range`, and nothing changes, when the radius would not
+    /// stay finite, as a RADIUS write would be refused. On a running group
+    /// the new radius acts from the next profile like a RADIUS write
+    /// (decision 21: the buffered profile is finished, the next is an
+    /// approach).
+    pub fn reduce_radius(&mut self, w: f64) -> Result<(), AccessError> {
+        let entry = self.group.tool_mut();
+        entry.radius = reduced(entry.radius, w)?;
+        Ok(())
     }
 
-    /// Reduces the length of the entry at WKZINDEX by `w`.
-    pub fn reduce_length(&mut self, w: f64) {
-        self.group.tool_mut().length -= w;
+    /// Reduces the length of the entry at WKZINDEX by `w`; `Range`, and
+    /// nothing changes, when the length would not stay finite.
+    pub fn reduce_length(&mut self, w: f64) -> Result<(), AccessError> {
+        let entry = self.group.tool_mut();
+        entry.length = reduced(entry.length, w)?;
+        Ok(())
+    }
+}
+
+/// `value - w`, if finite.
+fn reduced(value: f64, w: f64) -> Result<f64, AccessError> {
+    let v = value - w;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(AccessError::Range)
     }
 }
 
@@ -153,39 +172,48 @@ pub trait TcExtension: Debug + Send + Sized + 'static {
     /// Its other objects, on devices of its own.
     const OBJECTS: &'static [ObjectDesc<Self::Key>];
 
-    /// Reads a group object.
+    /// Reads a group object. (Only called for declared rows; an extension
+    /// without group rows need not implement it.)
     fn read_group(
         &mut self,
-        key: Self::Key,
-        addr: ObjectAddress,
-        group: GroupAccess<'_, Self>,
-    ) -> Result<Value, AccessError>;
+        _key: Self::Key,
+        _addr: ObjectAddress,
+        _group: GroupAccess<'_, Self>,
+    ) -> Result<Value, AccessError> {
+        Err(AccessError::NoObject)
+    }
 
     /// Writes a group object.
     fn write_group(
         &mut self,
-        key: Self::Key,
-        addr: ObjectAddress,
-        value: Value,
-        group: GroupAccess<'_, Self>,
-    ) -> Result<(), AccessError>;
+        _key: Self::Key,
+        _addr: ObjectAddress,
+        _value: Value,
+        _group: GroupAccess<'_, Self>,
+    ) -> Result<(), AccessError> {
+        Err(AccessError::NoObject)
+    }
 
     /// Reads one of its other objects.
     fn read(
         &mut self,
-        key: Self::Key,
-        addr: ObjectAddress,
-        groups: Groups<'_, Self>,
-    ) -> Result<Value, AccessError>;
+        _key: Self::Key,
+        _addr: ObjectAddress,
+        _groups: Groups<'_, Self>,
+    ) -> Result<Value, AccessError> {
+        Err(AccessError::NoObject)
+    }
 
     /// Writes one of its other objects.
     fn write(
         &mut self,
-        key: Self::Key,
-        addr: ObjectAddress,
-        value: Value,
-        groups: Groups<'_, Self>,
-    ) -> Result<(), AccessError>;
+        _key: Self::Key,
+        _addr: ObjectAddress,
+        _value: Value,
+        _groups: Groups<'_, Self>,
+    ) -> Result<(), AccessError> {
+        Err(AccessError::NoObject)
+    }
 
     /// The group's WKZINDEX changed from `outgoing` (the tool handed back)
     /// to the group's current one.
@@ -232,42 +260,4 @@ impl TcExtension for NoExtension {
     type Tool = ();
     const GROUP_OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
     const OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
-
-    fn read_group(
-        &mut self,
-        k: NoKey,
-        _: ObjectAddress,
-        _: GroupAccess<'_, Self>,
-    ) -> Result<Value, AccessError> {
-        match k {}
-    }
-
-    fn write_group(
-        &mut self,
-        k: NoKey,
-        _: ObjectAddress,
-        _: Value,
-        _: GroupAccess<'_, Self>,
-    ) -> Result<(), AccessError> {
-        match k {}
-    }
-
-    fn read(
-        &mut self,
-        k: NoKey,
-        _: ObjectAddress,
-        _: Groups<'_, Self>,
-    ) -> Result<Value, AccessError> {
-        match k {}
-    }
-
-    fn write(
-        &mut self,
-        k: NoKey,
-        _: ObjectAddress,
-        _: Value,
-        _: Groups<'_, Self>,
-    ) -> Result<(), AccessError> {
-        match k {}
-    }
 }

@@ -8,6 +8,7 @@ use std::ops::RangeInclusive;
 use uoi::{Access, ObjectDesc, ValueRange};
 
 use crate::extension::TcExtension;
+use crate::plane::TcPlane;
 use crate::tool_table::TOOL_ENTRIES;
 
 /// The BusNumber of the TC module.
@@ -34,7 +35,7 @@ pub const AXIS: ValueRange = ValueRange::Int {
 pub const BOOL: ValueRange = ValueRange::Int { min: 0, max: 1 };
 
 /// TcPlane values (uoi-map.md device 0 index 3: 17, 18, 19).
-pub const PLANE_CODES: [i32; 3] = [17, 18, 19];
+pub const PLANE_CODES: [i32; 3] = [TcPlane::Xy.code(), TcPlane::Zx.code(), TcPlane::Yz.code()];
 
 /// The TC module's own objects, named as in uoi-map.md.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -130,13 +131,46 @@ pub enum TcKey<K> {
     Ext(K),
 }
 
-/// The whole map: the TC rows, then the extension's group rows, then its
+/// The whole map: the TC rows, then the extension's group rows (their
+/// index range is always [`GROUPS`], whatever the row says), then its
 /// other rows.
 pub fn object_table<E: TcExtension>() -> Vec<ObjectDesc<TcKey<E::Key>>> {
     let own = TC_OBJECTS.iter().map(|r| r.with_key(TcKey::Tc(r.key)));
-    let group = E::GROUP_OBJECTS
-        .iter()
-        .map(|r| r.with_key(TcKey::Group(r.key)));
+    let group = E::GROUP_OBJECTS.iter().map(|r| {
+        let mut row = r.with_key(TcKey::Group(r.key));
+        row.index = GROUPS;
+        row
+    });
     let other = E::OBJECTS.iter().map(|r| r.with_key(TcKey::Ext(r.key)));
     own.chain(group).chain(other).collect()
+}
+
+/// Whether two inclusive ranges share a value.
+fn meet(x: &RangeInclusive<u16>, y: &RangeInclusive<u16>) -> bool {
+    x.start() <= y.end() && y.start() <= x.end()
+}
+
+/// Pairs of rows of `table` that answer for the same address (an
+/// extension row shadowed by a TC row, say), by name.
+pub fn overlapping_rows<K>(table: &[ObjectDesc<K>]) -> Vec<(&'static str, &'static str)> {
+    let mut out = Vec::new();
+    for (i, a) in table.iter().enumerate() {
+        for b in &table[i + 1..] {
+            if a.device == b.device && meet(&a.index, &b.index) && meet(&a.sub, &b.sub) {
+                out.push((a.name, b.name));
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::extension::NoExtension;
+
+    #[test]
+    fn tc_rows_do_not_overlap() {
+        assert_eq!(overlapping_rows(&object_table::<NoExtension>()), vec![]);
+    }
 }

@@ -8,12 +8,10 @@
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use tc_module::extension::NoKey;
-use tc_module::{
-    AxisPos, Cycle, GroupAccess, Groups, NoExtension, Origin, TcExtension, TcModule, AXES,
-};
+use tc_module::{AxisPos, Cycle, Groups, NoExtension, Origin, TcExtension, TcModule, AXES};
 use tc_request::text::parse_request;
 use tc_request::Request;
-use uoi::{AccessError, ObjectAddress, ObjectBus, ObjectDesc, Value};
+use uoi::{ObjectBus, ObjectDesc};
 
 /// Distance of the test offset along the contour normal.
 const W: f64 = 0.25;
@@ -32,10 +30,24 @@ struct Seen {
     currents: Vec<Origin>,
 }
 
-/// The test model: offset `W` along the contour normal, every cycle.
-#[derive(Debug, Default)]
+/// The test model: offset `W` along the contour normal, every cycle while
+/// it is on (it is on from the start unless switched off).
+#[derive(Debug)]
 struct NormalOffset {
     seen: Seen,
+    on: bool,
+    /// The unit tangent at the end of the last cycle.
+    tangent: Option<AxisPos>,
+}
+
+impl Default for NormalOffset {
+    fn default() -> Self {
+        Self {
+            seen: Seen::default(),
+            on: true,
+            tangent: None,
+        }
+    }
 }
 
 impl TcExtension for NormalOffset {
@@ -45,46 +57,8 @@ impl TcExtension for NormalOffset {
     const GROUP_OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
     const OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
 
-    fn read_group(
-        &mut self,
-        k: NoKey,
-        _: ObjectAddress,
-        _: GroupAccess<'_, Self>,
-    ) -> Result<Value, AccessError> {
-        match k {}
-    }
-
-    fn write_group(
-        &mut self,
-        k: NoKey,
-        _: ObjectAddress,
-        _: Value,
-        _: GroupAccess<'_, Self>,
-    ) -> Result<(), AccessError> {
-        match k {}
-    }
-
-    fn read(
-        &mut self,
-        k: NoKey,
-        _: ObjectAddress,
-        _: Groups<'_, Self>,
-    ) -> Result<Value, AccessError> {
-        match k {}
-    }
-
-    fn write(
-        &mut self,
-        k: NoKey,
-        _: ObjectAddress,
-        _: Value,
-        _: Groups<'_, Self>,
-    ) -> Result<(), AccessError> {
-        match k {}
-    }
-
     fn cycle_active(&mut self, _: Groups<'_, Self>) -> bool {
-        true
+        self.on
     }
 
     fn cycle(&mut self, c: &Cycle<'_>, _: Groups<'_, Self>) -> AxisPos {
@@ -97,6 +71,7 @@ impl TcExtension for NormalOffset {
             s.most_parts = c.parts.len();
             s.busiest = c.parts.iter().map(|p| (p.origin, p.length)).collect();
         }
+        self.tangent = c.tangent();
         if let Some(e) = c.current {
             if s.currents.last() != Some(&e.origin) {
                 s.currents.push(e.origin);
@@ -321,4 +296,103 @@ fn approach_and_departure_carry_the_normals_they_lead_onto_and_leave() {
     assert!(q[0] < 0.0 && q[1] > 11.0, "not on the departure yet: {q:?}");
     let o = offset(&tc, &plain);
     assert!(o[0].abs() < 1e-9 && (o[1] - W).abs() < 1e-9, "{o:?}");
+}
+
+/// Each of `a` and `b` within `tol` of the other, axis by axis.
+fn near(a: AxisPos, b: AxisPos, tol: f64) -> bool {
+    a.iter().zip(b).all(|(x, y)| (x - y).abs() <= tol)
+}
+
+#[test]
+fn switched_on_mid_run_the_model_sees_the_element_that_ended() {
+    let mut tc = with_model();
+    tc.extension_mut().on = false;
+    run(&mut tc, SQUARE);
+    tc.exec(None);
+    assert_eq!(tc.extension().seen.calls, 0);
+    tc.extension_mut().on = true;
+    tc.exec(Some(3));
+    let seen = &tc.extension().seen;
+    assert_eq!(seen.calls, 3);
+    // Idle at the end of the departure (from the tool at (0, 11) to
+    // (-5, 15)): that element is current, with the normal it leaves; its
+    // tangent points along it.
+    assert_eq!(seen.currents, vec![Origin::Departure]);
+    let t = tc.extension().tangent.expect("a current element");
+    let k = 1.0 / 41f64.sqrt();
+    assert!(
+        near(t, [-5.0 * k, 4.0 * k, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], 1e-12),
+        "{t:?}"
+    );
+    assert!((tc.position()[1] - (15.0 + W)).abs() < 1e-12);
+}
+
+#[test]
+fn a_direct_command_leaves_no_current_element_and_no_offset() {
+    let mut tc = with_model();
+    run(&mut tc, SQUARE);
+    run(&mut tc, "EXEC 500");
+    assert_ne!(tc.position(), *tc.executor().nominal());
+    run(&mut tc, "JA X50 Y50");
+    run(&mut tc, "EXEC 2");
+    assert_eq!(tc.position(), *tc.executor().nominal());
+    assert_eq!(tc.position()[..2], [50.0, 50.0]);
+}
+
+#[test]
+fn the_offset_goes_when_the_model_stops() {
+    let mut tc = with_model();
+    run(&mut tc, SQUARE);
+    run(&mut tc, "EXEC 500");
+    assert_ne!(tc.position(), *tc.executor().nominal());
+    tc.extension_mut().on = false;
+    // Any write asks the extension whether it still acts.
+    run(&mut tc, "W 1300/0/20/0 d 0");
+    assert_eq!(tc.position(), *tc.executor().nominal());
+    // So does every cycle.
+    tc.extension_mut().on = true;
+    run(&mut tc, "EXEC 1");
+    assert_ne!(tc.position(), *tc.executor().nominal());
+    tc.extension_mut().on = false;
+    run(&mut tc, "EXEC 1");
+    assert_eq!(tc.position(), *tc.executor().nominal());
+}
+
+#[test]
+fn an_exact_end_point_is_stepped_alike_with_and_without_a_model() {
+    // 0.01 per cycle: the first line ends exactly on a cycle; a zero-length
+    // line follows it.
+    let program = "LIN X0.01 F600\nLIN X0.01\nLIN X1";
+    let mut with = with_model();
+    let mut without = TcModule::new([0.0; AXES], 1e-3, NoExtension);
+    run(&mut with, program);
+    run(&mut without, program);
+    with.exec(Some(1));
+    without.exec(Some(1));
+    assert_eq!(with.queue_len(), without.queue_len());
+    assert_eq!(*with.executor().nominal(), *without.executor().nominal());
+    // Standing exactly on the end of the first line: it is current.
+    assert_eq!(with.extension().seen.currents, vec![Origin::Uncorrected]);
+}
+
+#[test]
+fn without_a_model_the_fast_paths_match_stepping() {
+    let mut fast = TcModule::new([0.0; AXES], 1e-3, NoExtension);
+    let mut stepped = TcModule::new([0.0; AXES], 1e-3, NoExtension);
+    run(&mut fast, SQUARE);
+    run(&mut stepped, SQUARE);
+    // EXEC n jumps whole cycles inside an element: the same position as
+    // n single cycles up to the rounding of repeated addition.
+    fast.exec(Some(1234));
+    for _ in 0..1234 {
+        stepped.exec(Some(1));
+    }
+    assert!(near(fast.position(), stepped.position(), 1e-9));
+    // EXEC without a count jumps whole elements: exactly the end point
+    // that stepping reaches.
+    fast.exec(None);
+    while stepped.queue_len() > 0 {
+        stepped.exec(Some(1));
+    }
+    assert_eq!(fast.position(), stepped.position());
 }

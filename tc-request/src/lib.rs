@@ -27,7 +27,6 @@
 //! ```
 
 pub mod axes;
-mod codes;
 pub mod element;
 pub mod motion;
 pub mod request;
@@ -37,4 +36,4 @@ pub mod wire;
 pub use axes::{axis_index, AxisPos, AxisWords, AXES, AXIS_NAMES};
 pub use element::{ArcRecord, Origin, SpoolRecord};
 pub use motion::{ArcDir, Motion, SSF_FLUSH};
-pub use request::{Reply, Request};
+pub use request::{Reply, Request, MAX_EXEC_CYCLES};

@@ -18,13 +18,14 @@ pub enum Request {
     Write(ObjectAddress, Value),
     /// A motion command.
     Motion(Motion),
-    /// `EXEC` (until the spooler is empty) or `EXEC n` (n cycles).
+    /// `EXEC` (until the spooler is empty) or `EXEC n` (n cycles, at most
+    /// [`MAX_EXEC_CYCLES`]).
     Exec(Option<u64>),
     /// `POS`: the executed position.
     Pos,
     /// `QUEUE`: elements waiting in the spooler.
     Queue,
-    /// Conformance replay: a fresh emulator of the connection's own.
+    /// Conformance replay: a fresh emulator in place of the one served.
     Setup {
         /// Initial machine position.
         start: AxisPos,
@@ -38,6 +39,10 @@ pub enum Request {
         logging: bool,
     },
 }
+
+/// Most cycles one `EXEC n` may ask for: on the wire `u64::MAX` stands for
+/// "until the spooler is empty".
+pub const MAX_EXEC_CYCLES: u64 = u64::MAX - 1;
 
 /// The answer to a [`Request`].
 #[derive(Debug, Clone, PartialEq)]

@@ -9,7 +9,9 @@ use bytes::{Bytes, BytesMut};
 use proptest::prelude::*;
 use tc_request::text::parse_request;
 use tc_request::wire::TcOp;
-use tc_request::{ArcDir, ArcRecord, Motion, Origin, Reply, Request, SpoolRecord, AXES};
+use tc_request::{
+    ArcDir, ArcRecord, Motion, Origin, Reply, Request, SpoolRecord, AXES, MAX_EXEC_CYCLES,
+};
 use uoi::wire::{decode_answer, decode_request, encode_answer, encode_request, PREFIX_LEN};
 use uoi::{AccessError, ObjectAddress, Value, ValueType};
 
@@ -59,7 +61,7 @@ fn trace_request() -> BoxedStrategy<Request> {
         (addr(), any::<i32>()).prop_map(|(a, v)| Request::Write(a, Value::I32(v))),
         (addr(), num()).prop_map(|(a, v)| Request::Write(a, Value::F64(v))),
         motion().prop_map(Request::Motion),
-        prop::option::of(any::<u64>()).prop_map(Request::Exec),
+        prop::option::of(0..=MAX_EXEC_CYCLES).prop_map(Request::Exec),
         Just(Request::Pos),
         Just(Request::Queue),
     ]

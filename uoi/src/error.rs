@@ -1,43 +1,34 @@
 //! Access errors of the UOI level.
 
-/// Declares an error-code enum from ONE list: each variant's discriminant
-/// is its code, its name is the variant's identifier, and `ALL` lists the
-/// variants in table order. Used for the access errors here and the
-/// protocol errors of the wire.
+/// Declares a `#[repr]` enum whose discriminants are its codes, from ONE
+/// list: `ALL` (the variants in table order), `code()`, `from_code()` and
+/// `name()` (the variant's identifier, as traces and docs write it).
 #[macro_export]
-macro_rules! code_enum {
+macro_rules! code_list {
     (
         $(#[$meta:meta])*
-        pub enum $name:ident {
-            $( $(#[$vmeta:meta])* $variant:ident = $code:literal => $text:literal, )+
+        pub enum $name:ident: $repr:ident {
+            $( $(#[$vmeta:meta])* $variant:ident = $code:literal, )+
         }
     ) => {
         $(#[$meta])*
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-        #[repr(u32)]
+        #[repr($repr)]
         pub enum $name {
             $( $(#[$vmeta])* $variant = $code, )+
         }
-
-        impl ::std::fmt::Display for $name {
-            fn fmt(&self, f: &mut ::std::fmt::Formatter<'_>) -> ::std::fmt::Result {
-                write!(f, "{}: {}", self.name(), self.text())
-            }
-        }
-
-        impl ::std::error::Error for $name {}
 
         impl $name {
             /// Every variant, in the order of its table.
             pub const ALL: &'static [$name] = &[$($name::$variant),+];
 
             /// The numeric code (the variant's discriminant).
-            pub const fn code(self) -> u32 {
-                self as u32
+            pub const fn code(self) -> $repr {
+                self as $repr
             }
 
             /// The variant with this code, if any.
-            pub fn from_code(code: u32) -> Option<Self> {
+            pub fn from_code(code: $repr) -> Option<Self> {
                 Self::ALL.iter().copied().find(|e| e.code() == code)
             }
 
@@ -47,7 +38,30 @@ macro_rules! code_enum {
                     $($name::$variant => stringify!($variant),)+
                 }
             }
+        }
+    };
+}
 
+/// Declares an error-code enum (u32 codes) from ONE list of
+/// `Variant = code => "meaning"`: everything [`code_list!`] gives, plus
+/// `text()`, `from_name()`, `Display` and `Error`. Used for the access
+/// errors here and the protocol errors of the wire.
+#[macro_export]
+macro_rules! code_enum {
+    (
+        $(#[$meta:meta])*
+        pub enum $name:ident {
+            $( $(#[$vmeta:meta])* $variant:ident = $code:literal => $text:literal, )+
+        }
+    ) => {
+        $crate::code_list! {
+            $(#[$meta])*
+            pub enum $name: u32 {
+                $( $(#[$vmeta])* $variant = $code, )+
+            }
+        }
+
+        impl $name {
             /// What the error means, in a few words.
             pub const fn text(self) -> &'static str {
                 match self {
@@ -60,6 +74,14 @@ macro_rules! code_enum {
                 Self::ALL.iter().copied().find(|e| e.name().eq_ignore_ascii_case(name))
             }
         }
+
+        impl ::std::fmt::Display for $name {
+            fn fmt(&self, f: &mut ::std::fmt::Formatter<'_>) -> ::std::fmt::Result {
+                write!(f, "{}: {}", self.name(), self.text())
+            }
+        }
+
+        impl ::std::error::Error for $name {}
     };
 }
 

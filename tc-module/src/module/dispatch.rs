@@ -37,7 +37,7 @@ impl<E: TcExtension> Bus for TcModule<E> {
         value: Value,
     ) -> Result<(), AccessError> {
         let result = match key {
-            TcKey::Tc(obj) => return self.write_global(obj, addr, value),
+            TcKey::Tc(obj) => self.write_global(obj, addr, value),
             TcKey::Group(k) => {
                 self.with_group(slot_of(addr), |ext, g| ext.write_group(k, addr, value, g))
             }
@@ -46,6 +46,7 @@ impl<E: TcExtension> Bus for TcModule<E> {
                 self.ext.write(k, addr, value, groups)
             }
         };
+        // Any write may stop the extension's model (OTC OFF, Clean).
         self.sync_offset();
         result
     }

@@ -81,6 +81,12 @@ impl<E: TcExtension> TcModule<E> {
         &self.ext
     }
 
+    /// The extension, mutable (its own state; TC data stays behind the
+    /// object map).
+    pub fn extension_mut(&mut self) -> &mut E {
+        &mut self.ext
+    }
+
     /// The main plane axes from device 0 (AxisNr and TcPlane).
     pub fn main_plane(&self) -> PlaneAxes {
         self.plane.pick(self.axis_nr)

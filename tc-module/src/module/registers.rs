@@ -175,11 +175,11 @@ impl<E: TcExtension> TcModule<E> {
     /// The group RESET: the group's registers and table back to default
     /// (see `CorrGroup::reset`), Run cleared.
     fn reset_group(&mut self, slot: usize) {
+        self.clear_run(slot);
         if let Some(g) = self.groups[slot].as_mut() {
             g.reset();
             self.with_group(slot, |ext, g| ext.group_reset(g));
         }
-        self.clear_run(slot);
     }
 
     /// STATUS=1: InitError when no side was selected since the last RESET,

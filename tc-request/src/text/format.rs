@@ -16,7 +16,12 @@ pub fn write_axis_words(f: &mut impl fmt::Write, words: &AxisWords) -> fmt::Resu
     Ok(())
 }
 
-fn write_letters(f: &mut impl fmt::Write, letters: &[char], values: &[Option<f64>]) -> fmt::Result {
+/// Writes ` I1 J2` for the given letters' values that are present.
+pub fn write_letters(
+    f: &mut impl fmt::Write,
+    letters: &[char],
+    values: &[Option<f64>],
+) -> fmt::Result {
     for (l, v) in letters.iter().zip(values) {
         if let Some(v) = v {
             write!(f, " {l}{v}")?;

@@ -8,7 +8,7 @@ use super::words::{
 };
 use crate::axes::AXES;
 use crate::motion::{ArcDir, Motion, SSF_FLUSH};
-use crate::request::Request;
+use crate::request::{Request, MAX_EXEC_CYCLES};
 
 /// Parses one request in trace syntax (`R 1300/0/3/0 i`, `LIN X10`, ...).
 pub fn parse_request(text: &str) -> TextResult<Request> {
@@ -152,14 +152,17 @@ fn rs(rest: &[&str]) -> TextResult<Request> {
     Ok(Request::Motion(Motion::Rs))
 }
 
-/// `EXEC` / `EXEC 25`.
+/// `EXEC` / `EXEC 25`; a count up to [`MAX_EXEC_CYCLES`].
 fn exec(rest: &[&str]) -> TextResult<Request> {
     match rest {
         [] => Ok(Request::Exec(None)),
-        [n] => n
-            .parse::<u64>()
-            .map(|n| Request::Exec(Some(n)))
-            .map_err(|_| format!("bad cycle count `{n}`")),
+        [n] => match n.parse::<u64>() {
+            Ok(c) if c <= MAX_EXEC_CYCLES => Ok(Request::Exec(Some(c))),
+            Ok(_) => Err(format!(
+                "cycle count `{n}` too large (at most {MAX_EXEC_CYCLES}; `EXEC` alone runs until the spooler is empty)"
+            )),
+            Err(_) => Err(format!("bad cycle count `{n}`")),
+        },
         _ => Err("EXEC takes at most one cycle count".into()),
     }
 }
@@ -203,6 +206,8 @@ mod tests {
             ("EXEC", true),
             ("EXEC 5", true),
             ("EXEC -1", false),
+            ("EXEC 18446744073709551614", true),
+            ("EXEC 18446744073709551615", false),
             ("POS", true),
             ("QUEUE 1", false),
             ("FROB", false),

@@ -13,11 +13,11 @@ use zerocopy::{FromBytes, IntoBytes};
 pub use layout::SPOOL_BATCH;
 use layout::{ExecReq, PosAns, QueueAns, SetupReq, SpoolLogAns, SpoolLogReq, WireElement};
 
-use crate::request::{Reply, Request};
+use crate::request::{Reply, Request, MAX_EXEC_CYCLES};
 
-crate::codes::byte_enum! {
+uoi::code_list! {
     /// The extension ops of the TC side (codes in `uoi::wire::EXT_OPS`).
-    pub enum TcOp {
+    pub enum TcOp: u8 {
         /// A motion command.
         Motion = 0x10,
         /// Run the executor.
@@ -45,8 +45,10 @@ impl Request {
             Request::Write(a, v) => WireRequest::Write(*a, *v),
             Request::Motion(m) => ext(TcOp::Motion, motion::encode(m).as_bytes()),
             Request::Exec(n) => {
+                // u64::MAX stands for "until empty": a count saturates below it.
+                let cycles = n.map_or(u64::MAX, |n| n.min(MAX_EXEC_CYCLES));
                 let e = ExecReq {
-                    cycles: n.unwrap_or(u64::MAX).into(),
+                    cycles: cycles.into(),
                 };
                 ext(TcOp::Exec, e.as_bytes())
             }

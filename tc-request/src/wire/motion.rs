@@ -6,6 +6,17 @@ use super::layout::{MotionReq, SLOT_F, SLOT_I, WORD_SLOTS};
 use crate::axes::{AxisWords, AXES};
 use crate::motion::{ArcDir, Motion};
 
+/// The kind codes of the `MOTION` payload (docs/protocol.md, MotionReq).
+mod kind {
+    pub const LIN: u8 = 1;
+    pub const RAP: u8 = 2;
+    pub const CIR: u8 = 3;
+    pub const JA: u8 = 4;
+    pub const JS: u8 = 5;
+    pub const SSF: u8 = 6;
+    pub const RS: u8 = 7;
+}
+
 /// The words of a command: axes, `I J K`, `F`.
 type Slots = [Option<f64>; WORD_SLOTS];
 
@@ -25,24 +36,30 @@ fn axes_of(s: &Slots) -> AxisWords {
 fn parts(m: &Motion) -> (u8, bool, u8, i32, Slots) {
     let none = [None; 3];
     match *m {
-        Motion::Lin { words, feed } => (1, false, 0, 0, slots(&words, &none, feed)),
-        Motion::Rap { words, feed } => (2, false, 0, 0, slots(&words, &none, feed)),
+        Motion::Lin { words, feed } => (kind::LIN, false, 0, 0, slots(&words, &none, feed)),
+        Motion::Rap { words, feed } => (kind::RAP, false, 0, 0, slots(&words, &none, feed)),
         Motion::Cir {
             dir,
             words,
             centre,
             feed,
-        } => (3, dir == ArcDir::Ccw, 0, 0, slots(&words, &centre, feed)),
-        Motion::Ja { words } => (4, false, 0, 0, slots(&words, &none, None)),
+        } => (
+            kind::CIR,
+            dir == ArcDir::Ccw,
+            0,
+            0,
+            slots(&words, &centre, feed),
+        ),
+        Motion::Ja { words } => (kind::JA, false, 0, 0, slots(&words, &none, None)),
         Motion::Js { axes } => (
-            5,
+            kind::JS,
             false,
             0,
             0,
             slots(&axes.map(|a| a.then_some(0.0)), &none, None),
         ),
-        Motion::Ssf { axis, function } => (6, false, axis, function, [None; WORD_SLOTS]),
-        Motion::Rs => (7, false, 0, 0, [None; WORD_SLOTS]),
+        Motion::Ssf { axis, function } => (kind::SSF, false, axis, function, [None; WORD_SLOTS]),
+        Motion::Rs => (kind::RS, false, 0, 0, [None; WORD_SLOTS]),
     }
 }
 
@@ -74,23 +91,23 @@ pub fn decode(r: &MotionReq) -> Option<Motion> {
     let words = axes_of(&s);
     let feed = s[SLOT_F];
     Some(match r.kind {
-        1 => Motion::Lin { words, feed },
-        2 => Motion::Rap { words, feed },
-        3 => Motion::Cir {
+        kind::LIN => Motion::Lin { words, feed },
+        kind::RAP => Motion::Rap { words, feed },
+        kind::CIR => Motion::Cir {
             dir: if r.ccw == 1 { ArcDir::Ccw } else { ArcDir::Cw },
             words,
             centre: [s[SLOT_I], s[SLOT_I + 1], s[SLOT_I + 2]],
             feed,
         },
-        4 => Motion::Ja { words },
-        5 => Motion::Js {
+        kind::JA => Motion::Ja { words },
+        kind::JS => Motion::Js {
             axes: words.map(|w| w.is_some()),
         },
-        6 => Motion::Ssf {
+        kind::SSF => Motion::Ssf {
             axis: r.axis,
             function: r.function.get(),
         },
-        7 => Motion::Rs,
+        kind::RS => Motion::Rs,
         _ => return None,
     })
 }
