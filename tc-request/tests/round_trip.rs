@@ -183,23 +183,24 @@ fn seeds() -> Vec<Vec<u8>> {
     .collect()
 }
 
+/// A valid TC frame with a mask XOR-ed over its payload, or a valid header
+/// of any extension op with a payload of random bytes and length.
 fn frame() -> impl Strategy<Value = Vec<u8>> {
-    (
-        0..6usize,
-        prop::collection::vec((any::<usize>(), any::<u8>()), 1..6),
-        any::<usize>(),
-    )
-        .prop_map(|(k, flips, cut)| {
-            let mut f = seeds()[k].clone();
-            for (at, b) in flips {
-                let n = f.len();
-                f[at % n] = b;
-            }
-            if cut % 3 == 0 {
-                f.truncate(cut % (f.len() + 1));
-            }
-            f
-        })
+    let masked = (0..6usize, prop::collection::vec(any::<u8>(), 0..160)).prop_map(|(k, mask)| {
+        let mut f = seeds()[k].clone();
+        let payload = 12..f.len();
+        for (b, m) in f[payload].iter_mut().zip(mask) {
+            *b ^= m;
+        }
+        f
+    });
+    let random = (0x10..0x80u8, prop::collection::vec(any::<u8>(), 0..200)).prop_map(|(op, p)| {
+        let mut f = seeds()[2][..12].to_vec();
+        f[3] = op;
+        f.extend(p);
+        f
+    });
+    prop_oneof![masked, random]
 }
 
 proptest! {
