@@ -18,7 +18,6 @@
 
 use std::future::Future;
 use std::net::SocketAddr;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -85,26 +84,6 @@ impl tokio_modbus::server::Service for HoldingRegisters {
     }
 }
 
-/// `--pin`: the client thread on CPU 0, every server thread on CPU 1.
-static PIN: AtomicBool = AtomicBool::new(false);
-
-/// With `--pin`, pins the calling thread to `cpu` (Linux, with `taskset`).
-fn pin_here(cpu: usize) {
-    if !PIN.load(Ordering::Relaxed) {
-        return;
-    }
-    let tid = std::fs::read_link("/proc/thread-self")
-        .ok()
-        .and_then(|p| p.file_name()?.to_str().map(str::to_owned));
-    let pinned = tid.is_some_and(|tid| {
-        std::process::Command::new("taskset")
-            .args(["-pc", &cpu.to_string(), &tid])
-            .output()
-            .is_ok_and(|o| o.status.success())
-    });
-    assert!(pinned, "--pin: could not pin a thread to CPU {cpu}");
-}
-
 /// Starts a server on its own one-thread runtime; returns its address.
 fn start<F, Fut>(make: F) -> SocketAddr
 where
@@ -113,7 +92,6 @@ where
 {
     let (tx, rx) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
-        pin_here(1);
         let rt = tokio::runtime::Builder::new_current_thread()
             .enable_all()
             .build()
@@ -354,12 +332,9 @@ async fn pipelined(
 /// What to run, from the command line (after `--`): `--quick` (short
 /// runs), `--rounds N` (default 5, quick 3), `--only seq|pipe|same` (one
 /// section), `--target lock|owner|modbus` (one server; for profiling) and
-/// `--n N` (sequential round trips per round); `--pin` puts the client
-/// thread on CPU 0 and the server threads on CPU 1 (the same placement for
-/// every server, instead of the scheduler's, which may differ by thread).
+/// `--n N` (sequential round trips per round).
 struct Args {
     quick: bool,
-    pin: bool,
     n: Option<usize>,
     rounds: usize,
     only: Option<String>,
@@ -380,7 +355,6 @@ impl Args {
             .unwrap_or(if quick { 3 } else { 5 });
         Self {
             quick,
-            pin: argv.iter().any(|a| a == "--pin"),
             n: value("--n").map(|n| n.parse().expect("--n N")),
             rounds,
             only: value("--only"),
@@ -631,14 +605,11 @@ fn main() {
         (50_000, 1_000_000)
     };
     let seq_n = args.n.unwrap_or(seq_n);
-    PIN.store(args.pin, Ordering::Relaxed);
-    pin_here(0);
     println!(
-        "rounds: {}, sequential {} round trips, pipelined {} requests, pinned: {}; load average at start: {}",
+        "rounds: {}, sequential {} round trips, pipelined {} requests; load average at start: {}",
         args.rounds,
         seq_n,
         total,
-        args.pin,
         loadavg()
     );
     let targets = start_targets(&args);
