@@ -5,7 +5,12 @@
 //!
 //! Run: `cargo bench --bench server` (results go to docs/performance.md).
 //! The server and the clients each run on one current-thread runtime, so
-//! the two cores of the machine are split evenly between them.
+//! the two cores of the machine are split evenly between them. Every
+//! figure is measured in several rounds and the tables give the median and
+//! the range. Inside a round the servers take turns (sequential: blocks of
+//! 1,000 round trips; pipelined: ten turns), so a change of the machine's
+//! state during the run (another job, the VM's idle polling) falls on all
+//! of them alike; the same-thread runs visit them in a rotated order.
 
 // Test and bench helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
@@ -13,6 +18,7 @@
 
 use std::future::Future;
 use std::net::SocketAddr;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use addipos::service::EmulatorService;
@@ -123,25 +129,27 @@ async fn serve_modbus(tx: std::sync::mpsc::Sender<SocketAddr>) {
 
 /// Sequential round trips with server and client on one thread: no
 /// cross-core wake-up, so this shows the cost of the software itself.
-fn sequential_same_thread(p: &Proto, modbus: bool, n: usize) -> (f64, f64, f64) {
+/// `key`: "lock", "owner" or "modbus".
+fn sequential_same_thread(key: &str, n: usize) -> (f64, f64, f64) {
     let rt = tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build()
         .expect("runtime");
+    let p = if key == "modbus" { modbus() } else { ours() };
     rt.block_on(async {
         let (tx, rx) = std::sync::mpsc::channel();
-        if modbus {
-            tokio::spawn(serve_modbus(tx));
-        } else {
-            tokio::spawn(serve_ours(Core::Lock, tx));
-        }
+        match key {
+            "modbus" => tokio::spawn(serve_modbus(tx)),
+            "owner" => tokio::spawn(serve_ours(Core::Owner, tx)),
+            _ => tokio::spawn(serve_ours(Core::Lock, tx)),
+        };
         let addr = loop {
             if let Ok(a) = rx.try_recv() {
                 break a;
             }
             tokio::task::yield_now().await;
         };
-        sequential(p, addr, n).await
+        sequential(&[(&p, addr)], n).await[0]
     })
 }
 
@@ -159,107 +167,457 @@ async fn connect(addr: SocketAddr) -> TcpStream {
     s
 }
 
-/// Sequential round trips on one connection: (req/s, p50 µs, p99 µs).
-async fn sequential(p: &Proto, addr: SocketAddr, n: usize) -> (f64, f64, f64) {
-    let mut s = connect(addr).await;
-    let mut ans = vec![0u8; p.answer_len];
-    for _ in 0..2_000 {
-        s.write_all(&p.request).await.expect("write");
-        s.read_exact(&mut ans).await.expect("read");
-    }
-    assert!((p.check)(&ans), "{}: wrong answer {ans:?}", p.name);
-    let mut lat = Vec::with_capacity(n);
-    let t0 = Instant::now();
-    for _ in 0..n {
-        let t = Instant::now();
-        s.write_all(&p.request).await.expect("write");
-        s.read_exact(&mut ans).await.expect("read");
-        lat.push(t.elapsed());
-    }
-    let total = t0.elapsed();
-    lat.sort();
-    let us = |d: Duration| d.as_secs_f64() * 1e6;
-    (
-        n as f64 / total.as_secs_f64(),
-        us(lat[n / 2]),
-        us(lat[n * 99 / 100]),
-    )
+/// Round trips per block of the sequential test: the servers take turns
+/// block by block, so a change of the machine's state (another job, the
+/// VM's idle polling) falls on all of them alike.
+const SEQ_BLOCK: usize = 1_000;
+
+/// Turns each server gets in the pipelined test (per connection count).
+const PIPE_TURNS: usize = 10;
+
+/// One connection of the sequential test: write a request, read the answer.
+struct SeqClient {
+    p: Proto,
+    s: TcpStream,
+    ans: Vec<u8>,
+    lat: Vec<Duration>,
+    busy: Duration,
 }
 
-/// `conns` connections, each sending `per_conn` requests in batches of
-/// `batch` before reading the batch's answers: total req/s.
-async fn pipelined(
-    p: &Proto,
-    addr: SocketAddr,
-    conns: usize,
-    per_conn: usize,
+impl SeqClient {
+    /// Connects and warms up with 2,000 round trips.
+    async fn open(p: &Proto, addr: SocketAddr) -> Self {
+        let mut c = Self {
+            p: p.clone(),
+            s: connect(addr).await,
+            ans: vec![0u8; p.answer_len],
+            lat: Vec::new(),
+            busy: Duration::ZERO,
+        };
+        c.run(2_000).await;
+        assert!(
+            (c.p.check)(&c.ans),
+            "{}: wrong answer {:?}",
+            c.p.name,
+            c.ans
+        );
+        c.lat.clear();
+        c.busy = Duration::ZERO;
+        c
+    }
+
+    async fn run(&mut self, n: usize) {
+        let t0 = Instant::now();
+        for _ in 0..n {
+            let t = Instant::now();
+            self.s.write_all(&self.p.request).await.expect("write");
+            self.s.read_exact(&mut self.ans).await.expect("read");
+            self.lat.push(t.elapsed());
+        }
+        self.busy += t0.elapsed();
+    }
+
+    /// (req/s, p50 µs, p99 µs).
+    fn figures(mut self) -> (f64, f64, f64) {
+        let n = self.lat.len();
+        self.lat.sort();
+        let us = |d: Duration| d.as_secs_f64() * 1e6;
+        (
+            n as f64 / self.busy.as_secs_f64(),
+            us(self.lat[n / 2]),
+            us(self.lat[n * 99 / 100]),
+        )
+    }
+}
+
+/// `n` sequential round trips on one connection to each server, in
+/// blocks of [`SEQ_BLOCK`] taking turns: (req/s, p50 µs, p99 µs) each.
+async fn sequential(servers: &[(&Proto, SocketAddr)], n: usize) -> Vec<(f64, f64, f64)> {
+    let mut clients = Vec::new();
+    for (p, addr) in servers {
+        clients.push(SeqClient::open(p, *addr).await);
+    }
+    let blocks = n.div_ceil(SEQ_BLOCK);
+    for b in 0..blocks {
+        let len = SEQ_BLOCK.min(n - b * SEQ_BLOCK);
+        for i in rotated(clients.len(), b) {
+            clients[i].run(len).await;
+        }
+    }
+    clients.into_iter().map(SeqClient::figures).collect()
+}
+
+/// The connections of the pipelined test to one server: each sends
+/// batches of requests in one write and then reads the batch's answers.
+struct PipeClient {
+    p: Proto,
+    burst: Arc<Vec<u8>>,
     batch: usize,
-) -> f64 {
-    let burst: Vec<u8> = p
-        .request
-        .iter()
-        .copied()
-        .cycle()
-        .take(p.request.len() * batch)
-        .collect();
-    let mut streams = Vec::new();
-    for _ in 0..conns {
-        streams.push(connect(addr).await);
-    }
-    let t0 = Instant::now();
-    let mut tasks = tokio::task::JoinSet::new();
-    for mut s in streams {
-        let burst = burst.clone();
-        let p = p.clone();
-        tasks.spawn(async move {
-            let mut ans = vec![0u8; p.answer_len * batch];
-            for _ in 0..per_conn / batch {
-                s.write_all(&burst).await.expect("write");
-                s.read_exact(&mut ans).await.expect("read");
-                assert!((p.check)(&ans[..p.answer_len]), "{}: wrong answer", p.name);
-            }
-        });
-    }
-    while let Some(r) = tasks.join_next().await {
-        r.expect("client");
-    }
-    (conns * (per_conn / batch) * batch) as f64 / t0.elapsed().as_secs_f64()
+    streams: Vec<TcpStream>,
+    requests: usize,
+    busy: Duration,
 }
 
-fn main() {
-    let quick = std::env::args().any(|a| a == "--quick");
-    let (seq_n, total) = if quick {
-        (5_000, 100_000)
-    } else {
-        (50_000, 1_000_000)
-    };
-    let targets = [
-        (ours(), start_ours(Core::Lock), "lock"),
-        (ours(), start_ours(Core::Owner), "owner task"),
-        (modbus(), start_modbus(), "reference"),
-    ];
+impl PipeClient {
+    async fn open(p: &Proto, addr: SocketAddr, conns: usize, batch: usize) -> Self {
+        let burst = p.request.repeat(batch);
+        let mut streams = Vec::new();
+        for _ in 0..conns {
+            streams.push(connect(addr).await);
+        }
+        Self {
+            p: p.clone(),
+            burst: Arc::new(burst),
+            batch,
+            streams,
+            requests: 0,
+            busy: Duration::ZERO,
+        }
+    }
+
+    /// `batches` batches on every connection at once.
+    async fn run(&mut self, batches: usize) {
+        let t0 = Instant::now();
+        let mut tasks = tokio::task::JoinSet::new();
+        for mut s in self.streams.drain(..) {
+            let (p, burst, batch) = (self.p.clone(), Arc::clone(&self.burst), self.batch);
+            tasks.spawn(async move {
+                let mut ans = vec![0u8; p.answer_len * batch];
+                for _ in 0..batches {
+                    s.write_all(&burst).await.expect("write");
+                    s.read_exact(&mut ans).await.expect("read");
+                    assert!((p.check)(&ans[..p.answer_len]), "{}: wrong answer", p.name);
+                }
+                s
+            });
+        }
+        while let Some(s) = tasks.join_next().await {
+            self.streams.push(s.expect("client"));
+        }
+        self.busy += t0.elapsed();
+        self.requests += self.streams.len() * batches * self.batch;
+    }
+}
+
+/// About `total` requests to each server over `conns` connections, in
+/// batches of `batch`, the servers taking [`PIPE_TURNS`] turns: req/s each.
+async fn pipelined(
+    servers: &[(&Proto, SocketAddr)],
+    conns: usize,
+    total: usize,
+    batch: usize,
+) -> Vec<f64> {
+    let mut clients = Vec::new();
+    for (p, addr) in servers {
+        clients.push(PipeClient::open(p, *addr, conns, batch).await);
+    }
+    let batches = (total / conns / batch).max(1);
+    let per_turn = batches.div_ceil(PIPE_TURNS);
+    let mut done = 0;
+    let mut turn = 0;
+    while done < batches {
+        let now = per_turn.min(batches - done);
+        for i in rotated(clients.len(), turn) {
+            clients[i].run(now).await;
+        }
+        done += now;
+        turn += 1;
+    }
+    clients
+        .iter()
+        .map(|c| c.requests as f64 / c.busy.as_secs_f64())
+        .collect()
+}
+
+/// What to run, from the command line (after `--`): `--quick` (short
+/// runs), `--rounds N` (default 5, quick 3), `--only seq|pipe|same` (one
+/// section), `--target lock|owner|modbus` (one server; for profiling) and
+/// `--n N` (sequential round trips per round).
+struct Args {
+    quick: bool,
+    n: Option<usize>,
+    rounds: usize,
+    only: Option<String>,
+    target: Option<String>,
+}
+
+impl Args {
+    fn parse() -> Self {
+        let argv: Vec<String> = std::env::args().collect();
+        let value = |flag: &str| {
+            argv.iter()
+                .position(|a| a == flag)
+                .and_then(|i| argv.get(i + 1).cloned())
+        };
+        let quick = argv.iter().any(|a| a == "--quick");
+        let rounds = value("--rounds")
+            .map(|r| r.parse().expect("--rounds N"))
+            .unwrap_or(if quick { 3 } else { 5 });
+        Self {
+            quick,
+            n: value("--n").map(|n| n.parse().expect("--n N")),
+            rounds,
+            only: value("--only"),
+            target: value("--target"),
+        }
+    }
+
+    fn section(&self, name: &str) -> bool {
+        self.only.as_deref().is_none_or(|o| o == name)
+    }
+
+    fn target(&self, name: &str) -> bool {
+        self.target.as_deref().is_none_or(|t| t == name)
+    }
+}
+
+/// One server under test: protocol, short name, where it listens.
+struct Target {
+    proto: Proto,
+    key: &'static str,
+    core: &'static str,
+    addr: SocketAddr,
+}
+
+/// Samples of one figure over the rounds.
+#[derive(Default)]
+struct Samples(Vec<f64>);
+
+impl Samples {
+    fn median(&self) -> f64 {
+        let mut v = self.0.clone();
+        v.sort_by(f64::total_cmp);
+        match v.len() {
+            0 => f64::NAN,
+            n if n % 2 == 1 => v[n / 2],
+            n => (v[n / 2 - 1] + v[n / 2]) / 2.0,
+        }
+    }
+
+    fn min(&self) -> f64 {
+        self.0.iter().copied().fold(f64::INFINITY, f64::min)
+    }
+
+    fn max(&self) -> f64 {
+        self.0.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+    }
+
+    /// `median (min–max)`, rates in k or M.
+    fn cell(&self, rate: bool) -> String {
+        let f = |x: f64| {
+            if !rate {
+                format!("{x:.1}")
+            } else if x >= 1e6 {
+                format!("{:.2}M", x / 1e6)
+            } else {
+                format!("{:.1}k", x / 1e3)
+            }
+        };
+        if self.0.is_empty() {
+            return "–".into();
+        }
+        format!("{} ({}–{})", f(self.median()), f(self.min()), f(self.max()))
+    }
+}
+
+/// The figures of one target: sequential rate, p50, p99, pipelined 1/8/64.
+#[derive(Default)]
+struct Figures([Samples; 6]);
+
+const PIPE_CONNS: [usize; 3] = [1, 8, 64];
+
+fn loadavg() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .unwrap_or_default()
+}
+
+/// Round `r` visits the targets starting at `r % n`: no server is always
+/// measured first or last.
+fn rotated(n: usize, r: usize) -> impl Iterator<Item = usize> {
+    (0..n).map(move |k| (k + r) % n)
+}
+
+/// The ratio ours/theirs of the same round, over the rounds: median
+/// (min–max).
+fn ratio(ours: &Samples, theirs: &Samples) -> String {
+    let r = Samples(ours.0.iter().zip(&theirs.0).map(|(a, b)| a / b).collect());
+    if r.0.is_empty() {
+        return "–".into();
+    }
+    format!("{:.3} ({:.3}–{:.3})", r.median(), r.min(), r.max())
+}
+
+/// Starts the servers `args` asks for (each on its own thread).
+fn start_targets(args: &Args) -> Vec<Target> {
+    [
+        ("lock", "lock"),
+        ("owner", "owner task"),
+        ("modbus", "reference"),
+    ]
+    .into_iter()
+    .filter(|(key, _)| args.target(key))
+    .map(|(key, core)| {
+        let (proto, addr) = match key {
+            "lock" => (ours(), start_ours(Core::Lock)),
+            "owner" => (ours(), start_ours(Core::Owner)),
+            _ => (modbus(), start_modbus()),
+        };
+        Target {
+            proto,
+            key,
+            core,
+            addr,
+        }
+    })
+    .collect()
+}
+
+/// The figures of every round.
+struct Results {
+    /// Per target: across threads.
+    figs: Vec<Figures>,
+    /// Per same-thread key: rate, p50, p99.
+    same: Vec<[Samples; 3]>,
+    same_keys: Vec<&'static str>,
+}
+
+fn push3(into: &mut [Samples], got: (f64, f64, f64)) {
+    for (k, x) in [got.0, got.1, got.2].into_iter().enumerate() {
+        into[k].0.push(x);
+    }
+}
+
+fn run_rounds(args: &Args, targets: &[Target], seq_n: usize, total: usize) -> Results {
     let client = tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build()
         .expect("runtime");
+    let servers: Vec<(&Proto, SocketAddr)> = targets.iter().map(|t| (&t.proto, t.addr)).collect();
+    let same_keys: Vec<&'static str> = ["lock", "owner", "modbus"]
+        .into_iter()
+        .filter(|k| args.target(k))
+        .collect();
+    let mut res = Results {
+        figs: targets.iter().map(|_| Figures::default()).collect(),
+        same: same_keys.iter().map(|_| Default::default()).collect(),
+        same_keys,
+    };
+    for round in 0..args.rounds {
+        if args.section("seq") {
+            let got = client.block_on(sequential(&servers, seq_n));
+            for (i, fig) in got.into_iter().enumerate() {
+                push3(&mut res.figs[i].0[..3], fig);
+            }
+        }
+        if args.section("pipe") {
+            for (c, conns) in PIPE_CONNS.into_iter().enumerate() {
+                let got = client.block_on(pipelined(&servers, conns, total, 128));
+                for (i, rate) in got.into_iter().enumerate() {
+                    res.figs[i].0[3 + c].0.push(rate);
+                }
+            }
+        }
+        if args.section("same") {
+            for i in rotated(res.same_keys.len(), round) {
+                push3(
+                    &mut res.same[i],
+                    sequential_same_thread(res.same_keys[i], seq_n),
+                );
+            }
+        }
+        eprintln!("round {} done, load average {}", round + 1, loadavg());
+    }
+    res
+}
+
+fn print_tables(targets: &[Target], res: &Results) {
     println!("| server | core | sequential req/s | p50 µs | p99 µs | pipelined 1 conn req/s | 8 conns | 64 conns |");
     println!("|---|---|---|---|---|---|---|---|");
-    for (p, addr, core) in &targets {
-        let (rate, p50, p99) = client.block_on(sequential(p, *addr, seq_n));
-        let mut pipes = Vec::new();
-        for conns in [1usize, 8, 64] {
-            pipes.push(client.block_on(pipelined(p, *addr, conns, total / conns, 128)));
-        }
+    for (t, f) in targets.iter().zip(&res.figs) {
+        let s = &f.0;
         println!(
-            "| {} | {} | {:.0} | {:.1} | {:.1} | {:.0} | {:.0} | {:.0} |",
-            p.name, core, rate, p50, p99, pipes[0], pipes[1], pipes[2]
+            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            t.proto.name,
+            t.core,
+            s[0].cell(true),
+            s[1].cell(false),
+            s[2].cell(false),
+            s[3].cell(true),
+            s[4].cell(true),
+            s[5].cell(true)
         );
     }
     println!();
-    println!("| server, client on the same thread | sequential req/s | p50 µs | p99 µs |");
-    println!("|---|---|---|---|");
-    for (p, modbus) in [(ours(), false), (modbus(), true)] {
-        let (rate, p50, p99) = sequential_same_thread(&p, modbus, seq_n);
-        println!("| {} | {:.0} | {:.1} | {:.1} |", p.name, rate, p50, p99);
+    println!("| server, client on the same thread | core | sequential req/s | p50 µs | p99 µs |");
+    println!("|---|---|---|---|---|");
+    for (key, s) in res.same_keys.iter().zip(&res.same) {
+        let (name, core) = match *key {
+            "modbus" => ("tokio-modbus", "reference"),
+            "owner" => ("addipos UOI", "owner task"),
+            _ => ("addipos UOI", "lock"),
+        };
+        println!(
+            "| {name} | {core} | {} | {} | {} |",
+            s[0].cell(true),
+            s[1].cell(false),
+            s[2].cell(false)
+        );
     }
+}
+
+/// Ours / tokio-modbus, round by round (the servers take turns inside a
+/// round, so a round's ratio compares like with like).
+fn print_ratios(targets: &[Target], res: &Results) {
+    let Some(m) = targets.iter().position(|t| t.key == "modbus") else {
+        return;
+    };
+    let ms = res.same_keys.iter().position(|k| *k == "modbus");
+    println!();
+    println!("| ours / tokio-modbus, per round | sequential | pipelined 1 conn | 8 conns | 64 conns | same thread |");
+    println!("|---|---|---|---|---|---|");
+    for (t, f) in targets.iter().zip(&res.figs) {
+        if t.key == "modbus" {
+            continue;
+        }
+        let (l, r) = (&f.0, &res.figs[m].0);
+        let same = match (res.same_keys.iter().position(|k| *k == t.key), ms) {
+            (Some(i), Some(j)) => ratio(&res.same[i][0], &res.same[j][0]),
+            _ => "–".into(),
+        };
+        println!(
+            "| {} | {} | {} | {} | {} | {} |",
+            t.core,
+            ratio(&l[0], &r[0]),
+            ratio(&l[3], &r[3]),
+            ratio(&l[4], &r[4]),
+            ratio(&l[5], &r[5]),
+            same
+        );
+    }
+}
+
+fn main() {
+    let args = Args::parse();
+    let (seq_n, total) = if args.quick {
+        (5_000, 100_000)
+    } else {
+        (50_000, 1_000_000)
+    };
+    let seq_n = args.n.unwrap_or(seq_n);
+    println!(
+        "rounds: {}, sequential {} round trips, pipelined {} requests; load average at start: {}",
+        args.rounds,
+        seq_n,
+        total,
+        loadavg()
+    );
+    let targets = start_targets(&args);
+    let res = run_rounds(&args, &targets, seq_n, total);
+    println!("load average at end: {}", loadavg());
+    println!();
+    println!("Median (min–max) over {} rounds.", args.rounds);
+    println!();
+    print_tables(&targets, &res);
+    print_ratios(&targets, &res);
 }

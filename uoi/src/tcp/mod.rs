@@ -2,6 +2,9 @@
 //! client (async, plus a blocking wrapper). Frames as in [`crate::wire`].
 
 mod client;
+mod connection;
+mod halves;
+mod idle;
 mod server;
 
 pub use client::{answer_error, BlockingClient, Client, ClientError};

@@ -8,22 +8,17 @@ use std::net::SocketAddr;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use tokio::time::Instant;
-
-use futures_util::{SinkExt, StreamExt};
+use futures_util::SinkExt;
 use tokio::io::AsyncWriteExt;
 use tokio::net::{TcpListener, TcpStream};
-use tokio::sync::{mpsc, oneshot, watch, Semaphore};
+use tokio::sync::{mpsc, oneshot, Semaphore};
 use tokio::task::JoinSet;
-use tokio_util::codec::{FramedRead, FramedWrite};
+use tokio_util::codec::FramedWrite;
 use tracing::{debug, info, warn};
 
-use crate::wire::{
-    Answer, CodecError, ProtocolError, Rejected, Reply, Request, ServerCodec, MAX_FRAME, PREFIX_LEN,
-};
-
-/// Answers buffered before they are written out even if more requests wait.
-const WRITE_BATCH: usize = 64 * 1024;
+use super::connection::{reply, serve_connection};
+use super::idle::Watchdog;
+use crate::wire::{Answer, ProtocolError, Request, ServerCodec};
 
 /// What serves the requests: the emulator, in `addipos`.
 pub trait Handler: Send + 'static {
@@ -71,7 +66,7 @@ impl Default for ServerConfig {
 type Job = (Request, oneshot::Sender<Answer>);
 
 /// The shared handler.
-enum Shared<H> {
+pub(crate) enum Shared<H> {
     Lock(Arc<Mutex<H>>),
     Owner(mpsc::Sender<Job>),
 }
@@ -86,21 +81,23 @@ impl<H> Clone for Shared<H> {
 }
 
 impl<H: Handler> Shared<H> {
-    async fn handle(&self, req: Request) -> Answer {
+    /// Answers one request with the shared handler.
+    pub(crate) async fn handle(&self, req: Request) -> Answer {
         match self {
-            Shared::Lock(m) => {
-                let mut h = m.lock().unwrap_or_else(|p| p.into_inner());
-                h.handle(req)
-            }
-            Shared::Owner(tx) => {
-                let (atx, arx) = oneshot::channel();
-                if tx.send((req, atx)).await.is_err() {
-                    return Answer::Protocol(ProtocolError::Busy);
-                }
-                arx.await.unwrap_or(Answer::Protocol(ProtocolError::Busy))
-            }
+            // No await on this path: the common case stays a plain call.
+            Shared::Lock(m) => m.lock().unwrap_or_else(|p| p.into_inner()).handle(req),
+            Shared::Owner(tx) => ask(tx, req).await,
         }
     }
+}
+
+/// Hands a request to the owner task and waits for its answer.
+async fn ask(tx: &mpsc::Sender<Job>, req: Request) -> Answer {
+    let (atx, arx) = oneshot::channel();
+    if tx.send((req, atx)).await.is_err() {
+        return Answer::Protocol(ProtocolError::Busy);
+    }
+    arx.await.unwrap_or(Answer::Protocol(ProtocolError::Busy))
 }
 
 /// A bound server, ready to run.
@@ -158,47 +155,29 @@ impl<H: Handler> Server<H> {
             shared,
         } = self;
         info!(listen = %listener.local_addr()?, max_connections = cfg.max_connections, core = ?cfg.core, "serving UOI");
-        let permits = Arc::new(Semaphore::new(cfg.max_connections));
-        let (stop_tx, stop_rx) = watch::channel(false);
-        let mut tasks = JoinSet::new();
+        let mut gate = Gate {
+            permits: Arc::new(Semaphore::new(cfg.max_connections)),
+            watchdog: Watchdog::start(cfg.idle_timeout, cfg.max_connections)?,
+            shared,
+            tasks: JoinSet::new(),
+        };
         tokio::pin!(shutdown);
         loop {
             tokio::select! {
                 () = &mut shutdown => break,
-                accepted = listener.accept() => {
-                    let (stream, peer) = match accepted {
-                        Ok(a) => a,
-                        Err(e) => {
-                            warn!(error = %e, "accept failed");
-                            tokio::time::sleep(Duration::from_millis(10)).await;
-                            continue;
-                        }
-                    };
-                    let _ = stream.set_nodelay(true);
-                    match permits.clone().try_acquire_owned() {
-                        Ok(permit) => {
-                            let shared = shared.clone();
-                            let stop = stop_rx.clone();
-                            let idle = cfg.idle_timeout;
-                            tasks.spawn(async move {
-                                debug!(%peer, "connected");
-                                serve_connection(stream, shared, idle, stop).await;
-                                debug!(%peer, "disconnected");
-                                drop(permit);
-                            });
-                        }
-                        Err(_) => {
-                            warn!(%peer, "connection limit reached, refusing");
-                            tasks.spawn(refuse(stream));
-                        }
+                accepted = listener.accept() => match accepted {
+                    Ok((stream, peer)) => gate.admit(stream, peer),
+                    Err(e) => {
+                        warn!(error = %e, "accept failed");
+                        tokio::time::sleep(Duration::from_millis(10)).await;
                     }
-                }
-                Some(_) = tasks.join_next(), if !tasks.is_empty() => {}
+                },
+                Some(_) = gate.tasks.join_next(), if !gate.tasks.is_empty() => {}
             }
         }
         info!("shutting down: finishing open connections");
-        let _ = stop_tx.send(true);
-        let drain = async { while tasks.join_next().await.is_some() {} };
+        gate.watchdog.close_all();
+        let drain = async { while gate.tasks.join_next().await.is_some() {} };
         if tokio::time::timeout(Duration::from_secs(5), drain)
             .await
             .is_err()
@@ -209,93 +188,41 @@ impl<H: Handler> Server<H> {
     }
 }
 
+/// What admits accepted connections and keeps them.
+struct Gate<H> {
+    /// One per connection served at once.
+    permits: Arc<Semaphore>,
+    /// Closes idle connections, and all of them on shutdown.
+    watchdog: Watchdog,
+    shared: Shared<H>,
+    tasks: JoinSet<()>,
+}
+
+impl<H: Handler> Gate<H> {
+    /// Serves an accepted connection, or answers `Busy` and closes it when
+    /// `max_connections` are open.
+    fn admit(&mut self, stream: TcpStream, peer: SocketAddr) {
+        let _ = stream.set_nodelay(true);
+        let Ok(permit) = Arc::clone(&self.permits).try_acquire_owned() else {
+            warn!(%peer, "connection limit reached, refusing");
+            self.tasks.spawn(refuse(stream));
+            return;
+        };
+        let shared = self.shared.clone();
+        let activity = self.watchdog.watch();
+        self.tasks.spawn(async move {
+            debug!(%peer, "connected");
+            serve_connection(stream, shared, activity).await;
+            debug!(%peer, "disconnected");
+            drop(permit);
+        });
+    }
+}
+
 async fn refuse(stream: TcpStream) {
     let mut w = FramedWrite::new(stream, ServerCodec);
     let _ = w
         .send(reply(0, 0, Answer::Protocol(ProtocolError::Busy)))
         .await;
     let _ = w.into_inner().shutdown().await;
-}
-
-fn reply(id: u32, op: u8, answer: Answer) -> Reply {
-    Reply { id, op, answer }
-}
-
-/// What ended the wait for the next frame.
-enum Next {
-    Frame(Option<Result<Incoming, CodecError>>),
-    Idle,
-    Stop,
-}
-
-type Incoming = Result<(u32, Request), Rejected>;
-
-async fn serve_connection<H: Handler>(
-    stream: TcpStream,
-    shared: Shared<H>,
-    idle: Duration,
-    mut stop: watch::Receiver<bool>,
-) {
-    let (r, w) = stream.into_split();
-    let mut reader = FramedRead::with_capacity(r, ServerCodec, MAX_FRAME + PREFIX_LEN);
-    let mut writer = FramedWrite::new(w, ServerCodec);
-    writer.set_backpressure_boundary(WRITE_BATCH);
-    // One timer for the connection, moved on only when it fires: a request
-    // costs a clock read, not a timer update.
-    let mut last = Instant::now();
-    let watchdog = tokio::time::sleep(idle);
-    tokio::pin!(watchdog);
-    // Registered once, not on every wait.
-    let stopped = stop.changed();
-    tokio::pin!(stopped);
-    loop {
-        let next = tokio::select! {
-            biased;
-            f = reader.next() => Next::Frame(f),
-            () = &mut watchdog => {
-                if last.elapsed() < idle {
-                    watchdog.as_mut().reset(last + idle);
-                    continue;
-                }
-                Next::Idle
-            }
-            _ = &mut stopped => Next::Stop,
-        };
-        let item = match next {
-            Next::Frame(Some(Ok(item))) => item,
-            Next::Frame(Some(Err(CodecError::FrameTooLarge(len)))) => {
-                warn!(len, "frame too large, closing");
-                let ans = Answer::Protocol(ProtocolError::FrameTooLarge);
-                let _ = writer.send(reply(0, 0, ans)).await;
-                break;
-            }
-            // Closed, half a frame then closed, a broken connection.
-            Next::Frame(_) => break,
-            Next::Idle => {
-                debug!("idle timeout");
-                break;
-            }
-            Next::Stop => break,
-        };
-        last = Instant::now();
-        let out = match item {
-            Ok((id, req)) => {
-                let op = req.op().code();
-                reply(id, op, shared.handle(req).await)
-            }
-            Err(r) => {
-                debug!(error = %r.error, "bad request");
-                reply(r.id, r.op, Answer::Protocol(r.error))
-            }
-        };
-        if writer.feed(out).await.is_err() {
-            break;
-        }
-        // Answer pipelined requests in batches: flush when nothing more waits.
-        if reader.read_buffer().is_empty() && writer.flush().await.is_err() {
-            break;
-        }
-    }
-    let _ = writer.flush().await;
-    let _ = writer.into_inner().shutdown().await;
 }

@@ -7,8 +7,13 @@
 use bytes::{Buf, Bytes, BytesMut};
 use tokio_util::codec::{Decoder, Encoder};
 
-use super::frame::{MAX_FRAME, PREFIX_LEN};
-use super::message::{decode_request, encode_answer, encode_request, Answer, Rejected, Request};
+use super::frame::{Header, EXT_OPS, MAX_FRAME, PREFIX_LEN};
+use super::message::{
+    decode_request, decode_request_with, encode_answer, encode_request, Answer, Rejected, Request,
+};
+
+/// Offset of the op byte in the header.
+const OP_AT: usize = std::mem::offset_of!(Header, op);
 
 /// Why a stream of frames cannot go on.
 #[derive(Debug, thiserror::Error)]
@@ -22,8 +27,9 @@ pub enum CodecError {
     FrameTooLarge(usize),
 }
 
-/// Takes one frame body (header + payload) off `src`, once it is complete.
-fn take_body(src: &mut BytesMut) -> Result<Option<Bytes>, CodecError> {
+/// The body length (header + payload) of the frame at the start of `src`
+/// once it is complete; room is reserved for an incomplete one.
+fn body_len(src: &mut BytesMut) -> Result<Option<usize>, CodecError> {
     let Some(prefix) = src.first_chunk::<PREFIX_LEN>() else {
         return Ok(None);
     };
@@ -35,6 +41,14 @@ fn take_body(src: &mut BytesMut) -> Result<Option<Bytes>, CodecError> {
         src.reserve(PREFIX_LEN + len - src.len());
         return Ok(None);
     }
+    Ok(Some(len))
+}
+
+/// Takes one frame body (header + payload) off `src`, once it is complete.
+fn take_body(src: &mut BytesMut) -> Result<Option<Bytes>, CodecError> {
+    let Some(len) = body_len(src)? else {
+        return Ok(None);
+    };
     src.advance(PREFIX_LEN);
     Ok(Some(src.split_to(len).freeze()))
 }
@@ -42,6 +56,19 @@ fn take_body(src: &mut BytesMut) -> Result<Option<Bytes>, CodecError> {
 /// The server's codec: decodes request frames, encodes [`Reply`]s.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct ServerCodec;
+
+impl ServerCodec {
+    /// Whether `buf` (a read buffer) starts with something the decoder
+    /// takes without reading more: a whole frame, or a length prefix over
+    /// [`MAX_FRAME`].
+    pub fn has_frame(buf: &[u8]) -> bool {
+        let Some(prefix) = buf.first_chunk::<PREFIX_LEN>() else {
+            return false;
+        };
+        let len = u32::from_le_bytes(*prefix) as usize;
+        len > MAX_FRAME || buf.len() >= PREFIX_LEN + len
+    }
+}
 
 /// One answer frame as the server sends it.
 #[derive(Debug, Clone, PartialEq)]
@@ -59,8 +86,23 @@ impl Decoder for ServerCodec {
     type Item = Result<(u32, Request), Rejected>;
     type Error = CodecError;
 
+    /// READ and WRITE are decoded in place (no split of the buffer, no
+    /// reference count per frame); an extension op's body is split off and
+    /// its payload shared with the read buffer, not copied.
     fn decode(&mut self, src: &mut BytesMut) -> Result<Option<Self::Item>, CodecError> {
-        Ok(take_body(src)?.map(decode_request))
+        let Some(len) = body_len(src)? else {
+            return Ok(None);
+        };
+        let end = PREFIX_LEN + len;
+        let op = src.get(PREFIX_LEN + OP_AT).copied();
+        if op.is_some_and(|c| EXT_OPS.contains(&c)) {
+            src.advance(PREFIX_LEN);
+            return Ok(Some(decode_request(src.split_to(len).freeze())));
+        }
+        // Not an extension op: `decode_request_with` does not call the closure.
+        let item = decode_request_with(&src[PREFIX_LEN..end], Bytes::copy_from_slice);
+        src.advance(end);
+        Ok(Some(item))
     }
 }
 
@@ -122,6 +164,24 @@ mod tests {
             assert_eq!(got, vec![Ok((5, req.clone())), Ok((6, req.clone()))]);
             assert!(src.is_empty());
         }
+    }
+
+    #[test]
+    fn has_frame_only_for_what_decodes_without_more_input() {
+        let req = Request::Read(ObjectAddress::new(1300, 0, 3, 0), ValueType::I32);
+        let mut whole = BytesMut::new();
+        ClientCodec.encode((5, &req), &mut whole).unwrap();
+        for cut in 0..whole.len() {
+            assert!(!ServerCodec::has_frame(&whole[..cut]), "cut at {cut}");
+        }
+        assert!(ServerCodec::has_frame(&whole));
+        // A too-short frame decodes (as a rejection), an oversized prefix
+        // as an error: both without more input.
+        assert!(ServerCodec::has_frame(&[3, 0, 0, 0, 1, 2, 3]));
+        assert!(ServerCodec::has_frame(
+            &((MAX_FRAME + 1) as u32).to_le_bytes()
+        ));
+        assert!(!ServerCodec::has_frame(&(MAX_FRAME as u32).to_le_bytes()));
     }
 
     #[test]

@@ -78,8 +78,20 @@ pub fn exact<T: FromBytes + KnownLayout + Immutable + Unaligned>(
 }
 
 /// Decodes a frame body (header + payload, without the length prefix).
+/// An extension op's payload is a slice of `body` (no copy).
 pub fn decode_request(body: Bytes) -> Result<(u32, Request), Rejected> {
-    let Ok((h, payload)) = Header::ref_from_prefix(&body) else {
+    decode_request_with(&body, |_| body.slice(HEADER_LEN..))
+}
+
+/// Decodes a borrowed frame body (header + payload, without the length
+/// prefix); `ext` makes an extension op's payload into the request's
+/// [`Bytes`] (it is called only for an extension op). READ and WRITE are
+/// decoded in place.
+pub fn decode_request_with(
+    body: &[u8],
+    ext: impl FnOnce(&[u8]) -> Bytes,
+) -> Result<(u32, Request), Rejected> {
+    let Ok((h, payload)) = Header::ref_from_prefix(body) else {
         return Err(Rejected {
             id: 0,
             op: 0,
@@ -110,7 +122,7 @@ pub fn decode_request(body: Bytes) -> Result<(u32, Request), Rejected> {
             let v = w.value.value().ok_or(reject(ProtocolError::BadPayload))?;
             Request::Write((&w.addr).into(), v)
         }
-        Op::Ext(c) => Request::Ext(c, body.slice(HEADER_LEN..)),
+        Op::Ext(c) => Request::Ext(c, ext(payload)),
     };
     Ok((id, req))
 }
@@ -118,10 +130,13 @@ pub fn decode_request(body: Bytes) -> Result<(u32, Request), Rejected> {
 /// Appends a whole frame (prefix, header, payload) to `out`.
 pub fn encode_frame(out: &mut BytesMut, header: Header, payload: &[u8]) {
     let len = HEADER_LEN + payload.len();
-    out.reserve(PREFIX_LEN + len);
+    // Prefix and header in one piece: one copy into `out`, not two.
+    let mut head = [0u8; PREFIX_LEN + HEADER_LEN];
     // A frame body never exceeds MAX_FRAME, far below u32::MAX.
-    out.put_u32_le(len as u32);
-    out.put_slice(header.as_bytes());
+    head[..PREFIX_LEN].copy_from_slice(&(len as u32).to_le_bytes());
+    head[PREFIX_LEN..].copy_from_slice(header.as_bytes());
+    out.reserve(PREFIX_LEN + len);
+    out.put_slice(&head);
     out.put_slice(payload);
 }
 

@@ -18,6 +18,6 @@ pub use frame::{
     Header, Op, ProtocolError, EXT_OPS, HEADER_LEN, MAGIC, MAX_FRAME, PREFIX_LEN, VERSION,
 };
 pub use message::{
-    decode_answer, decode_request, encode_answer, encode_frame, encode_request, exact, Answer,
-    Rejected, Request,
+    decode_answer, decode_request, decode_request_with, encode_answer, encode_frame,
+    encode_request, exact, Answer, Rejected, Request,
 };

@@ -1,0 +1,319 @@
+//! The connection watchdog: one thread per server looks at every
+//! connection [`TICKS`] times per idle timeout and closes each one that has
+//! had no complete request for at least the timeout; on shutdown it closes
+//! them all.
+//!
+//! Why a thread and not a tokio timer per connection: a timer armed in the
+//! serving runtime makes every park of that runtime dearer (the time
+//! driver looks up the next expiry and reads the clock), and a connection
+//! waits, so parks, once per sequential request. Here a request costs its
+//! connection one relaxed atomic store and the runtime keeps no timer.
+//! A connection learns that it is closed from its reader ([`Activity::poll_closed`]),
+//! not from a second future raced against every read.
+
+use std::io;
+use std::sync::atomic::{AtomicU64, AtomicU8, Ordering};
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::sync::{Arc, Mutex, Weak};
+use std::task::{Context, Poll};
+use std::time::Duration;
+
+use futures_util::task::AtomicWaker;
+
+/// Looks per idle timeout. A silent connection is closed after between
+/// `idle` and `idle * (1 + 1 / TICKS)` without a complete request, never
+/// before `idle`.
+const TICKS: u32 = 8;
+
+/// Shortest time between two looks.
+const MIN_TICK: Duration = Duration::from_millis(1);
+
+/// Why a connection is closed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub(crate) enum Closed {
+    /// No complete request for the idle timeout.
+    Idle = 1,
+    /// The server is stopping.
+    Stop = 2,
+}
+
+/// The state of a connection not closed.
+const OPEN: u8 = 0;
+
+/// What a connection shares with the watchdog.
+#[derive(Debug)]
+pub(crate) struct Activity {
+    /// Complete requests so far; written by the connection only.
+    served: AtomicU64,
+    /// [`OPEN`], or why the connection is closed ([`Closed`]).
+    state: AtomicU8,
+    /// The connection's task while it waits for input.
+    waker: AtomicWaker,
+}
+
+impl Activity {
+    fn new() -> Self {
+        Self {
+            served: AtomicU64::new(0),
+            state: AtomicU8::new(OPEN),
+            waker: AtomicWaker::new(),
+        }
+    }
+
+    /// Records that the connection has had `served` complete requests.
+    pub(crate) fn served(&self, served: u64) {
+        self.served.store(served, Ordering::Relaxed);
+    }
+
+    /// Closes the connection (the first reason given stays) and wakes it.
+    pub(crate) fn close(&self, why: Closed) {
+        let _ = self
+            .state
+            .compare_exchange(OPEN, why as u8, Ordering::AcqRel, Ordering::Acquire);
+        self.waker.wake();
+    }
+
+    /// Why the connection is closed, if it is.
+    pub(crate) fn closed(&self) -> Option<Closed> {
+        match self.state.load(Ordering::Acquire) {
+            OPEN => None,
+            s if s == Closed::Idle as u8 => Some(Closed::Idle),
+            _ => Some(Closed::Stop),
+        }
+    }
+
+    /// For a reader that found no input: `Ready` if the connection is
+    /// closed, else `Pending` with the task woken by a later [`close`](Self::close).
+    pub(crate) fn poll_closed(&self, cx: &mut Context<'_>) -> Poll<Closed> {
+        self.waker.register(cx.waker());
+        // Looked at after registering: a close in between is not missed.
+        match self.closed() {
+            Some(why) => Poll::Ready(why),
+            None => Poll::Pending,
+        }
+    }
+}
+
+/// The watchdog's view of one connection.
+#[derive(Debug)]
+struct Entry {
+    conn: Weak<Activity>,
+    /// The request count at the last look (`None` before the first look:
+    /// the connection may have opened just before it).
+    seen: Option<u64>,
+    /// Looks in a row that found no new request.
+    quiet: u32,
+}
+
+impl Entry {
+    /// One look. Returns whether to keep watching the connection: not
+    /// when it is gone, or has just been closed for idleness.
+    fn look(&mut self) -> bool {
+        let Some(conn) = self.conn.upgrade() else {
+            return false;
+        };
+        let served = conn.served.load(Ordering::Relaxed);
+        if self.seen != Some(served) {
+            self.seen = Some(served);
+            self.quiet = 0;
+            return true;
+        }
+        // No request since the last look: one more full tick of silence.
+        self.quiet += 1;
+        if self.quiet < TICKS {
+            return true;
+        }
+        conn.close(Closed::Idle);
+        false
+    }
+}
+
+/// The watched connections.
+#[derive(Debug, Default)]
+struct Entries(Mutex<Vec<Entry>>);
+
+impl Entries {
+    fn lock(&self) -> std::sync::MutexGuard<'_, Vec<Entry>> {
+        self.0.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// One look at every connection.
+    fn sweep(&self) {
+        self.lock().retain_mut(Entry::look);
+    }
+
+    /// Closes every connection.
+    fn close_all(&self) {
+        for e in self.lock().drain(..) {
+            if let Some(conn) = e.conn.upgrade() {
+                conn.close(Closed::Stop);
+            }
+        }
+    }
+}
+
+/// The watchdog of one server; its thread ends when this is dropped.
+#[derive(Debug)]
+pub(crate) struct Watchdog {
+    entries: Arc<Entries>,
+    /// Entries kept before closed connections are pruned between looks.
+    prune_at: usize,
+    /// Dropping it wakes the thread and ends it.
+    _stop: mpsc::Sender<()>,
+}
+
+impl Watchdog {
+    /// Starts the thread for connections idle after `idle`; `max_connections`
+    /// bounds the entries kept between looks.
+    pub(crate) fn start(idle: Duration, max_connections: usize) -> io::Result<Self> {
+        let entries = Arc::new(Entries::default());
+        let (stop, stopped) = mpsc::channel::<()>();
+        let tick = (idle / TICKS).max(MIN_TICK);
+        let watched = Arc::clone(&entries);
+        std::thread::Builder::new()
+            .name("uoi-idle".into())
+            .spawn(move || {
+                while let Err(RecvTimeoutError::Timeout) = stopped.recv_timeout(tick) {
+                    watched.sweep();
+                }
+            })?;
+        Ok(Self {
+            entries,
+            prune_at: 2 * max_connections.max(1),
+            _stop: stop,
+        })
+    }
+
+    /// Watches a new connection.
+    pub(crate) fn watch(&self) -> Arc<Activity> {
+        let conn = Arc::new(Activity::new());
+        let mut entries = self.entries.lock();
+        if entries.len() >= self.prune_at {
+            entries.retain(|e| e.conn.strong_count() > 0);
+        }
+        entries.push(Entry {
+            conn: Arc::downgrade(&conn),
+            seen: None,
+            quiet: 0,
+        });
+        conn
+    }
+
+    /// Closes every connection watched (the server is stopping).
+    pub(crate) fn close_all(&self) {
+        self.entries.close_all();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn watched() -> (Arc<Activity>, Entry) {
+        let conn = Arc::new(Activity::new());
+        let entry = Entry {
+            conn: Arc::downgrade(&conn),
+            seen: None,
+            quiet: 0,
+        };
+        (conn, entry)
+    }
+
+    #[test]
+    fn closed_after_a_full_timeout_of_quiet_looks_not_before() {
+        let (conn, mut e) = watched();
+        // The first look only notes the count: the connection may be new.
+        assert!(e.look());
+        for _ in 1..TICKS {
+            assert!(e.look());
+            assert_eq!(conn.closed(), None);
+        }
+        assert!(!e.look());
+        assert_eq!(conn.closed(), Some(Closed::Idle));
+    }
+
+    #[test]
+    fn a_request_starts_the_count_again() {
+        let (conn, mut e) = watched();
+        assert!(e.look());
+        for _ in 1..TICKS {
+            assert!(e.look());
+        }
+        conn.served(1);
+        assert!(e.look());
+        for _ in 1..TICKS {
+            assert!(e.look());
+        }
+        assert_eq!(conn.closed(), None);
+        assert!(!e.look());
+        assert_eq!(conn.closed(), Some(Closed::Idle));
+    }
+
+    #[test]
+    fn closed_connections_are_dropped_from_the_watch() {
+        let (conn, mut e) = watched();
+        drop(conn);
+        assert!(!e.look());
+    }
+
+    #[test]
+    fn entries_of_closed_connections_are_pruned() {
+        let dog = Watchdog::start(Duration::from_secs(3600), 2).expect("thread");
+        let mut open = Vec::new();
+        for k in 0..100 {
+            let conn = dog.watch();
+            if k % 10 == 0 {
+                open.push(conn);
+            }
+        }
+        let kept = dog.entries.lock().len();
+        assert!(kept <= open.len() + dog.prune_at, "{kept} entries kept");
+    }
+
+    #[test]
+    fn a_sweep_closes_only_the_silent() {
+        let entries = Entries::default();
+        let (quiet, e1) = watched();
+        let (busy, e2) = watched();
+        entries.lock().extend([e1, e2]);
+        for k in 0..=u64::from(TICKS) {
+            busy.served(k);
+            entries.sweep();
+        }
+        assert_eq!(quiet.closed(), Some(Closed::Idle));
+        assert_eq!(busy.closed(), None);
+        assert_eq!(entries.lock().len(), 1);
+    }
+
+    #[test]
+    fn close_all_closes_the_open_and_keeps_the_first_reason() {
+        let dog = Watchdog::start(Duration::from_secs(3600), 8).expect("thread");
+        let (a, b) = (dog.watch(), dog.watch());
+        a.close(Closed::Idle);
+        dog.close_all();
+        assert_eq!(a.closed(), Some(Closed::Idle));
+        assert_eq!(b.closed(), Some(Closed::Stop));
+    }
+
+    #[test]
+    fn a_close_wakes_the_waiting_reader() {
+        let conn = Activity::new();
+        let woken = Arc::new(Flag::default());
+        let waker = std::task::Waker::from(Arc::clone(&woken));
+        let mut cx = Context::from_waker(&waker);
+        assert_eq!(conn.poll_closed(&mut cx), Poll::Pending);
+        conn.close(Closed::Stop);
+        assert!(woken.0.load(Ordering::SeqCst));
+        assert_eq!(conn.poll_closed(&mut cx), Poll::Ready(Closed::Stop));
+    }
+
+    #[derive(Default)]
+    struct Flag(std::sync::atomic::AtomicBool);
+
+    impl std::task::Wake for Flag {
+        fn wake(self: Arc<Self>) {
+            self.0.store(true, Ordering::SeqCst);
+        }
+    }
+}
