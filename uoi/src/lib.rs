@@ -46,6 +46,7 @@ mod bus;
 mod dictionary;
 mod error;
 mod server;
+#[cfg(feature = "tcp")]
 pub mod tcp;
 mod value;
 pub mod wire;

@@ -7,7 +7,7 @@
 use bytes::{Buf, Bytes, BytesMut};
 use tokio_util::codec::{Decoder, Encoder};
 
-use super::frame::{Header, EXT_OPS, MAX_FRAME, PREFIX_LEN};
+use super::frame::{Header, EXT_OPS, HEADER_LEN, MAX_FRAME, PREFIX_LEN};
 use super::message::{
     decode_request, decode_request_with, encode_answer, encode_request, Answer, Rejected, Request,
 };
@@ -106,10 +106,25 @@ impl Decoder for ServerCodec {
     }
 }
 
+/// `FrameTooLarge` unless a payload of `len` bytes fits one frame: the
+/// peer would refuse the frame and close.
+fn fits(len: usize) -> Result<(), CodecError> {
+    if HEADER_LEN + len <= MAX_FRAME {
+        Ok(())
+    } else {
+        Err(CodecError::FrameTooLarge(HEADER_LEN + len))
+    }
+}
+
 impl Encoder<Reply> for ServerCodec {
     type Error = CodecError;
 
+    /// `FrameTooLarge`, and nothing written, for an extension answer too
+    /// large for one frame (the request layer keeps its answers smaller).
     fn encode(&mut self, reply: Reply, dst: &mut BytesMut) -> Result<(), CodecError> {
+        if let Answer::Ext(payload) = &reply.answer {
+            fits(payload.len())?;
+        }
         encode_answer(reply.id, reply.op, &reply.answer, dst);
         Ok(())
     }
@@ -133,7 +148,12 @@ impl Decoder for ClientCodec {
 impl Encoder<(u32, &Request)> for ClientCodec {
     type Error = CodecError;
 
+    /// `FrameTooLarge`, and nothing sent, for an extension request too
+    /// large for one frame.
     fn encode(&mut self, (id, req): (u32, &Request), dst: &mut BytesMut) -> Result<(), CodecError> {
+        if let Request::Ext(_, payload) = req {
+            fits(payload.len())?;
+        }
         encode_request(id, req, dst);
         Ok(())
     }
@@ -142,6 +162,30 @@ impl Encoder<(u32, &Request)> for ClientCodec {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_extension_payload_too_large_for_a_frame_is_refused() {
+        let big = Bytes::from(vec![0u8; MAX_FRAME - HEADER_LEN + 1]);
+        let mut dst = BytesMut::new();
+        let req = Request::Ext(0x10, big.clone());
+        assert!(matches!(
+            ClientCodec.encode((1, &req), &mut dst),
+            Err(CodecError::FrameTooLarge(_))
+        ));
+        let reply = Reply {
+            id: 1,
+            op: 0x21,
+            answer: Answer::Ext(big),
+        };
+        assert!(matches!(
+            ServerCodec.encode(reply, &mut dst),
+            Err(CodecError::FrameTooLarge(_))
+        ));
+        assert!(dst.is_empty());
+        let fits = Request::Ext(0x10, Bytes::from(vec![0u8; MAX_FRAME - HEADER_LEN]));
+        assert!(ClientCodec.encode((1, &fits), &mut dst).is_ok());
+        assert_eq!(dst.len(), PREFIX_LEN + MAX_FRAME);
+    }
     use crate::wire::frame::ProtocolError;
     use crate::{ObjectAddress, ValueType};
 

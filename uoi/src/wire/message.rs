@@ -127,13 +127,16 @@ pub fn decode_request_with(
     Ok((id, req))
 }
 
-/// Appends a whole frame (prefix, header, payload) to `out`.
+/// Appends a whole frame (prefix, header, payload) to `out`. The codecs
+/// refuse a payload that would make the body exceed `MAX_FRAME`; a frame
+/// encoded here directly must keep within it too.
 pub fn encode_frame(out: &mut BytesMut, header: Header, payload: &[u8]) {
     let len = HEADER_LEN + payload.len();
     // Prefix and header in one piece: one copy into `out`, not two.
     let mut head = [0u8; PREFIX_LEN + HEADER_LEN];
-    // A frame body never exceeds MAX_FRAME, far below u32::MAX.
-    head[..PREFIX_LEN].copy_from_slice(&(len as u32).to_le_bytes());
+    // Saturating: a body over u32::MAX is over MAX_FRAME anyway, and the
+    // peer refuses it.
+    head[..PREFIX_LEN].copy_from_slice(&u32::try_from(len).unwrap_or(u32::MAX).to_le_bytes());
     head[PREFIX_LEN..].copy_from_slice(header.as_bytes());
     out.reserve(PREFIX_LEN + len);
     out.put_slice(&head);

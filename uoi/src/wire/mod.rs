@@ -8,11 +8,13 @@
 //!
 //! [`codec`] puts the frames on a byte stream (tokio-util).
 
+#[cfg(feature = "tcp")]
 pub mod codec;
 pub mod frame;
 pub mod layout;
 pub mod message;
 
+#[cfg(feature = "tcp")]
 pub use codec::{ClientCodec, CodecError, Reply, ServerCodec};
 pub use frame::{
     Header, Op, ProtocolError, EXT_OPS, HEADER_LEN, MAGIC, MAX_FRAME, PREFIX_LEN, VERSION,
