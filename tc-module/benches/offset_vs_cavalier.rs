@@ -218,7 +218,7 @@ fn run_buffer(profiles: &[Profile], spooler: &mut Spooler) {
     };
     for (i, p) in profiles.iter().enumerate() {
         buffer
-            .push(*p, RADIUS, TransitionMode::Circular, &mut sink)
+            .push(p, RADIUS, TransitionMode::Circular, &mut sink)
             .expect("the saw-tooth corrects");
         if i % DRAIN == DRAIN - 1 {
             drain(sink.spooler);

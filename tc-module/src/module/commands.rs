@@ -221,7 +221,7 @@ impl<E: TcExtension> TcModule<E> {
             len: g.tool().length,
         };
         let (d, mode) = (g.offset(), g.transition);
-        g.buffer.push(prof, d, mode, &mut sink)
+        g.buffer.push(&prof, d, mode, &mut sink)
     }
 
     /// A motion error while running: the group faults and Run clears.
