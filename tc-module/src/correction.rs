@@ -124,7 +124,16 @@ impl Sink<'_> {
 /// The held profile with its offset.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Held {
-    prof: Profile,
+    /// The profile's plane element.
+    contour: Contour,
+    /// Its end point, all axes.
+    end: AxisPos,
+    /// Its start point, all axes (an approach arc starts its line here).
+    start: AxisPos,
+    /// Its feed.
+    feed: f64,
+    /// A rapid move.
+    rapid: bool,
     off: Offset,
     /// First profile after start, flush or direct command.
     approach: bool,
@@ -141,7 +150,7 @@ impl Held {
             path: self.off.path,
             from: self.from,
             to: self.off.end,
-            full: self.prof.contour.is_full_circle()
+            full: self.contour.is_full_circle()
                 && self.from.is_some_and(|x| on_offset_start(&self.off, x)),
         }
     }
@@ -196,7 +205,7 @@ fn offset_error(e: OffsetError) -> ErrorBits {
 /// The corner between the held `a` and the next profile's offset `b`
 /// (trc-geometry.md "Corner").
 fn corner(a: &Held, b: &Offset, b_full: bool, mode: TransitionMode) -> Result<Join, ErrorBits> {
-    let k = a.prof.contour.ends().1;
+    let k = a.contour.ends().1;
     let pa = a.off.end;
     match classify(a.off.t_end, b.t_start, b.d, &a.off.path, &b.path) {
         CornerKind::Smooth => Ok(Join {
@@ -271,7 +280,7 @@ impl Buffer {
                 let join = corner(a, &off, prof.contour.is_full_circle(), mode)?;
                 spool_held(a, join.a_end, &mut self.nulls, &mut self.last_normal, sink);
                 if let Some(t) = join.transition {
-                    spool_transition(t, a.prof.contour.ends().1, prof, sink);
+                    spool_transition(t, a.contour.ends().1, prof, sink);
                 }
                 (false, Some(join.b_from))
             }
@@ -289,8 +298,13 @@ impl Buffer {
     }
 
     fn hold(&mut self, prof: &Profile, off: Offset, approach: bool, from: Option<V2>) {
+        // Field by field (the profile is not kept whole).
         self.held = Some(Held {
-            prof: *prof,
+            contour: prof.contour,
+            end: prof.end,
+            start: prof.start,
+            feed: prof.feed,
+            rapid: prof.rapid,
             off,
             approach,
             from,
@@ -334,7 +348,7 @@ fn spool_held(
     last_normal: &mut Option<V2>,
     sink: &mut Sink,
 ) {
-    let p = &a.prof;
+    let p = a;
     let n_end = a.off.normal_at(x);
     match p.contour {
         Contour::Line { .. } => {

@@ -23,6 +23,7 @@ pub struct Part {
 
 impl Part {
     /// Whether `x` (a point on the carrier) lies on the part.
+    #[inline]
     pub fn contains(&self, x: V2) -> bool {
         let Some(from) = self.from else { return true };
         match self.path {
@@ -38,6 +39,7 @@ impl Part {
 }
 
 /// Where the carriers of two parts meet.
+#[inline]
 fn carriers_meet(a: &Part, b: &Part) -> Intersections {
     match (a.path, b.path) {
         (OffsetPath::Line { dir: da }, OffsetPath::Line { dir: db }) => {
@@ -67,6 +69,7 @@ fn carriers_meet(a: &Part, b: &Part) -> Intersections {
 /// The inside-corner point: the intersection of the offsets of `a` and `b`
 /// lying on both parts that is nearest to the programmed corner `k`.
 /// `None` means the tool does not fit (`KorrError`).
+#[inline]
 pub fn inside_point(a: &Part, b: &Part, k: V2) -> Option<V2> {
     let (p, q) = match carriers_meet(a, b) {
         Intersections::None => return None,
