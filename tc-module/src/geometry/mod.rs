@@ -1,8 +1,9 @@
 //! Plane geometry of the tool radius correction (trc-geometry.md "Offset
 //! geometry" and "Corner"), one module per concept: offsets of lines and
 //! arcs, corner classes, transitions at outside corners, the carriers'
-//! intersections, and the parts an inside-corner point must lie on. Pure
-//! functions on plane points `(h, v)`; every tolerance in [`tolerance`].
+//! intersections, the parts an inside-corner point must lie on, and the
+//! rules' angle comparisons as sign tests ([`angle`]). Pure functions on
+//! plane points `(h, v)`; every tolerance in [`tolerance`].
 
 pub mod angle;
 pub mod corner;
