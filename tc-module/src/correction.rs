@@ -9,13 +9,14 @@
 
 use crate::bits::ErrorBits;
 use crate::element::{ContourNormal, NormalRule, Origin, SpoolElement};
-use crate::geometry::tolerance::{FULL_CIRCLE_ANGLE, ZERO_ARC};
+use crate::geometry::angle::turn_at_most;
+use crate::geometry::tolerance::{FULL_CIRCLE, ZERO_ARC};
 use crate::geometry::{
-    classify, inside_point, transition, Contour, CornerKind, Offset, OffsetError, Part, Transition,
-    V2,
+    classify, inside_point, transition, Contour, CornerKind, Offset, OffsetError, OffsetPath, Part,
+    Transition, V2,
 };
 use crate::group::TransitionMode;
-use crate::plane::{AxisPos, PlaneAxes, AXES};
+use crate::plane::{AxisPos, PlaneAxes};
 use crate::spooler::Spooler;
 
 /// A programmed profile as it enters the correction (rotated, machine axes).
@@ -51,25 +52,31 @@ fn rule_of(n: V2) -> NormalRule {
     NormalRule::Fixed([n.x, n.y])
 }
 
+/// `base` with the plane point `p` on the plane axes (`v` written last,
+/// as [`PlaneAxes::set_point`] does) and `third_add` added on the third
+/// axis when it is not a plane axis. Axis by axis, so the position is
+/// built in registers (no single-axis store read back as a whole).
+fn with_plane_point(plane: PlaneAxes, base: &AxisPos, p: V2, third_add: Option<f64>) -> AxisPos {
+    let (h, v, third) = (plane.h as usize, plane.v as usize, plane.third as usize);
+    std::array::from_fn(|i| match third_add {
+        _ if i == v => p.y,
+        _ if i == h => p.x,
+        Some(add) if i == third => base[i] + add,
+        _ => base[i],
+    })
+}
+
 impl Sink<'_> {
     /// End point: plane point `p`, other axes from `prog` with the tool
     /// length on the third axis.
     fn end_point(&self, p: V2, prog: &AxisPos) -> AxisPos {
-        let mut e = *prog;
-        self.plane.set_point(&mut e, [p.x, p.y]);
-        let third = self.plane.third as usize;
-        if third < AXES && third != self.plane.h as usize && third != self.plane.v as usize {
-            e[third] += self.len;
-        }
-        e
+        with_plane_point(self.plane, prog, p, Some(self.len))
     }
 
     /// End point that moves only the plane axes from the tool position
     /// (transitions: the other axes stay where the corner left them).
     fn in_plane(&self, p: V2) -> AxisPos {
-        let mut e = self.q;
-        self.plane.set_point(&mut e, [p.x, p.y]);
-        e
+        with_plane_point(self.plane, &self.q, p, None)
     }
 
     fn normal(&self, rule: Option<NormalRule>) -> Option<ContourNormal> {
@@ -117,7 +124,16 @@ impl Sink<'_> {
 /// The held profile with its offset.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Held {
-    prof: Profile,
+    /// The profile's plane element.
+    contour: Contour,
+    /// Its end point, all axes.
+    end: AxisPos,
+    /// Its start point, all axes (an approach arc starts its line here).
+    start: AxisPos,
+    /// Its feed.
+    feed: f64,
+    /// A rapid move.
+    rapid: bool,
     off: Offset,
     /// First profile after start, flush or direct command.
     approach: bool,
@@ -134,20 +150,20 @@ impl Held {
             path: self.off.path,
             from: self.from,
             to: self.off.end,
-            full: self.prof.contour.is_full_circle()
+            full: self.contour.is_full_circle()
                 && self.from.is_some_and(|x| on_offset_start(&self.off, x)),
         }
     }
 }
 
-/// Whether `x` lies within [`FULL_CIRCLE_ANGLE`] of the offset start about
-/// the arc centre.
+/// Whether `x` lies within
+/// [`FULL_CIRCLE_ANGLE`](crate::geometry::tolerance::FULL_CIRCLE_ANGLE) of
+/// the offset start about the arc centre.
 fn on_offset_start(off: &Offset, x: V2) -> bool {
-    let crate::geometry::OffsetPath::Arc { centre, .. } = off.path else {
+    let OffsetPath::Arc { centre, .. } = off.path else {
         return false;
     };
-    let (u, w) = (x - centre, off.start - centre);
-    crate::geometry::cross(u, w).abs().atan2(u.dot(&w)) <= FULL_CIRCLE_ANGLE
+    turn_at_most(x - centre, off.start - centre, FULL_CIRCLE)
 }
 
 /// A plane-null profile waiting with the held one.
@@ -189,7 +205,7 @@ fn offset_error(e: OffsetError) -> ErrorBits {
 /// The corner between the held `a` and the next profile's offset `b`
 /// (trc-geometry.md "Corner").
 fn corner(a: &Held, b: &Offset, b_full: bool, mode: TransitionMode) -> Result<Join, ErrorBits> {
-    let k = a.prof.contour.ends().1;
+    let k = a.contour.ends().1;
     let pa = a.off.end;
     match classify(a.off.t_end, b.t_start, b.d, &a.off.path, &b.path) {
         CornerKind::Smooth => Ok(Join {
@@ -248,7 +264,7 @@ impl Buffer {
     /// the group.
     pub fn push(
         &mut self,
-        prof: Profile,
+        prof: &Profile,
         d: f64,
         mode: TransitionMode,
         sink: &mut Sink,
@@ -258,14 +274,15 @@ impl Buffer {
             return Ok(());
         }
         let off = prof.contour.offset(d).map_err(offset_error)?;
-        match self.held {
+        // The held profile is read in place (no copy of it).
+        let (approach, from) = match &self.held {
             Some(a) if a.off.d == d => {
-                let join = corner(&a, &off, prof.contour.is_full_circle(), mode)?;
-                self.spool_held(&a, join.a_end, sink);
+                let join = corner(a, &off, prof.contour.is_full_circle(), mode)?;
+                spool_held(a, join.a_end, &mut self.nulls, &mut self.last_normal, sink);
                 if let Some(t) = join.transition {
-                    spool_transition(t, a.prof.contour.ends().1, &prof, sink);
+                    spool_transition(t, a.contour.ends().1, prof, sink);
                 }
-                self.hold(prof, off, false, Some(join.b_from));
+                (false, Some(join.b_from))
             }
             held => {
                 if held.is_some() {
@@ -273,15 +290,21 @@ impl Buffer {
                     self.flush(sink);
                 }
                 let from = matches!(prof.contour, Contour::Arc { .. }).then_some(off.start);
-                self.hold(prof, off, true, from);
+                (true, from)
             }
-        }
+        };
+        self.hold(prof, off, approach, from);
         Ok(())
     }
 
-    fn hold(&mut self, prof: Profile, off: Offset, approach: bool, from: Option<V2>) {
+    fn hold(&mut self, prof: &Profile, off: Offset, approach: bool, from: Option<V2>) {
+        // Field by field (the profile is not kept whole).
         self.held = Some(Held {
-            prof,
+            contour: prof.contour,
+            end: prof.end,
+            start: prof.start,
+            feed: prof.feed,
+            rapid: prof.rapid,
             off,
             approach,
             from,
@@ -290,7 +313,7 @@ impl Buffer {
 
     /// A plane-null profile waits with the held one, or is spooled at once
     /// at the current tool position when nothing is held.
-    fn push_plane_null(&mut self, prof: Profile, sink: &mut Sink) {
+    fn push_plane_null(&mut self, prof: &Profile, sink: &mut Sink) {
         let null = NullMove {
             end: prof.end,
             feed: prof.feed,
@@ -307,48 +330,56 @@ impl Buffer {
     /// profiles waiting with it (STATUS=0, SSF 2001). The buffer is empty
     /// afterwards: the next profile is an approach.
     pub fn flush(&mut self, sink: &mut Sink) {
-        if let Some(a) = self.held.take() {
-            self.spool_held(&a, a.off.end, sink);
+        if let Some(a) = &self.held {
+            spool_held(a, a.off.end, &mut self.nulls, &mut self.last_normal, sink);
         }
+        self.held = None;
         self.nulls.clear();
     }
+}
 
-    /// Spools the held profile's corrected element(s) up to `x`, then the
-    /// plane-null profiles waiting with it.
-    fn spool_held(&mut self, a: &Held, x: V2, sink: &mut Sink) {
-        let p = &a.prof;
-        let n_end = a.off.normal_at(x);
-        match p.contour {
-            Contour::Line { .. } => {
-                let origin = if a.approach {
-                    Origin::Approach
-                } else {
-                    Origin::Corrected
-                };
+/// Spools the held profile's corrected element(s) up to `x`, then the
+/// plane-null profiles waiting with it; `last_normal` becomes the contour
+/// normal at `x`.
+fn spool_held(
+    a: &Held,
+    x: V2,
+    nulls: &mut Vec<NullMove>,
+    last_normal: &mut Option<V2>,
+    sink: &mut Sink,
+) {
+    let p = a;
+    let n_end = a.off.normal_at(x);
+    match p.contour {
+        Contour::Line { .. } => {
+            let origin = if a.approach {
+                Origin::Approach
+            } else {
+                Origin::Corrected
+            };
+            let end = sink.end_point(x, &p.end);
+            sink.line(end, p.feed, p.rapid, origin, Some(rule_of(n_end)));
+        }
+        Contour::Arc { centre, sigma, .. } => {
+            if a.approach {
+                let end = sink.end_point(a.off.start, &p.start);
+                let n = rule_of(a.off.normal_at(a.off.start));
+                sink.line(end, p.feed, p.rapid, Origin::Approach, Some(n));
+            }
+            let zero = (sink.here() - x).norm() <= ZERO_ARC;
+            if !zero || p.contour.is_full_circle() {
                 let end = sink.end_point(x, &p.end);
-                sink.line(end, p.feed, p.rapid, origin, Some(rule_of(n_end)));
-            }
-            Contour::Arc { centre, sigma, .. } => {
-                if a.approach {
-                    let end = sink.end_point(a.off.start, &p.start);
-                    let n = rule_of(a.off.normal_at(a.off.start));
-                    sink.line(end, p.feed, p.rapid, Origin::Approach, Some(n));
-                }
-                let zero = (sink.here() - x).norm() <= ZERO_ARC;
-                if !zero || p.contour.is_full_circle() {
-                    let end = sink.end_point(x, &p.end);
-                    let rule = NormalRule::Radial {
-                        centre: [centre.x, centre.y],
-                        outward: a.off.tool_outside_arc(sigma),
-                    };
-                    sink.arc(end, centre, sigma > 0.0, p.feed, Origin::Corrected, rule);
-                }
+                let rule = NormalRule::Radial {
+                    centre: [centre.x, centre.y],
+                    outward: a.off.tool_outside_arc(sigma),
+                };
+                sink.arc(end, centre, sigma > 0.0, p.feed, Origin::Corrected, rule);
             }
         }
-        self.last_normal = Some(n_end);
-        for n in self.nulls.drain(..) {
-            spool_null(&n, Some(n_end), sink);
-        }
+    }
+    *last_normal = Some(n_end);
+    for n in nulls.drain(..) {
+        spool_null(&n, Some(n_end), sink);
     }
 }
 
@@ -373,5 +404,45 @@ fn spool_transition(t: Transition, k: V2, next: &Profile, sink: &mut Sink) {
                 sink.line(end, next.feed, next.rapid, Origin::Transition, Some(rule));
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plane::AXES;
+
+    /// The old way: copy, write h then v, add on a distinct third axis.
+    fn by_set_point(plane: PlaneAxes, base: &AxisPos, p: V2, add: Option<f64>) -> AxisPos {
+        let mut e = *base;
+        plane.set_point(&mut e, [p.x, p.y]);
+        let third = plane.third as usize;
+        if let Some(add) = add {
+            if third != plane.h as usize && third != plane.v as usize {
+                e[third] += add;
+            }
+        }
+        e
+    }
+
+    #[test]
+    fn plane_point_written_as_set_point_does() {
+        let base: AxisPos = std::array::from_fn(|i| i as f64 - 2.0);
+        let p = V2::new(10.5, -20.25);
+        for (h, v, third) in [
+            (0, 1, 2),
+            (2, 0, 1),
+            (1, 2, 0),
+            (3, 3, 4),
+            (5, 6, 5),
+            (7, 0, 7),
+        ] {
+            let plane = PlaneAxes { h, v, third };
+            for add in [None, Some(0.0), Some(4.0)] {
+                let want = by_set_point(plane, &base, p, add);
+                assert_eq!(with_plane_point(plane, &base, p, add), want, "{plane:?}");
+            }
+        }
+        assert_eq!(base.len(), AXES);
     }
 }

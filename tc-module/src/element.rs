@@ -18,8 +18,8 @@ pub struct ArcPath {
     pub centre: [f64; 2],
     /// Counter-clockwise?
     pub ccw: bool,
-    /// Angle of the start point about the centre.
-    start_angle: f64,
+    /// Unit vector from the centre to the start point.
+    start_dir: [f64; 2],
     /// Signed sweep (positive CCW); a full circle sweeps ±2π.
     sweep: f64,
     /// Radius at the start.
@@ -86,6 +86,16 @@ pub struct SpoolElement {
     pub normal: Option<ContourNormal>,
 }
 
+impl ArcPath {
+    /// Unit vector from the centre at fraction `f` of the sweep: the start
+    /// direction turned by `sweep · f`.
+    fn dir_at(&self, f: f64) -> [f64; 2] {
+        let (sin, cos) = (self.sweep * f).sin_cos();
+        let [c0, s0] = self.start_dir;
+        [c0 * cos - s0 * sin, s0 * cos + c0 * sin]
+    }
+}
+
 fn line_length(start: &AxisPos, end: &AxisPos) -> f64 {
     start
         .iter()
@@ -125,7 +135,6 @@ impl SpoolElement {
         let e = plane.point(&end);
         let (sh, sv) = (s[0] - centre[0], s[1] - centre[1]);
         let (eh, ev) = (e[0] - centre[0], e[1] - centre[1]);
-        let start_angle = sv.atan2(sh);
         let mut sweep = (sh * ev - sv * eh).atan2(sh * eh + sv * ev); // (-π, π]
         if ccw {
             if sweep <= ZERO_SWEEP {
@@ -136,6 +145,12 @@ impl SpoolElement {
         }
         let r0 = sh.hypot(sv);
         let r1 = eh.hypot(ev);
+        // On the centre, the start direction is that of angle 0.
+        let start_dir = if r0 > 0.0 {
+            [sh / r0, sv / r0]
+        } else {
+            [1.0, 0.0]
+        };
         let plane_len = sweep.abs() * 0.5 * (r0 + r1);
         let other: f64 = (0..AXES)
             .filter(|&i| i != plane.h as usize && i != plane.v as usize)
@@ -148,7 +163,7 @@ impl SpoolElement {
                 plane,
                 centre,
                 ccw,
-                start_angle,
+                start_dir,
                 sweep,
                 r0,
                 r1,
@@ -202,12 +217,10 @@ impl SpoolElement {
             *q += (self.end[i] - self.start[i]) * f;
         }
         if let Path::Arc(a) = &self.path {
-            let ang = a.start_angle + a.sweep * f;
+            let [cos, sin] = a.dir_at(f);
             let r = a.r0 + (a.r1 - a.r0) * f;
-            a.plane.set_point(
-                &mut p,
-                [a.centre[0] + r * ang.cos(), a.centre[1] + r * ang.sin()],
-            );
+            a.plane
+                .set_point(&mut p, [a.centre[0] + r * cos, a.centre[1] + r * sin]);
         }
         p
     }
@@ -224,7 +237,7 @@ impl SpoolElement {
         }
         if let Path::Arc(a) = &self.path {
             let f = self.fraction(s);
-            let (sin, cos) = (a.start_angle + a.sweep * f).sin_cos();
+            let [cos, sin] = a.dir_at(f);
             // Along the circle (r dθ/ds) plus the radius' own drift (dr/ds).
             let k = a.sweep * (a.r0 + (a.r1 - a.r0) * f) / self.length;
             let dr = (a.r1 - a.r0) / self.length;
@@ -294,6 +307,25 @@ mod tests {
         assert!((cw.length - 3.0 * FRAC_PI_2).abs() < 1e-12);
         let t = cw.tangent_at(0.0);
         assert!((t[1] + 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn arc_starting_on_its_centre_runs_from_angle_zero() {
+        // Start on the centre: no sweep can be measured, so a whole CCW
+        // turn from angle 0 (as atan2(0, 0) gave) while the radius grows
+        // from 0 to 1.
+        let e = SpoolElement::arc(
+            pos(0.0, 0.0),
+            pos(0.0, 1.0),
+            XY,
+            [0.0, 0.0],
+            true,
+            1000.0,
+            Origin::Uncorrected,
+        );
+        let q = e.point_at(e.length / 2.0);
+        let (r, ang) = (0.5, std::f64::consts::PI);
+        assert!((q[0] - r * ang.cos()).abs() < 1e-12 && (q[1] - r * ang.sin()).abs() < 1e-12);
     }
 
     #[test]

@@ -21,6 +21,7 @@ impl Spooler {
     }
 
     /// Appends an element.
+    #[inline]
     pub fn push(&mut self, e: SpoolElement) {
         if self.logging {
             self.log.push(e);
@@ -29,26 +30,31 @@ impl Spooler {
     }
 
     /// Elements waiting (the one under way included).
+    #[inline]
     pub fn len(&self) -> usize {
         self.queue.len()
     }
 
     /// Whether nothing waits.
+    #[inline]
     pub fn is_empty(&self) -> bool {
         self.queue.is_empty()
     }
 
     /// The end of the last waiting element.
+    #[inline]
     pub fn last_end(&self) -> Option<AxisPos> {
         self.queue.back().map(|e| e.end)
     }
 
     /// The element under way.
+    #[inline]
     pub fn front(&self) -> Option<&SpoolElement> {
         self.queue.front()
     }
 
     /// Removes the element under way.
+    #[inline]
     pub fn pop_front(&mut self) -> Option<SpoolElement> {
         self.queue.pop_front()
     }

@@ -1,9 +1,8 @@
 //! Corner classification (trc-geometry.md "Corner", cases 1-4).
 
-use std::f64::consts::PI;
-
+use super::angle::{turn_at_least_reversal, turn_at_most};
 use super::offset::{cross, OffsetPath, V2};
-use super::tolerance::TANGENT_TOL;
+use super::tolerance::TANGENT;
 
 /// What a corner needs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -16,20 +15,15 @@ pub enum CornerKind {
     Inside,
 }
 
-/// Turn angle θ in [0, π] between two unit tangents.
-pub fn turn_angle(ta: V2, tb: V2) -> f64 {
-    cross(ta, tb).abs().atan2(ta.dot(&tb))
-}
-
 /// Classifies the corner between element `a` (end tangent `ta`) and the
-/// next `b` (start tangent `tb`) for offset `d`.
+/// next `b` (start tangent `tb`) for offset `d`. The turn angle θ is
+/// compared by sign tests ([`super::angle`]).
 pub fn classify(ta: V2, tb: V2, d: f64, a: &OffsetPath, b: &OffsetPath) -> CornerKind {
-    let theta = turn_angle(ta, tb);
-    if d == 0.0 || theta <= TANGENT_TOL {
+    if d == 0.0 || turn_at_most(ta, tb, TANGENT) {
         return CornerKind::Smooth;
     }
     let s_eff = d.signum();
-    if theta >= PI - TANGENT_TOL {
+    if turn_at_least_reversal(ta, tb, TANGENT) {
         return near_reversal(s_eff, a, b);
     }
     if s_eff * cross(ta, tb) < 0.0 {
@@ -58,6 +52,9 @@ fn near_reversal(s_eff: f64, a: &OffsetPath, b: &OffsetPath) -> CornerKind {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::angle::turn_angle;
+    use crate::geometry::tolerance::TANGENT_TOL;
+    use std::f64::consts::PI;
 
     fn v(x: f64, y: f64) -> V2 {
         V2::new(x, y)
@@ -84,6 +81,26 @@ mod tests {
         assert_eq!(k(TANGENT_TOL * 0.999), CornerKind::Smooth);
         assert_eq!(k(TANGENT_TOL * 1.001), CornerKind::Inside);
         assert_eq!(k(-TANGENT_TOL * 1.001), CornerKind::Outside);
+    }
+
+    #[test]
+    fn boundaries_decided_as_the_turn_angle_decides() {
+        let ta = v(1.0, 0.0);
+        for edge in [TANGENT_TOL, PI - TANGENT_TOL] {
+            for k in -3..=3 {
+                let theta = edge + f64::from(k) * f64::EPSILON;
+                let tb = v(theta.cos(), theta.sin());
+                let angle = turn_angle(ta, tb);
+                let want = if angle <= TANGENT_TOL {
+                    CornerKind::Smooth
+                } else if angle >= PI - TANGENT_TOL {
+                    CornerKind::Outside // lines: a near-reversal is outside
+                } else {
+                    CornerKind::Inside
+                };
+                assert_eq!(classify(ta, tb, 1.0, &LINE, &LINE), want, "θ = {theta}");
+            }
+        }
     }
 
     #[test]

@@ -109,6 +109,7 @@ impl Contour {
     }
 
     /// Offsets the element by `d` (positive: left of the direction of travel).
+    #[inline]
     pub fn offset(&self, d: f64) -> Result<Offset, OffsetError> {
         match *self {
             Contour::Line { from, to } => offset_line(from, to, d),
@@ -122,6 +123,7 @@ impl Contour {
     }
 }
 
+#[inline]
 fn offset_line(from: V2, to: V2, d: f64) -> Result<Offset, OffsetError> {
     let len = (to - from).norm();
     if len <= MIN_RADIUS || !len.is_finite() {
@@ -139,6 +141,7 @@ fn offset_line(from: V2, to: V2, d: f64) -> Result<Offset, OffsetError> {
     })
 }
 
+#[inline]
 fn offset_arc(from: V2, to: V2, centre: V2, sigma: f64, d: f64) -> Result<Offset, OffsetError> {
     let (rs, re) = ((from - centre).norm(), (to - centre).norm());
     if !(rs.is_finite() && re.is_finite()) || rs <= MIN_RADIUS {

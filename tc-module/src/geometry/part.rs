@@ -1,11 +1,10 @@
 //! Inside corners (trc-geometry.md "Inside corner"): the part of each
 //! offset element a cut point may lie on, and the cut point itself.
 
-use std::f64::consts::TAU;
-
+use super::angle::on_arc_part;
 use super::intersect::{circle_circle, line_circle, line_line, Intersections};
 use super::offset::{OffsetPath, V2};
-use super::tolerance::{ON_ARC, ON_PART};
+use super::tolerance::ON_PART;
 
 /// The part of an offset element on which an inside-corner point may lie.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -24,6 +23,7 @@ pub struct Part {
 
 impl Part {
     /// Whether `x` (a point on the carrier) lies on the part.
+    #[inline]
     pub fn contains(&self, x: V2) -> bool {
         let Some(from) = self.from else { return true };
         match self.path {
@@ -33,17 +33,13 @@ impl Part {
                 u >= -ON_PART && u <= len + ON_PART
             }
             OffsetPath::Arc { .. } if self.full => true,
-            OffsetPath::Arc { centre, sigma, .. } => {
-                let ang = |p: V2| (p.y - centre.y).atan2(p.x - centre.x);
-                let sweep = (sigma * (ang(self.to) - ang(from))).rem_euclid(TAU);
-                let at = (sigma * (ang(x) - ang(from))).rem_euclid(TAU);
-                at <= sweep + ON_ARC || at >= TAU - ON_ARC
-            }
+            OffsetPath::Arc { centre, sigma, .. } => on_arc_part(centre, sigma, from, self.to, x),
         }
     }
 }
 
 /// Where the carriers of two parts meet.
+#[inline]
 fn carriers_meet(a: &Part, b: &Part) -> Intersections {
     match (a.path, b.path) {
         (OffsetPath::Line { dir: da }, OffsetPath::Line { dir: db }) => {
@@ -73,11 +69,20 @@ fn carriers_meet(a: &Part, b: &Part) -> Intersections {
 /// The inside-corner point: the intersection of the offsets of `a` and `b`
 /// lying on both parts that is nearest to the programmed corner `k`.
 /// `None` means the tool does not fit (`KorrError`).
+#[inline]
 pub fn inside_point(a: &Part, b: &Part, k: V2) -> Option<V2> {
-    carriers_meet(a, b)
-        .points()
-        .filter(|&x| x.x.is_finite() && x.y.is_finite() && a.contains(x) && b.contains(x))
-        .min_by(|x, y| (x - k).norm().total_cmp(&(y - k).norm()))
+    let (p, q) = match carriers_meet(a, b) {
+        Intersections::None => return None,
+        Intersections::One(p) => (p, None),
+        Intersections::Two(p, q) => (p, Some(q)),
+    };
+    let on_both = |x: V2| x.x.is_finite() && x.y.is_finite() && a.contains(x) && b.contains(x);
+    let first = on_both(p).then_some(p);
+    match q.filter(|&q| on_both(q)) {
+        // On a tie the first point wins.
+        Some(q) if first.is_none_or(|p| (q - k).norm() < (p - k).norm()) => Some(q),
+        _ => first,
+    }
 }
 
 #[cfg(test)]
@@ -162,5 +167,15 @@ mod tests {
         };
         assert_eq!(inside_point(&a, &b, v(3.0, 0.0)), Some(v(2.0, 0.0)));
         assert_eq!(inside_point(&a, &b, v(-3.0, 0.0)), Some(v(-2.0, 0.0)));
+        // Equally near: the first intersection wins.
+        assert_eq!(inside_point(&a, &b, v(0.0, 5.0)), Some(v(-2.0, 0.0)));
+        // Only the second lies on the part.
+        let half = Part {
+            from: Some(v(0.0, -2.0)),
+            to: v(0.0, 2.0),
+            full: false,
+            ..b
+        };
+        assert_eq!(inside_point(&a, &half, v(-3.0, 0.0)), Some(v(2.0, 0.0)));
     }
 }

@@ -1,10 +1,19 @@
 //! Every tolerance of the correction geometry, named once with the rule it
 //! comes from (trc-geometry.md unless said otherwise).
 
+use super::angle::AngleTol;
+
 /// "Corner", case 1: a turn of at most this many radians is treated as
 /// smooth (LinuxCNC's tolerance, so programs with 4-decimal coordinates
 /// keep their tangencies); case 2: within this of π is a near-reversal.
 pub const TANGENT_TOL: f64 = 0.05;
+
+/// [`TANGENT_TOL`] with its tangent, for the sign tests of
+/// [`super::angle`].
+pub const TANGENT: AngleTol = AngleTol {
+    rad: TANGENT_TOL,
+    tan: 0.050_041_708_375_538_79,
+};
 
 /// "Offset geometry", arcs: start and end radius may differ by this much
 /// (rounding); more is a `CenterError`.
@@ -18,6 +27,12 @@ pub const MIN_RADIUS: f64 = 1e-9;
 /// "Inside corner", full circles: a corrected start within this angle of
 /// the offset start keeps the whole turn of a programmed full circle.
 pub const FULL_CIRCLE_ANGLE: f64 = 1e-7;
+
+/// [`FULL_CIRCLE_ANGLE`] with its tangent.
+pub const FULL_CIRCLE: AngleTol = AngleTol {
+    rad: FULL_CIRCLE_ANGLE,
+    tan: 1.000_000_000_000_003_3e-7,
+};
 
 /// Inside corners: a candidate point may lie this far (units) outside a
 /// line part, and two circles this far apart still touch. Absorbs the
@@ -40,3 +55,29 @@ pub const ZERO_SWEEP: f64 = 1e-12;
 /// "Inside corner": an arc whose corrected part is at most this long
 /// (units, chord) has zero length and is not spooled: numerical.
 pub const ZERO_ARC: f64 = 1e-12;
+
+/// A sign test standing in for an angle comparison decides only when its
+/// margin exceeds this fraction of the vectors' size (about this many
+/// radians); nearer the boundary the angle itself (atan2) decides, so no
+/// decision differs from the angle's: numerical, not a rule of the spec.
+pub const SIGN_BAND: f64 = 1e-12;
+
+/// An arc part whose end lies within about this angle (radians) of its
+/// start, either way, is decided by its angles: a sign test cannot tell a
+/// part that nearly closes the circle from one that nearly vanishes.
+/// Numerical (where the fast test stops), not a rule of the spec.
+pub const NEARLY_CLOSED: f64 = 1e-6;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tangents_belong_to_their_angles() {
+        for tol in [TANGENT, FULL_CIRCLE] {
+            assert!((tol.rad.tan() - tol.tan).abs() <= f64::EPSILON * tol.tan);
+        }
+        // Turning by ON_ARC: sine and cosine are exact in f64.
+        assert_eq!(ON_ARC.sin_cos(), (ON_ARC, 1.0));
+    }
+}

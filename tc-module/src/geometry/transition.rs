@@ -1,9 +1,7 @@
 //! Transitions inserted at outside corners (trc-geometry.md "Outside
 //! corner": TransitionMode 0 circular, 1 linear).
 
-use std::f64::consts::FRAC_PI_2;
-
-use super::corner::turn_angle;
+use super::angle::turn_at_most_right_angle;
 use super::intersect::line_line;
 use super::offset::V2;
 
@@ -53,7 +51,7 @@ pub fn transition(linear: bool, k: V2, pa: V2, pb: V2, ta: V2, tb: V2, d: f64) -
             to: pb,
         };
     }
-    if turn_angle(ta, tb) <= FRAC_PI_2 {
+    if turn_at_most_right_angle(ta, tb) {
         if let Some(p) = line_line(pa, ta, pb, tb) {
             return Transition::Lines(TransitionLines::Two([p, pb]));
         }

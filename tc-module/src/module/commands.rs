@@ -24,23 +24,24 @@ fn v2(p: [f64; 2]) -> V2 {
 impl<E: TcExtension> TcModule<E> {
     /// Executes a motion command.
     pub fn command(&mut self, m: &Motion) -> Result<(), AccessError> {
-        match *m {
-            Motion::Lin { words, feed } => self.interpolate(&words, None, feed, false),
-            Motion::Rap { words, feed } => self.interpolate(&words, None, feed, true),
+        // Matched by reference: the axis words are not copied.
+        match m {
+            Motion::Lin { words, feed } => self.interpolate(words, None, *feed, false),
+            Motion::Rap { words, feed } => self.interpolate(words, None, *feed, true),
             Motion::Cir {
                 dir,
                 words,
                 centre,
                 feed,
-            } => self.interpolate(&words, Some((dir, centre)), feed, false),
-            Motion::Ja { words } => self.jog_absolute(&words),
+            } => self.interpolate(words, Some((*dir, *centre)), *feed, false),
+            Motion::Ja { words } => self.jog_absolute(words),
             Motion::Js { .. } => {
                 self.position_request()?;
                 self.direct_command();
                 self.resync_programmed();
                 Ok(())
             }
-            Motion::Ssf { axis, function } => self.special_function(axis, function),
+            Motion::Ssf { axis, function } => self.special_function(*axis, *function),
             Motion::Rs => {
                 self.rotation = Rotation::default();
                 Ok(())
@@ -221,7 +222,7 @@ impl<E: TcExtension> TcModule<E> {
             len: g.tool().length,
         };
         let (d, mode) = (g.offset(), g.transition);
-        g.buffer.push(prof, d, mode, &mut sink)
+        g.buffer.push(&prof, d, mode, &mut sink)
     }
 
     /// A motion error while running: the group faults and Run clears.
