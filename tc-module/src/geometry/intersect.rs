@@ -9,9 +9,10 @@ use super::tolerance::{ON_PART, PARALLEL};
 pub enum Intersections {
     /// They do not meet (parallel lines, circles apart, a line passing by).
     None,
-    /// They meet once (crossing lines, a tangent line).
+    /// They meet once (crossing lines).
     One(V2),
-    /// They meet twice.
+    /// They meet twice (a line or circle touching a circle gives the
+    /// touching point twice).
     Two(V2, V2),
 }
 

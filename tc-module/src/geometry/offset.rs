@@ -2,7 +2,7 @@
 
 use nalgebra::Vector2;
 
-use super::tolerance::{CENTER_TOL, MIN_RADIUS};
+use super::tolerance::{CENTER_TOL, MIN_RADIUS, PLANE_NULL};
 
 /// A plane point or vector `(h, v)`.
 pub type V2 = Vector2<f64>;
@@ -98,7 +98,7 @@ impl Contour {
     /// Whether the element has no extent in the plane (a pure third-axis move).
     pub fn is_plane_null(&self) -> bool {
         match *self {
-            Contour::Line { from, to } => (to - from).norm() <= MIN_RADIUS,
+            Contour::Line { from, to } => (to - from).norm() <= PLANE_NULL,
             Contour::Arc { .. } => false,
         }
     }
@@ -126,7 +126,7 @@ impl Contour {
 #[inline]
 fn offset_line(from: V2, to: V2, d: f64) -> Result<Offset, OffsetError> {
     let len = (to - from).norm();
-    if len <= MIN_RADIUS || !len.is_finite() {
+    if len <= PLANE_NULL || !len.is_finite() {
         return Err(OffsetError::Calc);
     }
     let dir = (to - from) / len;

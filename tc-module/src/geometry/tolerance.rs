@@ -20,9 +20,13 @@ pub const TANGENT: AngleTol = AngleTol {
 pub const CENTER_TOL: f64 = 0.002;
 
 /// "Offset geometry", arcs: an offset radius at or below this is a
-/// `CalcError`. Also the length below which a profile has no plane part
-/// (a plane-null profile), and an arc without radius.
+/// `CalcError`; so is a programmed arc whose own radius is (decision 15:
+/// refused with `Range` when no group runs).
 pub const MIN_RADIUS: f64 = 1e-9;
+
+/// "Offset geometry", plane-null profiles: a line whose plane part is at
+/// most this long has none (decision 22), and cannot be offset.
+pub const PLANE_NULL: f64 = 1e-9;
 
 /// "Inside corner", full circles: a corrected start within this angle of
 /// the offset start keeps the whole turn of a programmed full circle.

@@ -1,11 +1,11 @@
 //! The TC module on bus 1300: global registers, up to 32 compensation
 //! groups, the machine's spooler and executor, and an extension.
 //!
-//! * [`dispatch`]: the `Bus` face, routing each object to its owner;
-//! * [`registers`]: devices 0..2 and their init rules (STATUS, RESET,
+//! * `dispatch`: the `Bus` face, routing each object to its owner;
+//! * `registers`: devices 0..2 and their init rules (STATUS, RESET,
 //!   Clean, changes while running);
-//! * [`intake`]: the programmed frame: limits, modal feed, rotation;
-//! * [`commands`]: motion commands, the correction, faults, direct
+//! * `intake`: the programmed frame: limits, modal feed, rotation;
+//! * `commands`: motion commands, the correction, faults, direct
 //!   commands.
 
 mod commands;
