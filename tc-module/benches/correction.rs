@@ -7,8 +7,8 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use tc_module::executor::Executor;
-use tc_module::NoModel;
 use tc_module::{ArcDir, Motion, Origin, SpoolElement, Spooler, TcModule, AXES};
+use tc_module::{Cycle, CycleModel, NoModel};
 use uoi::{ObjectBus, Value};
 
 /// A contour of `n` mixed profiles advancing along X: line, half circle
@@ -120,7 +120,50 @@ fn executor(c: &mut Criterion) {
         let mut ex = Executor::default();
         b.iter(|| ex.step(black_box(&mut sp), &mut NoModel));
     });
+    g.bench_function("step on a corrected arc, with a model", |b| {
+        let mut sp = Spooler::default();
+        let plane = tc_module::TcPlane::Xy.pick([0, 1, 2]);
+        let mut start = [0.0; AXES];
+        start[0] = 1e6;
+        let normal = tc_module::ContourNormal {
+            plane,
+            rule: tc_module::NormalRule::Radial {
+                centre: [0.0, 0.0],
+                outward: true,
+            },
+        };
+        sp.push(
+            SpoolElement::arc(
+                start,
+                start,
+                plane,
+                [0.0, 0.0],
+                true,
+                1000.0,
+                Origin::Corrected,
+            )
+            .with_normal(Some(normal)),
+        );
+        let mut ex = Executor::default();
+        let mut model = AlongNormal;
+        b.iter(|| ex.step(black_box(&mut sp), &mut model));
+    });
     g.finish();
+}
+
+/// A model that offsets by the path travelled along the contour normal:
+/// it reads the parts and the normal every cycle, as a wear model does.
+struct AlongNormal;
+
+impl CycleModel for AlongNormal {
+    fn active(&self) -> bool {
+        true
+    }
+
+    fn cycle(&mut self, c: &Cycle<'_>) -> [f64; AXES] {
+        let ds: f64 = c.parts.iter().map(|p| p.length).sum();
+        c.normal().map_or([0.0; AXES], |n| n.map(|v| v * ds))
+    }
 }
 
 criterion_group!(benches, correction, executor);

@@ -25,7 +25,8 @@ enum Stand {
 #[derive(Debug, Clone)]
 pub struct Executor {
     nominal: AxisPos,
-    offset: AxisPos,
+    /// The offset of an active model, from its last cycle.
+    offset: Option<AxisPos>,
     /// Path distance already run on the front element.
     done: f64,
     /// Cycle time in minutes (feeds are units/min).
@@ -50,7 +51,7 @@ impl Executor {
     pub fn new(pos: AxisPos, cycle_s: f64) -> Self {
         Self {
             nominal: pos,
-            offset: [0.0; AXES],
+            offset: None,
             done: 0.0,
             cycle_min: cycle_s / 60.0,
             cycles: 0,
@@ -61,10 +62,10 @@ impl Executor {
 
     /// The executed position: the nominal one plus the model's offset.
     pub fn position(&self) -> AxisPos {
-        if self.offset == [0.0; AXES] {
-            return self.nominal;
+        match &self.offset {
+            None => self.nominal,
+            Some(o) => std::array::from_fn(|i| self.nominal[i] + o[i]),
         }
-        std::array::from_fn(|i| self.nominal[i] + self.offset[i])
     }
 
     /// The nominal path position (what the spooled elements describe).
@@ -72,9 +73,9 @@ impl Executor {
         &self.nominal
     }
 
-    /// The offset the model added in the last cycle.
-    pub fn offset(&self) -> &AxisPos {
-        &self.offset
+    /// The offset an active model added in the last cycle.
+    pub fn offset(&self) -> Option<&AxisPos> {
+        self.offset.as_ref()
     }
 
     /// Cycles run so far.
@@ -84,7 +85,7 @@ impl Executor {
 
     /// Drops the model's offset (the model stopped acting).
     pub fn clear_offset(&mut self) {
-        self.offset = [0.0; AXES];
+        self.offset = None;
     }
 
     /// Moves an axis at once (a direct command).
@@ -104,8 +105,11 @@ impl Executor {
     /// are passed; with nothing spooled the cycle runs idle. A cycle that
     /// ends exactly on an end point stands on the element that ended
     /// there (otc.md rule 2), though the next one is already entered.
-    fn advance(&mut self, spooler: &mut Spooler) -> Stand {
-        self.parts.clear();
+    /// With `track`, the path per element is kept for a model.
+    fn advance(&mut self, spooler: &mut Spooler, track: bool) -> Stand {
+        if track {
+            self.parts.clear();
+        }
         let Some(front) = spooler.front() else {
             return Stand::OnEnded;
         };
@@ -116,13 +120,17 @@ impl Executor {
                 self.done += budget;
                 self.nominal = e.point_at(self.done);
                 if budget > 0.0 {
-                    self.parts.push(part(e, budget));
+                    if track {
+                        self.parts.push(part(e, budget));
+                    }
                     return Stand::OnFront;
                 }
                 return Stand::OnEnded;
             }
             budget -= left;
-            self.parts.push(part(e, left));
+            if track {
+                self.parts.push(part(e, left));
+            }
             self.nominal = e.end;
             self.done = 0.0;
             self.ended = spooler.pop_front();
@@ -135,21 +143,22 @@ impl Executor {
     /// Allocation-free.
     pub fn step<M: CycleModel>(&mut self, spooler: &mut Spooler, model: &mut M) {
         self.cycles += 1;
-        let stand = self.advance(spooler);
-        if !model.active() {
-            self.offset = [0.0; AXES];
+        let active = model.active();
+        let stand = self.advance(spooler, active);
+        if !active {
+            self.offset = None;
             return;
         }
         let (current, done) = match stand {
             Stand::OnFront => (spooler.front(), self.done),
             Stand::OnEnded => (self.ended.as_ref(), self.ended.map_or(0.0, |e| e.length)),
         };
-        self.offset = model.cycle(&Cycle {
+        self.offset = Some(model.cycle(&Cycle {
             parts: self.parts.as_slice(),
             current,
             done,
             nominal: &self.nominal,
-        });
+        }));
     }
 
     /// Runs `n` cycles. An active model sees every one; without one, idle
@@ -163,7 +172,7 @@ impl Executor {
             }
             return;
         }
-        self.offset = [0.0; AXES];
+        self.offset = None;
         let mut n = n;
         while n > 0 {
             let Some(e) = spooler.front() else {
@@ -214,7 +223,7 @@ impl Executor {
             }
             return;
         }
-        self.offset = [0.0; AXES];
+        self.offset = None;
         let mut time = 0.0;
         while let Some(e) = spooler.pop_front() {
             if e.feed > 0.0 {
