@@ -66,10 +66,22 @@ impl EmulatorService {
 }
 
 impl Handler for EmulatorService {
+    /// Object accesses go straight to the object layer; the TC side's own
+    /// ops are decoded by `tc-request` and run by the emulator.
     fn handle(&mut self, req: WireRequest) -> Answer {
-        match Request::from_wire(&req) {
-            Ok(r) => self.run(&r).to_wire(),
-            Err(e) => Answer::Protocol(e),
+        match req {
+            WireRequest::Read(a, ty) => match self.emu.read(a, ty) {
+                Ok(v) => Answer::Value(v),
+                Err(e) => Answer::Access(e),
+            },
+            WireRequest::Write(a, v) => match self.emu.write(a, v) {
+                Ok(()) => Answer::Ok,
+                Err(e) => Answer::Access(e),
+            },
+            ext => match Request::from_wire(&ext) {
+                Ok(r) => self.run(&r).to_wire(),
+                Err(e) => Answer::Protocol(e),
+            },
         }
     }
 }

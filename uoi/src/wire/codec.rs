@@ -31,6 +31,7 @@ pub enum CodecError {
 /// once it is complete; room is reserved for an incomplete one.
 fn body_len(src: &mut BytesMut) -> Result<Option<usize>, CodecError> {
     let Some(prefix) = src.first_chunk::<PREFIX_LEN>() else {
+        src.reserve(READ_ROOM);
         return Ok(None);
     };
     let len = u32::from_le_bytes(*prefix) as usize;
@@ -38,11 +39,18 @@ fn body_len(src: &mut BytesMut) -> Result<Option<usize>, CodecError> {
         return Err(CodecError::FrameTooLarge(len));
     }
     if src.len() < PREFIX_LEN + len {
-        src.reserve(PREFIX_LEN + len - src.len());
+        src.reserve(READ_ROOM);
         return Ok(None);
     }
     Ok(Some(len))
 }
+
+/// Free room kept in a read buffer before each read: a whole frame of the
+/// largest size, or a batch of pipelined small ones. Reserving it reclaims
+/// the room of the frames already taken off the front (no copy when the
+/// buffer is empty), so a read never has to make do with the tail end of
+/// the buffer.
+const READ_ROOM: usize = MAX_FRAME + PREFIX_LEN;
 
 /// Takes one frame body (header + payload) off `src`, once it is complete.
 fn take_body(src: &mut BytesMut) -> Result<Option<Bytes>, CodecError> {
