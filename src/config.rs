@@ -8,6 +8,10 @@ use serde::Deserialize;
 use tc_module::AXES;
 use uoi::tcp::{Core, ServerConfig};
 
+/// Most connections `max_connections` may allow (each holds up to two
+/// 64 KiB buffers).
+pub const MAX_CONNECTIONS: usize = 65_536;
+
 /// The built-in settings.
 pub const DEFAULT_CONFIG: &str = include_str!("../config/default.toml");
 
@@ -73,8 +77,11 @@ impl Config {
                 )))
             }
         };
-        if self.max_connections == 0 {
-            return Err(ConfigError("max_connections must be at least 1".into()));
+        if !(1..=MAX_CONNECTIONS).contains(&self.max_connections) {
+            return Err(ConfigError(format!(
+                "max_connections = {} must lie in 1..={MAX_CONNECTIONS}",
+                self.max_connections
+            )));
         }
         if self.idle_timeout_s == 0 {
             return Err(ConfigError("idle_timeout_s must be at least 1".into()));
@@ -126,5 +133,7 @@ mod tests {
         assert!(c.server().unwrap_err().0.contains("nowhere"));
         let c = Config::parse("cycle_ms = 0").unwrap();
         assert!(c.cycle_s().is_err());
+        let c = Config::parse("max_connections = 2305843009213693952").unwrap();
+        assert!(c.server().unwrap_err().0.contains("max_connections"));
     }
 }

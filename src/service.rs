@@ -1,6 +1,7 @@
 //! The emulator behind the wire: the [`Handler`] the TCP server drives.
-//! It decodes the TC side of each request with `tc-request` and answers
-//! with the reply's wire form.
+//! Object accesses (READ, WRITE) go straight to the emulator; the TC side's
+//! own ops are decoded with `tc-request`, run, and answered with the
+//! reply's wire form.
 
 use std::collections::VecDeque;
 

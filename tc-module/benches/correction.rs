@@ -8,7 +8,7 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use tc_module::executor::Executor;
 use tc_module::{ArcDir, Motion, Origin, SpoolElement, Spooler, TcModule, AXES};
-use tc_module::{Cycle, CycleModel, NoModel};
+use tc_module::{Cycle, CycleModel, NoModel, Path};
 use uoi::{ObjectBus, Value};
 
 /// A contour of `n` mixed profiles advancing along X: line, half circle
@@ -104,51 +104,36 @@ fn executor(c: &mut Criterion) {
     });
     g.bench_function("step on an arc", |b| {
         let mut sp = Spooler::default();
-        let plane = tc_module::TcPlane::Xy.pick([0, 1, 2]);
-        // A full circle of radius 1e6: never finishes within the run.
-        let mut start = [0.0; AXES];
-        start[0] = 1e6;
-        sp.push(SpoolElement::arc(
-            start,
-            start,
-            plane,
-            [0.0, 0.0],
-            true,
-            1000.0,
-            Origin::Uncorrected,
-        ));
+        sp.push(big_circle(Origin::Uncorrected));
         let mut ex = Executor::default();
         b.iter(|| ex.step(black_box(&mut sp), &mut NoModel));
     });
     g.bench_function("step on a corrected arc, with a model", |b| {
         let mut sp = Spooler::default();
-        let plane = tc_module::TcPlane::Xy.pick([0, 1, 2]);
-        let mut start = [0.0; AXES];
-        start[0] = 1e6;
+        let e = big_circle(Origin::Corrected);
+        let Path::Arc(a) = e.path else { unreachable!() };
         let normal = tc_module::ContourNormal {
-            plane,
+            plane: a.plane,
             rule: tc_module::NormalRule::Radial {
-                centre: [0.0, 0.0],
+                centre: a.centre,
                 outward: true,
             },
         };
-        sp.push(
-            SpoolElement::arc(
-                start,
-                start,
-                plane,
-                [0.0, 0.0],
-                true,
-                1000.0,
-                Origin::Corrected,
-            )
-            .with_normal(Some(normal)),
-        );
+        sp.push(e.with_normal(Some(normal)));
         let mut ex = Executor::default();
         let mut model = AlongNormal;
         b.iter(|| ex.step(black_box(&mut sp), &mut model));
     });
     g.finish();
+}
+
+/// A full circle of radius 1e6 at 1000 units/min: never finishes within a
+/// run.
+fn big_circle(origin: Origin) -> SpoolElement {
+    let plane = tc_module::TcPlane::Xy.pick([0, 1, 2]);
+    let mut start = [0.0; AXES];
+    start[0] = 1e6;
+    SpoolElement::arc(start, start, plane, [0.0, 0.0], true, 1000.0, origin)
 }
 
 /// A model that offsets by the path travelled along the contour normal:

@@ -143,3 +143,37 @@ fn shutdown_closes_a_waiting_connection() {
     drop(stop);
     assert!(is_closed(&mut s));
 }
+
+#[test]
+fn a_client_that_never_reads_is_closed_when_idle_and_frees_its_place() {
+    let (addr, _stop) = serve(ServerConfig {
+        idle_timeout: Duration::from_millis(300),
+        max_connections: 1,
+        ..local()
+    });
+    // Pipeline requests and never read an answer: the server's writes
+    // block once the socket buffers are full.
+    let mut hog = connect(addr);
+    hog.set_write_timeout(Some(Duration::from_millis(200)))
+        .expect("timeout");
+    let burst: Vec<u8> = (0..4096).flat_map(|i| read_frame(i as u16)).collect();
+    while hog.write_all(&burst).is_ok() {}
+    // The blocked connection is closed by the idle timeout: a new client
+    // gets in (a guard of 60 s, not a timed assertion).
+    let deadline = std::time::Instant::now() + Duration::from_secs(60);
+    loop {
+        let mut c = connect(addr);
+        c.write_all(&read_frame(5)).expect("write");
+        let mut head = [0u8; 16];
+        c.read_exact(&mut head).expect("an answer");
+        let status = u32::from_le_bytes([head[12], head[13], head[14], head[15]]);
+        if status == 0 {
+            break;
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the blocked client kept its place"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}

@@ -10,13 +10,32 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use super::offset::{cross, V2};
 use super::tolerance::{NEARLY_CLOSED, ON_ARC, SIGN_BAND};
 
-/// An angle tolerance (radians, below π/2) with its tangent.
+/// An angle tolerance (radians, in [0, π/2)) with its tangent.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AngleTol {
+    rad: f64,
+    tan: f64,
+}
+
+impl AngleTol {
+    /// The tolerance `rad` with `tan = tan(rad)` (written out, as `tan` is
+    /// not a const fn; `tolerance.rs` tests that they belong together).
+    /// Refused at compile time outside [0, π/2), where the sign tests do
+    /// not hold.
+    pub const fn new(rad: f64, tan: f64) -> Self {
+        assert!(rad >= 0.0 && rad < FRAC_PI_2 && tan >= 0.0);
+        Self { rad, tan }
+    }
+
     /// The tolerance in radians.
-    pub rad: f64,
-    /// `tan(rad)`.
-    pub tan: f64,
+    pub const fn rad(self) -> f64 {
+        self.rad
+    }
+
+    /// Its tangent.
+    pub const fn tan(self) -> f64 {
+        self.tan
+    }
 }
 
 /// Turn angle θ in [0, π] between two vectors: the reference the sign
@@ -35,13 +54,13 @@ fn at_most(y: f64, x: f64, tol: AngleTol) -> Option<bool> {
 /// θ between `a` and `b` is at most `tol`.
 pub fn turn_at_most(a: V2, b: V2, tol: AngleTol) -> bool {
     let (y, x) = (cross(a, b).abs(), a.dot(&b));
-    at_most(y, x, tol).unwrap_or_else(|| y.atan2(x) <= tol.rad)
+    at_most(y, x, tol).unwrap_or_else(|| turn_angle(a, b) <= tol.rad)
 }
 
 /// θ between `a` and `b` is at least `π - tol` (a near-reversal).
 pub fn turn_at_least_reversal(a: V2, b: V2, tol: AngleTol) -> bool {
     let (y, x) = (cross(a, b).abs(), a.dot(&b));
-    at_most(y, -x, tol).unwrap_or_else(|| y.atan2(x) >= PI - tol.rad)
+    at_most(y, -x, tol).unwrap_or_else(|| turn_angle(a, b) >= PI - tol.rad)
 }
 
 /// θ between `a` and `b` is at most 90°: `a · b ≥ 0`.
@@ -50,7 +69,7 @@ pub fn turn_at_most_right_angle(a: V2, b: V2) -> bool {
     if x.abs() > SIGN_BAND * (x.abs() + y) {
         x > 0.0
     } else {
-        y.atan2(x) <= FRAC_PI_2
+        turn_angle(a, b) <= FRAC_PI_2
     }
 }
 
@@ -257,13 +276,13 @@ mod tests {
             a0 in -7.0..7.0f64, la in 1e-3..1e3f64, lb in 1e-3..1e3f64,
             pick in 0..5usize, off in -1e-9..1e-9f64, free in -4.0..4.0f64,
         ) {
-            let theta = [TANGENT.rad, PI - TANGENT.rad, FRAC_PI_2, FULL_CIRCLE.rad, 0.0][pick];
+            let theta = [TANGENT.rad(), PI - TANGENT.rad(), FRAC_PI_2, FULL_CIRCLE.rad(), 0.0][pick];
             for th in [theta + off, -theta - off, free] {
                 let (a, b) = (at(a0) * la, at(a0 + th) * lb);
                 let angle = turn_angle(a, b);
-                prop_assert_eq!(turn_at_most(a, b, TANGENT), angle <= TANGENT.rad);
-                prop_assert_eq!(turn_at_most(a, b, FULL_CIRCLE), angle <= FULL_CIRCLE.rad);
-                prop_assert_eq!(turn_at_least_reversal(a, b, TANGENT), angle >= PI - TANGENT.rad);
+                prop_assert_eq!(turn_at_most(a, b, TANGENT), angle <= TANGENT.rad());
+                prop_assert_eq!(turn_at_most(a, b, FULL_CIRCLE), angle <= FULL_CIRCLE.rad());
+                prop_assert_eq!(turn_at_least_reversal(a, b, TANGENT), angle >= PI - TANGENT.rad());
                 prop_assert_eq!(turn_at_most_right_angle(a, b), angle <= FRAC_PI_2);
             }
         }

@@ -53,7 +53,8 @@ fn near_reversal(s_eff: f64, a: &OffsetPath, b: &OffsetPath) -> CornerKind {
 mod tests {
     use super::*;
     use crate::geometry::angle::turn_angle;
-    use crate::geometry::tolerance::TANGENT_TOL;
+    use crate::geometry::tolerance::TANGENT;
+    const TANGENT_TOL: f64 = TANGENT.rad();
     use std::f64::consts::PI;
 
     fn v(x: f64, y: f64) -> V2 {

@@ -3,17 +3,11 @@
 
 use super::angle::AngleTol;
 
-/// "Corner", case 1: a turn of at most this many radians is treated as
-/// smooth (LinuxCNC's tolerance, so programs with 4-decimal coordinates
-/// keep their tangencies); case 2: within this of π is a near-reversal.
-pub const TANGENT_TOL: f64 = 0.05;
-
-/// [`TANGENT_TOL`] with its tangent, for the sign tests of
-/// [`super::angle`].
-pub const TANGENT: AngleTol = AngleTol {
-    rad: TANGENT_TOL,
-    tan: 0.050_041_708_375_538_79,
-};
+/// "Corner", case 1: a turn of at most 0.05 rad is treated as smooth
+/// (LinuxCNC's tolerance, so programs with 4-decimal coordinates keep
+/// their tangencies); case 2: within 0.05 rad of π is a near-reversal.
+/// With its tangent, for the sign tests of [`super::angle`].
+pub const TANGENT: AngleTol = AngleTol::new(0.05, 0.050_041_708_375_538_79);
 
 /// "Offset geometry", arcs: start and end radius may differ by this much
 /// (rounding); more is a `CenterError`.
@@ -28,15 +22,10 @@ pub const MIN_RADIUS: f64 = 1e-9;
 /// most this long has none (decision 22), and cannot be offset.
 pub const PLANE_NULL: f64 = 1e-9;
 
-/// "Inside corner", full circles: a corrected start within this angle of
+/// "Inside corner", full circles: a corrected start within 1e-7 rad of
 /// the offset start keeps the whole turn of a programmed full circle.
-pub const FULL_CIRCLE_ANGLE: f64 = 1e-7;
-
-/// [`FULL_CIRCLE_ANGLE`] with its tangent.
-pub const FULL_CIRCLE: AngleTol = AngleTol {
-    rad: FULL_CIRCLE_ANGLE,
-    tan: 1.000_000_000_000_003_3e-7,
-};
+/// With its tangent.
+pub const FULL_CIRCLE: AngleTol = AngleTol::new(1e-7, 1.000_000_000_000_003_3e-7);
 
 /// Inside corners: a candidate point may lie this far (units) outside a
 /// line part, and two circles this far apart still touch. Absorbs the
@@ -79,7 +68,7 @@ mod tests {
     #[test]
     fn tangents_belong_to_their_angles() {
         for tol in [TANGENT, FULL_CIRCLE] {
-            assert!((tol.rad.tan() - tol.tan).abs() <= f64::EPSILON * tol.tan);
+            assert!((tol.rad().tan() - tol.tan()).abs() <= f64::EPSILON * tol.tan());
         }
         // Turning by ON_ARC: sine and cosine are exact in f64.
         assert_eq!(ON_ARC.sin_cos(), (ON_ARC, 1.0));

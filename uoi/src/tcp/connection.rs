@@ -12,7 +12,7 @@ use tokio::net::TcpStream;
 use tokio_util::codec::{FramedRead, FramedWrite};
 use tracing::{debug, warn};
 
-use super::halves::{ClosableRead, PlainWrite};
+use super::halves::{ClosableRead, ClosableWrite};
 use super::idle::{Activity, Closed};
 use super::server::{Handler, Shared};
 use crate::wire::{
@@ -49,18 +49,17 @@ pub(crate) async fn serve_connection<H: Handler>(
 /// The state of one connection.
 struct Connection<H> {
     reader: FramedRead<ClosableRead<OwnedReadHalf>, ServerCodec>,
-    writer: FramedWrite<PlainWrite<OwnedWriteHalf>, ServerCodec>,
+    writer: FramedWrite<ClosableWrite<OwnedWriteHalf>, ServerCodec>,
     shared: Shared<H>,
     activity: Arc<Activity>,
-    /// Complete frames received.
-    served: u64,
 }
 
 impl<H: Handler> Connection<H> {
     fn new(stream: TcpStream, shared: Shared<H>, activity: Arc<Activity>) -> Self {
         let (r, w) = stream.into_split();
         let r = ClosableRead::new(r, Arc::clone(&activity));
-        let mut writer = FramedWrite::new(PlainWrite(w), ServerCodec);
+        let w = ClosableWrite::new(w, Arc::clone(&activity));
+        let mut writer = FramedWrite::new(w, ServerCodec);
         writer.set_backpressure_boundary(WRITE_BATCH);
         Self {
             // Room for the largest frame from the start.
@@ -68,7 +67,6 @@ impl<H: Handler> Connection<H> {
             writer,
             shared,
             activity,
-            served: 0,
         }
     }
 
@@ -79,8 +77,7 @@ impl<H: Handler> Connection<H> {
     async fn next_request(&mut self) -> Option<Incoming> {
         match self.reader.next().await {
             Some(Ok(item)) => {
-                self.served += 1;
-                self.activity.served(self.served);
+                self.activity.progress();
                 Some(item)
             }
             Some(Err(CodecError::FrameTooLarge(len))) => {
@@ -126,6 +123,6 @@ impl<H: Handler> Connection<H> {
     async fn close(self) {
         let mut writer = self.writer;
         let _ = writer.flush().await;
-        let _ = writer.into_inner().0.shutdown().await;
+        let _ = writer.into_inner().into_inner().shutdown().await;
     }
 }

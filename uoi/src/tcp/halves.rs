@@ -1,13 +1,16 @@
 //! The socket halves as a connection's codecs see them.
 //!
 //! * [`ClosableRead`] ends, as at end of stream, once the watchdog has
-//!   closed its connection (idle, or the server stopping). The close is
-//!   looked at only when a read finds no input, so a request already on
-//!   the socket costs nothing more, and the connection needs no second
-//!   future raced against each read.
-//! * [`PlainWrite`] writes with `write`, not `writev`: the answers wait in
-//!   one contiguous buffer, and for a vectored write `tokio-util` first
-//!   fills an array of 64 slices, which costs more than the frame itself.
+//!   closed its connection (idle, or the server stopping): nothing more is
+//!   read from the socket, though frames already in the connection's read
+//!   buffer are still taken and answered. The close is a flag looked at
+//!   before a read and a waker woken by the close, so the connection needs
+//!   no second future raced against each read.
+//! * [`ClosableWrite`] writes with `write`, not `writev` (the answers wait
+//!   in one contiguous buffer, and for a vectored write `tokio-util` first
+//!   fills an array of 64 slices, which costs more than the frame itself);
+//!   every write counts as progress for the watchdog, and a write blocked
+//!   by a client that does not read fails once the connection is closed.
 
 use std::io;
 use std::pin::Pin;
@@ -49,25 +52,71 @@ impl<R: AsyncRead + Unpin> AsyncRead for ClosableRead<R> {
     }
 }
 
-/// `inner`, written without vectored writes.
+/// `inner`, written without vectored writes, counting every write as
+/// progress and failing once the watchdog has closed its connection: a
+/// client that stops reading its answers blocks the writes, and the close
+/// must end them too.
 #[derive(Debug)]
-pub(crate) struct PlainWrite<W>(pub(crate) W);
+pub(crate) struct ClosableWrite<W> {
+    inner: W,
+    activity: Arc<Activity>,
+}
 
-impl<W: AsyncWrite + Unpin> AsyncWrite for PlainWrite<W> {
+impl<W> ClosableWrite<W> {
+    /// Writes to `inner` until `activity` is closed.
+    pub(crate) fn new(inner: W, activity: Arc<Activity>) -> Self {
+        Self { inner, activity }
+    }
+
+    /// The socket half, to shut it down.
+    pub(crate) fn into_inner(self) -> W {
+        self.inner
+    }
+}
+
+/// The error of a write on a connection the watchdog closed.
+fn closed_error() -> io::Error {
+    io::Error::new(io::ErrorKind::TimedOut, "connection closed by the server")
+}
+
+impl<W> ClosableWrite<W> {
+    /// `Pending` from the socket: still pending unless the connection was
+    /// closed meanwhile (then an error; the task is woken by the close).
+    fn pending<T>(&self, cx: &mut Context<'_>) -> Poll<io::Result<T>> {
+        match self.activity.poll_closed(cx) {
+            Poll::Ready(_) => Poll::Ready(Err(closed_error())),
+            Poll::Pending => Poll::Pending,
+        }
+    }
+}
+
+impl<W: AsyncWrite + Unpin> AsyncWrite for ClosableWrite<W> {
     fn poll_write(
         self: Pin<&mut Self>,
         cx: &mut Context<'_>,
         buf: &[u8],
     ) -> Poll<io::Result<usize>> {
-        Pin::new(&mut self.get_mut().0).poll_write(cx, buf)
+        let this = self.get_mut();
+        match Pin::new(&mut this.inner).poll_write(cx, buf) {
+            Poll::Pending => this.pending(cx),
+            Poll::Ready(Ok(n)) => {
+                this.activity.progress();
+                Poll::Ready(Ok(n))
+            }
+            err => err,
+        }
     }
 
     fn poll_flush(self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<io::Result<()>> {
-        Pin::new(&mut self.get_mut().0).poll_flush(cx)
+        let this = self.get_mut();
+        match Pin::new(&mut this.inner).poll_flush(cx) {
+            Poll::Pending => this.pending(cx),
+            ready => ready,
+        }
     }
 
     fn poll_shutdown(self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<io::Result<()>> {
-        Pin::new(&mut self.get_mut().0).poll_shutdown(cx)
+        Pin::new(&mut self.get_mut().inner).poll_shutdown(cx)
     }
 
     fn is_write_vectored(&self) -> bool {
@@ -118,12 +167,39 @@ mod tests {
     #[tokio::test]
     async fn plain_write_passes_everything_on_and_is_not_vectored() {
         let (tx, mut rx) = tokio::io::duplex(64);
-        let mut w = PlainWrite(tx);
+        let mut w = ClosableWrite::new(tx, activity());
         assert!(!w.is_write_vectored());
         w.write_all(b"frame").await.expect("write");
         w.shutdown().await.expect("shutdown");
         let mut got = Vec::new();
         rx.read_to_end(&mut got).await.expect("read");
         assert_eq!(got, b"frame");
+    }
+}
+
+#[cfg(test)]
+mod write_tests {
+    use super::*;
+    use crate::tcp::idle::{Closed, Watchdog};
+    use tokio::io::AsyncWriteExt;
+
+    #[tokio::test]
+    async fn a_blocked_write_ends_when_closed_and_writes_count_as_progress() {
+        let dog = Watchdog::start(std::time::Duration::from_secs(3600), 4).expect("thread");
+        let act = dog.watch();
+        // A peer that never reads: 16 bytes of room.
+        let (tx, _rx) = tokio::io::duplex(16);
+        let mut w = ClosableWrite::new(tx, Arc::clone(&act));
+        w.write_all(&[0; 16]).await.expect("room for 16 bytes");
+        let closer = tokio::spawn(async move {
+            tokio::task::yield_now().await;
+            act.close(Closed::Idle);
+        });
+        let err = w
+            .write_all(&[0; 16])
+            .await
+            .expect_err("blocked, then closed");
+        assert_eq!(err.kind(), io::ErrorKind::TimedOut);
+        closer.await.expect("closer");
     }
 }

@@ -7,7 +7,8 @@
 //! serving runtime makes every park of that runtime dearer (the time
 //! driver looks up the next expiry and reads the clock), and a connection
 //! waits, so parks, once per sequential request. Here a request costs its
-//! connection one relaxed atomic store and the runtime keeps no timer.
+//! connection one relaxed atomic increment (a wait for input also registers
+//! its waker) and the runtime keeps no timer.
 //! A connection learns that it is closed from its reader ([`Activity::poll_closed`]),
 //! not from a second future raced against every read.
 
@@ -44,8 +45,9 @@ const OPEN: u8 = 0;
 /// What a connection shares with the watchdog.
 #[derive(Debug)]
 pub(crate) struct Activity {
-    /// Complete requests so far; written by the connection only.
-    served: AtomicU64,
+    /// Progress so far: complete requests read and answers written. Only
+    /// the connection's own task moves it.
+    progress: AtomicU64,
     /// [`OPEN`], or why the connection is closed ([`Closed`]).
     state: AtomicU8,
     /// The connection's task while it waits for input.
@@ -55,15 +57,16 @@ pub(crate) struct Activity {
 impl Activity {
     fn new() -> Self {
         Self {
-            served: AtomicU64::new(0),
+            progress: AtomicU64::new(0),
             state: AtomicU8::new(OPEN),
             waker: AtomicWaker::new(),
         }
     }
 
-    /// Records that the connection has had `served` complete requests.
-    pub(crate) fn served(&self, served: u64) {
-        self.served.store(served, Ordering::Relaxed);
+    /// Records progress: a complete request read, or answer bytes
+    /// written (a client that reads its answers slowly is not idle).
+    pub(crate) fn progress(&self) {
+        self.progress.fetch_add(1, Ordering::Relaxed);
     }
 
     /// Closes the connection (the first reason given stays) and wakes it.
@@ -113,9 +116,9 @@ impl Entry {
         let Some(conn) = self.conn.upgrade() else {
             return false;
         };
-        let served = conn.served.load(Ordering::Relaxed);
-        if self.seen != Some(served) {
-            self.seen = Some(served);
+        let progress = conn.progress.load(Ordering::Relaxed);
+        if self.seen != Some(progress) {
+            self.seen = Some(progress);
             self.quiet = 0;
             return true;
         }
@@ -220,32 +223,29 @@ mod tests {
         (conn, entry)
     }
 
+    /// `TICKS` looks that keep watching and leave the connection open.
+    fn a_timeout_of_looks(conn: &Activity, e: &mut Entry) {
+        for _ in 0..TICKS {
+            assert!(e.look());
+            assert_eq!(conn.closed(), None);
+        }
+    }
+
     #[test]
     fn closed_after_a_full_timeout_of_quiet_looks_not_before() {
         let (conn, mut e) = watched();
         // The first look only notes the count: the connection may be new.
-        assert!(e.look());
-        for _ in 1..TICKS {
-            assert!(e.look());
-            assert_eq!(conn.closed(), None);
-        }
+        a_timeout_of_looks(&conn, &mut e);
         assert!(!e.look());
         assert_eq!(conn.closed(), Some(Closed::Idle));
     }
 
     #[test]
-    fn a_request_starts_the_count_again() {
+    fn progress_starts_the_count_again() {
         let (conn, mut e) = watched();
-        assert!(e.look());
-        for _ in 1..TICKS {
-            assert!(e.look());
-        }
-        conn.served(1);
-        assert!(e.look());
-        for _ in 1..TICKS {
-            assert!(e.look());
-        }
-        assert_eq!(conn.closed(), None);
+        a_timeout_of_looks(&conn, &mut e);
+        conn.progress();
+        a_timeout_of_looks(&conn, &mut e);
         assert!(!e.look());
         assert_eq!(conn.closed(), Some(Closed::Idle));
     }
@@ -277,8 +277,8 @@ mod tests {
         let (quiet, e1) = watched();
         let (busy, e2) = watched();
         entries.lock().extend([e1, e2]);
-        for k in 0..=u64::from(TICKS) {
-            busy.served(k);
+        for _ in 0..=TICKS {
+            busy.progress();
             entries.sweep();
         }
         assert_eq!(quiet.closed(), Some(Closed::Idle));

@@ -31,7 +31,11 @@ pub enum CodecError {
 /// once it is complete; room is reserved for an incomplete one.
 fn body_len(src: &mut BytesMut) -> Result<Option<usize>, CodecError> {
     let Some(prefix) = src.first_chunk::<PREFIX_LEN>() else {
-        src.reserve(READ_ROOM);
+        if src.is_empty() {
+            // Everything taken: reclaim the whole buffer for the next read
+            // (no copy), so a read never makes do with its tail end.
+            src.reserve(READ_ROOM);
+        }
         return Ok(None);
     };
     let len = u32::from_le_bytes(*prefix) as usize;
@@ -39,17 +43,16 @@ fn body_len(src: &mut BytesMut) -> Result<Option<usize>, CodecError> {
         return Err(CodecError::FrameTooLarge(len));
     }
     if src.len() < PREFIX_LEN + len {
-        src.reserve(READ_ROOM);
+        // Room for the rest of this frame only: the buffer never grows
+        // past one largest frame.
+        src.reserve(PREFIX_LEN + len - src.len());
         return Ok(None);
     }
     Ok(Some(len))
 }
 
-/// Free room kept in a read buffer before each read: a whole frame of the
-/// largest size, or a batch of pipelined small ones. Reserving it reclaims
-/// the room of the frames already taken off the front (no copy when the
-/// buffer is empty), so a read never has to make do with the tail end of
-/// the buffer.
+/// The room a read buffer is given back when it is empty: one largest
+/// frame, or a batch of pipelined small ones.
 const READ_ROOM: usize = MAX_FRAME + PREFIX_LEN;
 
 /// Takes one frame body (header + payload) off `src`, once it is complete.
@@ -102,7 +105,8 @@ impl Decoder for ServerCodec {
             return Ok(None);
         };
         let end = PREFIX_LEN + len;
-        let op = src.get(PREFIX_LEN + OP_AT).copied();
+        // The op byte of this frame, if its body is long enough to hold it.
+        let op = (len > OP_AT).then(|| src[PREFIX_LEN + OP_AT]);
         if op.is_some_and(|c| EXT_OPS.contains(&c)) {
             src.advance(PREFIX_LEN);
             return Ok(Some(decode_request(src.split_to(len).freeze())));
