@@ -111,29 +111,27 @@ mod tests {
         assert!(line(v(1.0, 0.0), None, v(10.0, 0.0)).contains(v(-100.0, 0.0)));
     }
 
-    #[test]
-    fn arc_part_bounds_follow_direction() {
-        let ccw = Part {
+    /// An arc part about the origin.
+    fn arc(radius: f64, sigma: f64, from: V2, to: V2, full: bool) -> Part {
+        Part {
             path: OffsetPath::Arc {
                 centre: v(0.0, 0.0),
-                radius: 1.0,
-                sigma: 1.0,
+                radius,
+                sigma,
             },
-            from: Some(v(1.0, 0.0)),
-            to: v(0.0, 1.0),
-            full: false,
-        };
+            from: Some(from),
+            to,
+            full,
+        }
+    }
+
+    #[test]
+    fn arc_part_bounds_follow_direction() {
+        let ccw = arc(1.0, 1.0, v(1.0, 0.0), v(0.0, 1.0), false);
         let s = std::f64::consts::FRAC_1_SQRT_2;
         assert!(ccw.contains(v(s, s)));
         assert!(!ccw.contains(v(-s, -s)));
-        let cw = Part {
-            path: OffsetPath::Arc {
-                centre: v(0.0, 0.0),
-                radius: 1.0,
-                sigma: -1.0,
-            },
-            ..ccw
-        };
+        let cw = arc(1.0, -1.0, v(1.0, 0.0), v(0.0, 1.0), false);
         assert!(!cw.contains(v(s, s)));
         assert!(cw.contains(v(-s, -s)));
         assert!(Part { full: true, ..cw }.contains(v(s, s)));
@@ -155,16 +153,7 @@ mod tests {
     fn inside_point_nearest_the_corner() {
         // A line through a circle: two candidates, the one nearer K wins.
         let a = line(v(1.0, 0.0), None, v(0.0, 0.0));
-        let b = Part {
-            path: OffsetPath::Arc {
-                centre: v(0.0, 0.0),
-                radius: 2.0,
-                sigma: 1.0,
-            },
-            from: Some(v(2.0, 0.0)),
-            to: v(2.0, 0.0),
-            full: true,
-        };
+        let b = arc(2.0, 1.0, v(2.0, 0.0), v(2.0, 0.0), true);
         assert_eq!(inside_point(&a, &b, v(3.0, 0.0)), Some(v(2.0, 0.0)));
         assert_eq!(inside_point(&a, &b, v(-3.0, 0.0)), Some(v(-2.0, 0.0)));
         // Equally near: the first intersection wins.

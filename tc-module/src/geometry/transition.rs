@@ -68,17 +68,15 @@ mod tests {
         V2::new(x, y)
     }
 
+    /// The right-angle outside corner at (10, 0), left side, radius 2.
+    fn right_angle(linear: bool) -> Transition {
+        let (k, pa, pb) = (v(10.0, 0.0), v(10.0, 2.0), v(12.0, 0.0));
+        transition(linear, k, pa, pb, v(1.0, 0.0), v(0.0, -1.0), 2.0)
+    }
+
     #[test]
     fn circular_is_one_arc_about_the_corner() {
-        let t = transition(
-            false,
-            v(10.0, 0.0),
-            v(10.0, 2.0),
-            v(12.0, 0.0),
-            v(1.0, 0.0),
-            v(0.0, -1.0),
-            2.0,
-        );
+        let t = right_angle(false);
         assert_eq!(
             t,
             Transition::Arc {
@@ -91,15 +89,7 @@ mod tests {
 
     #[test]
     fn linear_right_angle_is_two_lines() {
-        let t = transition(
-            true,
-            v(10.0, 0.0),
-            v(10.0, 2.0),
-            v(12.0, 0.0),
-            v(1.0, 0.0),
-            v(0.0, -1.0),
-            2.0,
-        );
+        let t = right_angle(true);
         assert_eq!(
             t,
             Transition::Lines(TransitionLines::Two([v(12.0, 2.0), v(12.0, 0.0)]))
