@@ -113,9 +113,15 @@ impl Request {
                     cycle_s: s.cycle_s.get(),
                 }
             }
-            TcOp::SpoolLog => Request::SpoolLog {
-                logging: exact::<SpoolLogReq>(payload)?.logging == 1,
-            },
+            TcOp::SpoolLog => {
+                let s: &SpoolLogReq = exact(payload)?;
+                if s.logging > 1 || s.pad != [0; 3] {
+                    return Err(bad);
+                }
+                Request::SpoolLog {
+                    logging: s.logging == 1,
+                }
+            }
         })
     }
 }
@@ -193,6 +199,162 @@ impl Reply {
             )),
             TcOp::SpoolLog => spool_from(payload),
             _ => None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::layout::MotionReq;
+    use super::*;
+    use crate::motion::{ArcDir, Motion};
+
+    /// What the server makes of a TC op's payload with one byte changed.
+    fn with_byte(req: &Request, at: usize, v: u8) -> Result<Request, ProtocolError> {
+        let WireRequest::Ext(code, payload) = req.to_wire() else {
+            panic!("not an extension op: {req:?}");
+        };
+        let mut p = payload.to_vec();
+        p[at] = v;
+        Request::from_wire(&WireRequest::Ext(code, Bytes::from(p)))
+    }
+
+    fn lin() -> Request {
+        let mut words = [None; crate::axes::AXES];
+        words[0] = Some(20.0);
+        Request::Motion(Motion::Lin {
+            words,
+            feed: Some(600.0),
+        })
+    }
+
+    fn cir() -> Request {
+        Request::Motion(Motion::Cir {
+            dir: ArcDir::Cw,
+            words: [Some(1.0); crate::axes::AXES],
+            centre: [Some(1.0), None, None],
+            feed: None,
+        })
+    }
+
+    const BAD: Result<Request, ProtocolError> = Err(ProtocolError::BadPayload);
+    const CCW: usize = std::mem::offset_of!(MotionReq, ccw);
+    const PRESENT: usize = std::mem::offset_of!(MotionReq, present);
+
+    #[test]
+    fn canonical_payloads_decode() {
+        for r in [lin(), cir(), Request::SpoolLog { logging: true }] {
+            let wire = r.to_wire();
+            assert_eq!(Request::from_wire(&wire), Ok(r));
+        }
+    }
+
+    #[test]
+    fn motion_padding_must_be_zero() {
+        for at in [
+            std::mem::offset_of!(MotionReq, pad),
+            std::mem::offset_of!(MotionReq, pad2),
+            std::mem::offset_of!(MotionReq, pad2) + 1,
+        ] {
+            assert_eq!(with_byte(&lin(), at, 1), BAD, "byte {at}");
+            assert_eq!(with_byte(&cir(), at, 0x80), BAD, "byte {at}");
+        }
+    }
+
+    #[test]
+    fn ccw_is_0_or_1_on_cir_and_0_elsewhere() {
+        assert!(matches!(
+            with_byte(&cir(), CCW, 1),
+            Ok(Request::Motion(Motion::Cir {
+                dir: ArcDir::Ccw,
+                ..
+            }))
+        ));
+        for v in [2, 0xff] {
+            assert_eq!(with_byte(&cir(), CCW, v), BAD, "ccw {v}");
+        }
+        assert_eq!(with_byte(&lin(), CCW, 1), BAD);
+    }
+
+    /// What the server makes of a TC op's payload with `bits` set in byte `at`.
+    fn with_bits(req: &Request, at: usize, bits: u8) -> Result<Request, ProtocolError> {
+        let WireRequest::Ext(_, payload) = req.to_wire() else {
+            panic!("not an extension op: {req:?}");
+        };
+        with_byte(req, at, payload[at] | bits)
+    }
+
+    #[test]
+    fn centre_bits_are_refused_on_lin_and_rap() {
+        let rap = Request::Motion(Motion::Rap {
+            words: [Some(0.0); crate::axes::AXES],
+            feed: None,
+        });
+        // I J K are bits 8, 9, 10: bits 0, 1, 2 of the mask's second byte.
+        for bit in 0..3 {
+            assert_eq!(with_bits(&lin(), PRESENT + 1, 1 << bit), BAD, "{bit}");
+            assert_eq!(with_bits(&rap, PRESENT + 1, 1 << bit), BAD, "{bit}");
+        }
+    }
+
+    #[test]
+    fn present_bits_beyond_the_words_are_refused() {
+        for bit in 4..8 {
+            assert_eq!(with_bits(&cir(), PRESENT + 1, 1 << bit), BAD, "{bit}");
+        }
+    }
+
+    #[test]
+    fn words_a_kind_does_not_take_are_refused() {
+        let ja = Request::Motion(Motion::Ja {
+            words: [Some(1.0); crate::axes::AXES],
+        });
+        let js = Request::Motion(Motion::Js {
+            axes: [true; crate::axes::AXES],
+        });
+        let rs = Request::Motion(Motion::Rs);
+        let ssf = Request::Motion(Motion::Ssf {
+            axis: 2,
+            function: 2001,
+        });
+        // F on a direct command, any word on RS or SSF.
+        assert_eq!(with_bits(&ja, PRESENT + 1, 1 << 3), BAD);
+        assert_eq!(with_bits(&js, PRESENT + 1, 1 << 3), BAD);
+        assert_eq!(with_bits(&rs, PRESENT, 1), BAD);
+        assert_eq!(with_bits(&ssf, PRESENT, 1), BAD);
+    }
+
+    #[test]
+    fn ssf_fields_are_zero_on_other_kinds() {
+        assert_eq!(
+            with_byte(&lin(), std::mem::offset_of!(MotionReq, axis), 1),
+            BAD
+        );
+        let function = std::mem::offset_of!(MotionReq, function);
+        assert_eq!(with_byte(&cir(), function, 1), BAD);
+        assert_eq!(
+            with_byte(&Request::Motion(Motion::Rs), function + 3, 1),
+            BAD
+        );
+    }
+
+    #[test]
+    fn spool_log_byte_is_0_or_1() {
+        let on = Request::SpoolLog { logging: true };
+        assert_eq!(
+            with_byte(&on, 0, 0),
+            Ok(Request::SpoolLog { logging: false })
+        );
+        for v in [2, 0xff] {
+            assert_eq!(with_byte(&on, 0, v), BAD, "logging byte {v}");
+        }
+    }
+
+    #[test]
+    fn spool_log_padding_must_be_zero() {
+        let on = Request::SpoolLog { logging: true };
+        for at in 1..4 {
+            assert_eq!(with_byte(&on, at, 1), BAD, "byte {at}");
         }
     }
 }

@@ -84,8 +84,37 @@ pub fn encode(m: &Motion) -> MotionReq {
     }
 }
 
-/// The command a `MOTION` payload carries; `None` for an unknown kind.
+/// Present bits of the axis words.
+const AXIS_BITS: u16 = (1 << AXES) - 1;
+/// Present bits of `I J K`.
+const CENTRE_BITS: u16 = 0b111 << SLOT_I;
+/// Present bit of `F`.
+const FEED_BIT: u16 = 1 << SLOT_F;
+
+/// Whether every field the payload's kind does not use is zero: padding,
+/// present bits of words the kind does not take, the direction byte
+/// (0 or 1 on `CIR`), the axis and function (`SSF` only).
+fn reserved_fields_clear(r: &MotionReq) -> bool {
+    let (words, max_ccw, ssf) = match r.kind {
+        kind::LIN | kind::RAP => (AXIS_BITS | FEED_BIT, 0, false),
+        kind::CIR => (AXIS_BITS | CENTRE_BITS | FEED_BIT, 1, false),
+        kind::JA | kind::JS => (AXIS_BITS, 0, false),
+        kind::SSF => (0, 0, true),
+        _ => (0, 0, false),
+    };
+    r.pad == 0
+        && r.pad2 == [0; 2]
+        && r.present.get() & !words == 0
+        && r.ccw <= max_ccw
+        && (ssf || (r.axis == 0 && r.function.get() == 0))
+}
+
+/// The command a `MOTION` payload carries; `None` for an unknown kind or
+/// a reserved field that is not zero.
 pub fn decode(r: &MotionReq) -> Option<Motion> {
+    if !reserved_fields_clear(r) {
+        return None;
+    }
     let present = r.present.get();
     let s: Slots = std::array::from_fn(|k| (present & (1 << k) != 0).then(|| r.words[k].get()));
     let words = axes_of(&s);

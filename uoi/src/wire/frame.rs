@@ -93,7 +93,8 @@ crate::code_enum! {
         UnsupportedVersion = 0xE000_0001 => "unsupported protocol version",
         /// The op code is unknown.
         UnknownOp = 0xE000_0002 => "unknown operation",
-        /// The payload does not fit the op (length or content).
+        /// The payload does not fit the op (length or content), or a
+        /// reserved field (a request's status, padding) is not zero.
         BadPayload = 0xE000_0003 => "malformed payload",
         /// The header does not start with [`MAGIC`].
         BadMagic = 0xE000_0004 => "bad magic",

@@ -105,9 +105,12 @@ pub fn type_from_wire(t: u8) -> Option<ValueType> {
 }
 
 impl WireValue {
-    /// The value, or `None` for an unknown type byte or an `i` value
-    /// outside the i32 range.
+    /// The value, or `None` for an unknown type byte, non-zero padding or
+    /// an `i` value outside the i32 range.
     pub fn value(&self) -> Option<Value> {
+        if self.pad != [0; 3] {
+            return None;
+        }
         let bits = self.bits.get();
         match type_from_wire(self.ty)? {
             ValueType::I32 => i32::try_from(bits as i64).ok().map(Value::I32),
@@ -144,5 +147,10 @@ mod tests {
             ..WireValue::from(Value::I32(1))
         };
         assert_eq!(odd.value(), None);
+        let padded = WireValue {
+            pad: [0, 0, 1],
+            ..WireValue::from(Value::I32(1))
+        };
+        assert_eq!(padded.value(), None);
     }
 }

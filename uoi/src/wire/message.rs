@@ -111,10 +111,16 @@ pub fn decode_request_with(
         return Err(reject(ProtocolError::UnsupportedVersion));
     }
     let op = Op::from_code(code).ok_or(reject(ProtocolError::UnknownOp))?;
+    // A request's status field is reserved: zero.
+    if h.status.get() != 0 {
+        return Err(reject(ProtocolError::BadPayload));
+    }
     let req = match op {
         Op::Read => {
             let r: &ReadReq = exact(payload).map_err(reject)?;
-            let ty = type_from_wire(r.ty).ok_or(reject(ProtocolError::BadPayload))?;
+            let ty = type_from_wire(r.ty)
+                .filter(|_| r.pad == [0; 3])
+                .ok_or(reject(ProtocolError::BadPayload))?;
             Request::Read((&r.addr).into(), ty)
         }
         Op::Write => {
@@ -241,6 +247,56 @@ mod tests {
             let mut out = BytesMut::new();
             encode_answer(9, op.code(), &ans, &mut out);
             assert_eq!(decode_answer(body(&out), op), Some((9, ans)));
+        }
+    }
+
+    /// The body of request `req` as id 3, with byte `at` (counted from the
+    /// start of the header) set to `v`, and what the server makes of it.
+    fn with_byte(req: &Request, at: usize, v: u8) -> Result<(u32, Request), Rejected> {
+        let mut out = BytesMut::new();
+        encode_request(3, req, &mut out);
+        let mut b = BytesMut::from(&out[PREFIX_LEN..]);
+        b[at] = v;
+        decode_request(b.freeze())
+    }
+
+    fn bad_payload(op: Op) -> Result<(u32, Request), Rejected> {
+        Err(Rejected {
+            id: 3,
+            op: op.code(),
+            error: ProtocolError::BadPayload,
+        })
+    }
+
+    #[test]
+    fn a_request_with_a_non_zero_status_is_refused() {
+        let read = Request::Read(ObjectAddress::new(1300, 0, 3, 0), ValueType::I32);
+        for at in 8..12 {
+            assert_eq!(with_byte(&read, at, 1), bad_payload(Op::Read), "byte {at}");
+        }
+        let ext = Request::Ext(0x21, Bytes::new());
+        assert_eq!(with_byte(&ext, 11, 0x80), bad_payload(Op::Ext(0x21)));
+    }
+
+    #[test]
+    fn read_padding_must_be_zero() {
+        let read = Request::Read(ObjectAddress::new(1300, 0, 3, 0), ValueType::I32);
+        // ReadReq: address 8 bytes, type, then 3 bytes of padding.
+        for at in HEADER_LEN + 9..HEADER_LEN + 12 {
+            assert_eq!(with_byte(&read, at, 1), bad_payload(Op::Read), "byte {at}");
+        }
+    }
+
+    #[test]
+    fn value_padding_must_be_zero() {
+        let write = Request::Write(ObjectAddress::new(1300, 1, 1, 6), Value::F64(2.5));
+        // WriteReq: address 8 bytes, type, then 3 bytes of padding.
+        for at in HEADER_LEN + 9..HEADER_LEN + 12 {
+            assert_eq!(
+                with_byte(&write, at, 0xff),
+                bad_payload(Op::Write),
+                "byte {at}"
+            );
         }
     }
 
