@@ -2,7 +2,8 @@
 //!
 //! Wires the TC module ([`tc_module`]) with the OTC extension ([`otc_ext`])
 //! into one [`Emulator`] driven by the one request model ([`tc_request`]),
-//! serves it over TCP ([`service`]), and replays conformance traces
+//! serves it over TCP ([`service`], with a private emulator per
+//! conformance session: [`session`]), and replays conformance traces
 //! (docs/trace-format.md) in-process or over the wire ([`trace`],
 //! [`remote`]).
 //!
@@ -18,6 +19,7 @@ pub mod config;
 pub mod emulator;
 pub mod remote;
 pub mod service;
+pub mod session;
 pub mod trace;
 
 pub use emulator::Emulator;

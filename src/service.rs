@@ -1,28 +1,23 @@
 //! The emulator behind the wire: the [`Handler`] the TCP server drives.
 //! Object accesses (READ, WRITE) go straight to the emulator; the TC side's
 //! own ops are decoded with `tc-request`, run, and answered with the
-//! reply's wire form.
+//! reply's wire form. The emulator-control ops (`SETUP`, `SPOOL_LOG`)
+//! belong to a connection's conformance session ([`crate::session`]): the
+//! emulator all connections share is never reset or logged by a client.
 
-use std::collections::VecDeque;
-
-use tc_module::{AxisPos, MAX_COORD};
-use tc_request::wire::SPOOL_BATCH;
-use tc_request::{Reply, Request, SpoolRecord};
+use tc_module::AxisPos;
+use tc_request::Request;
 use uoi::tcp::Handler;
 use uoi::wire::{Answer, Request as WireRequest};
 use uoi::AccessError;
 
+use crate::session::ConformanceSession;
 use crate::Emulator;
 
-/// Longest interpolation cycle a `SETUP` may ask for, in seconds.
-pub const MAX_CYCLE_S: f64 = 1.0;
-
-/// The emulator as the TCP server's handler.
+/// The emulator all connections share, as the TCP server's handler.
 #[derive(Debug)]
 pub struct EmulatorService {
     emu: Emulator,
-    /// Logged elements not yet handed out by `SPOOL_LOG`.
-    pending: VecDeque<SpoolRecord>,
 }
 
 impl EmulatorService {
@@ -30,59 +25,66 @@ impl EmulatorService {
     pub fn new(start: AxisPos, cycle_s: f64) -> Self {
         Self {
             emu: Emulator::new(start, cycle_s),
-            pending: VecDeque::new(),
         }
-    }
-
-    /// Carries out one request.
-    pub fn run(&mut self, req: &Request) -> Reply {
-        match *req {
-            Request::Setup { start, cycle_s } => self.setup(start, cycle_s),
-            Request::SpoolLog { logging } => self.spool_log(logging),
-            ref other => self.emu.run(other),
-        }
-    }
-
-    /// `SETUP`: a fresh emulator; `Range` for a start or cycle out of limits.
-    fn setup(&mut self, start: AxisPos, cycle_s: f64) -> Reply {
-        let ok = start.iter().all(|v| v.is_finite() && v.abs() <= MAX_COORD)
-            && cycle_s.is_finite()
-            && cycle_s > 0.0
-            && cycle_s <= MAX_CYCLE_S;
-        if !ok {
-            return Reply::Access(AccessError::Range);
-        }
-        *self = Self::new(start, cycle_s);
-        Reply::Ok
-    }
-
-    /// `SPOOL_LOG`: one batch of the logged elements; logging on or off.
-    fn spool_log(&mut self, logging: bool) -> Reply {
-        self.pending.extend(self.emu.take_spool_log());
-        self.emu.set_spool_log(logging);
-        let n = self.pending.len().min(SPOOL_BATCH);
-        let batch: Vec<SpoolRecord> = self.pending.drain(..n).collect();
-        Reply::Spool(batch, !self.pending.is_empty())
     }
 }
 
+/// An emulator-control op: not the emulator's to serve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Control {
+    /// `SETUP`.
+    Setup,
+    /// `SPOOL_LOG` with its logging flag.
+    SpoolLog(bool),
+}
+
+/// Answers `req` on `emu`: object accesses straight, the TC side's own ops
+/// decoded by `tc-request` and run. An emulator-control op (`SETUP`,
+/// `SPOOL_LOG`) is handed back, for the caller to serve.
+pub(crate) fn serve(emu: &mut Emulator, req: WireRequest) -> Result<Answer, Control> {
+    Ok(match req {
+        WireRequest::Read(a, ty) => match emu.read(a, ty) {
+            Ok(v) => Answer::Value(v),
+            Err(e) => Answer::Access(e),
+        },
+        WireRequest::Write(a, v) => match emu.write(a, v) {
+            Ok(()) => Answer::Ok,
+            Err(e) => Answer::Access(e),
+        },
+        ext => match Request::from_wire(&ext) {
+            Ok(Request::Setup { .. }) => return Err(Control::Setup),
+            Ok(Request::SpoolLog { logging }) => return Err(Control::SpoolLog(logging)),
+            Ok(r) => emu.run(&r).to_wire(),
+            Err(e) => Answer::Protocol(e),
+        },
+    })
+}
+
 impl Handler for EmulatorService {
-    /// Object accesses go straight to the object layer; the TC side's own
-    /// ops are decoded by `tc-request` and run by the emulator.
+    /// `SETUP` gives a connection an emulator of its own.
+    type Session = ConformanceSession;
+
+    /// Serves the shared emulator; `SPOOL_LOG` (and a `SETUP`, which a
+    /// connection's session always takes first) is refused with `State`:
+    /// only a conformance session has a spool log.
     fn handle(&mut self, req: WireRequest) -> Answer {
-        match req {
-            WireRequest::Read(a, ty) => match self.emu.read(a, ty) {
-                Ok(v) => Answer::Value(v),
-                Err(e) => Answer::Access(e),
-            },
-            WireRequest::Write(a, v) => match self.emu.write(a, v) {
-                Ok(()) => Answer::Ok,
-                Err(e) => Answer::Access(e),
-            },
-            ext => match Request::from_wire(&ext) {
-                Ok(r) => self.run(&r).to_wire(),
-                Err(e) => Answer::Protocol(e),
-            },
-        }
+        serve(&mut self.emu, req).unwrap_or(Answer::Access(AccessError::State))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tc_request::text::parse_request;
+
+    #[test]
+    fn the_shared_emulator_never_logs() {
+        let mut s = EmulatorService::new([0.0; 8], 1e-3);
+        let on = Request::SpoolLog { logging: true }.to_wire();
+        assert_eq!(s.handle(on), Answer::Access(AccessError::State));
+        let lin = parse_request("LIN X1").expect("LIN").to_wire();
+        assert_eq!(s.handle(lin), Answer::Ok);
+        assert!(s.emu.take_spool_log().is_empty());
+        assert_eq!(s.emu.queue_len(), 1);
     }
 }

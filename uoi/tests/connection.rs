@@ -17,6 +17,8 @@ use uoi::{ObjectAddress, Value, ValueType};
 struct Index;
 
 impl Handler for Index {
+    type Session = ();
+
     fn handle(&mut self, req: Request) -> Answer {
         match req {
             Request::Read(a, _) => Answer::Value(Value::I32(i32::from(a.index))),

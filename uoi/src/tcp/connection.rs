@@ -14,7 +14,7 @@ use tracing::{debug, warn};
 
 use super::halves::{ClosableRead, ClosableWrite};
 use super::idle::{Activity, Closed};
-use super::server::{Handler, Shared};
+use super::server::{Handler, Served, Session, Shared};
 use crate::wire::{
     Answer, CodecError, ProtocolError, Rejected, Reply, Request, ServerCodec, MAX_FRAME, PREFIX_LEN,
 };
@@ -47,10 +47,12 @@ pub(crate) async fn serve_connection<H: Handler>(
 }
 
 /// The state of one connection.
-struct Connection<H> {
+struct Connection<H: Handler> {
     reader: FramedRead<ClosableRead<OwnedReadHalf>, ServerCodec>,
     writer: FramedWrite<ClosableWrite<OwnedWriteHalf>, ServerCodec>,
     shared: Shared<H>,
+    /// This connection's own state; ends with it.
+    session: H::Session,
     activity: Arc<Activity>,
 }
 
@@ -66,6 +68,7 @@ impl<H: Handler> Connection<H> {
             reader: FramedRead::with_capacity(r, ServerCodec, MAX_FRAME + PREFIX_LEN),
             writer,
             shared,
+            session: H::Session::default(),
             activity,
         }
     }
@@ -95,12 +98,17 @@ impl<H: Handler> Connection<H> {
         }
     }
 
-    /// The answer to one frame.
-    async fn answer(&self, item: Incoming) -> Reply {
+    /// The answer to one frame: from the connection's session, or else
+    /// from the shared handler.
+    async fn answer(&mut self, item: Incoming) -> Reply {
         match item {
             Ok((id, req)) => {
                 let op = req.op().code();
-                reply(id, op, self.shared.handle(req).await)
+                let ans = match self.session.handle(req) {
+                    Served::Here(ans) => ans,
+                    Served::Shared(req) => self.shared.handle(req).await,
+                };
+                reply(id, op, ans)
             }
             Err(r) => {
                 debug!(error = %r.error, "bad request");

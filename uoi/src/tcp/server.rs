@@ -1,6 +1,7 @@
 //! The tokio object server: one task per connection, all connections share
 //! one handler (behind a lock, or owned by one task), pipelined requests
-//! answered in order.
+//! answered in order. Each connection also keeps a [`Session`] of its own,
+//! which may answer its requests before the shared handler sees them.
 
 use std::future::Future;
 use std::io;
@@ -22,8 +23,35 @@ use crate::wire::{Answer, ProtocolError, Request, ServerCodec};
 
 /// What serves the requests: the emulator, in `addipos`.
 pub trait Handler: Send + 'static {
+    /// What each connection keeps for itself (`()` for nothing).
+    type Session: Session;
     /// Answers one request.
     fn handle(&mut self, req: Request) -> Answer;
+}
+
+/// The state one connection keeps for itself: made (`Default`) when the
+/// connection is accepted, dropped when it ends, seen by no other
+/// connection. It sees each of its connection's requests first, in order.
+pub trait Session: Default + Send + 'static {
+    /// Answers `req` from the connection's own state, or hands it on to
+    /// the shared handler.
+    fn handle(&mut self, req: Request) -> Served;
+}
+
+/// Who answers a request: the connection's session or the shared handler.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Served {
+    /// Answered by the session.
+    Here(Answer),
+    /// For the shared handler.
+    Shared(Request),
+}
+
+/// No state of its own: every request goes to the shared handler.
+impl Session for () {
+    fn handle(&mut self, req: Request) -> Served {
+        Served::Shared(req)
+    }
 }
 
 /// How connections share the handler.

@@ -1,0 +1,264 @@
+//! Conformance sessions over TCP: `SETUP` gives a connection its own
+//! emulator, which no other connection sees and which ends with the
+//! connection; the shared emulator is never reset or logged by a client.
+
+// Test helpers may stop loudly on a broken setup.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
+use std::io::{BufRead, BufReader};
+use std::net::SocketAddr;
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::Duration;
+
+use addipos::service::EmulatorService;
+use tc_request::text::parse_request;
+use tc_request::{Reply, Request};
+use uoi::tcp::{BlockingClient, Client, Core, Server, ServerConfig};
+use uoi::{AccessError, Value};
+
+/// A server on its own thread; stopped when the sender is dropped.
+fn serve(core: Core) -> (SocketAddr, tokio::sync::oneshot::Sender<()>) {
+    let (addr_tx, addr_rx) = std::sync::mpsc::channel();
+    let (stop_tx, stop_rx) = tokio::sync::oneshot::channel::<()>();
+    std::thread::spawn(move || {
+        let rt = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .expect("runtime");
+        rt.block_on(async move {
+            let cfg = ServerConfig {
+                listen: "127.0.0.1:0".parse().expect("addr"),
+                core,
+                ..ServerConfig::default()
+            };
+            let server = Server::bind(cfg, EmulatorService::new([0.0; 8], 1e-3))
+                .await
+                .expect("bind");
+            addr_tx
+                .send(server.local_addr().expect("addr"))
+                .expect("send");
+            let _ = server
+                .run(async {
+                    let _ = stop_rx.await;
+                })
+                .await;
+        });
+    });
+    let addr = addr_rx
+        .recv_timeout(Duration::from_secs(10))
+        .expect("server started");
+    (addr, stop_tx)
+}
+
+/// A request in trace syntax, on the wire, its reply decoded.
+fn call(c: &mut BlockingClient, text: &str) -> Reply {
+    let req = parse_request(text).expect("request");
+    request(c, &req)
+}
+
+fn request(c: &mut BlockingClient, req: &Request) -> Reply {
+    let ans = c.call(&req.to_wire()).expect("answered");
+    Reply::from_wire(req.wire_op(), &ans).expect("a TC reply")
+}
+
+fn setup(c: &mut BlockingClient) -> Reply {
+    request(
+        c,
+        &Request::Setup {
+            start: [0.0; 8],
+            cycle_s: 1e-3,
+        },
+    )
+}
+
+fn spool_log(c: &mut BlockingClient, logging: bool) -> Reply {
+    request(c, &Request::SpoolLog { logging })
+}
+
+const RADIUS: &str = "R 1300/1/1/6 d";
+
+fn private_session_and_its_end(core: Core) {
+    let (addr, _stop) = serve(core);
+    let a = addr.to_string();
+    let mut shared = BlockingClient::connect(&a).expect("connect");
+    assert_eq!(call(&mut shared, "W 1300/1/1/6 d 7.25"), Reply::Ok);
+
+    let mut own = BlockingClient::connect(&a).expect("connect");
+    assert_eq!(setup(&mut own), Reply::Ok);
+    // The session starts fresh: it does not see the shared radius.
+    assert_eq!(call(&mut own, RADIUS), Reply::Value(Value::F64(0.0)));
+    assert_eq!(call(&mut own, "W 1300/1/1/6 d 1.5"), Reply::Ok);
+    assert_eq!(call(&mut own, "LIN X5"), Reply::Ok);
+    assert_eq!(call(&mut own, "QUEUE"), Reply::Queue(1));
+    // Nothing of it reaches the shared emulator, and back.
+    assert_eq!(call(&mut shared, RADIUS), Reply::Value(Value::F64(7.25)));
+    assert_eq!(call(&mut shared, "QUEUE"), Reply::Queue(0));
+    assert_eq!(call(&mut shared, "W 1300/1/1/6 d 3"), Reply::Ok);
+    assert_eq!(call(&mut own, RADIUS), Reply::Value(Value::F64(1.5)));
+
+    // A second SETUP on the same connection starts the session afresh.
+    assert_eq!(setup(&mut own), Reply::Ok);
+    assert_eq!(call(&mut own, "QUEUE"), Reply::Queue(0));
+    assert_eq!(call(&mut own, "W 1300/1/1/6 d 1.5"), Reply::Ok);
+
+    // The session ends with its connection: a new one is on the shared emulator.
+    drop(own);
+    let mut next = BlockingClient::connect(&a).expect("connect");
+    assert_eq!(call(&mut next, RADIUS), Reply::Value(Value::F64(3.0)));
+}
+
+#[test]
+fn a_session_is_private_and_ends_with_its_connection_lock_core() {
+    private_session_and_its_end(Core::Lock);
+}
+
+#[test]
+fn a_session_is_private_and_ends_with_its_connection_owner_core() {
+    private_session_and_its_end(Core::Owner);
+}
+
+#[test]
+fn a_refused_setup_leaves_the_connection_where_it_was() {
+    let (addr, _stop) = serve(Core::Lock);
+    let mut c = BlockingClient::connect(&addr.to_string()).expect("connect");
+    assert_eq!(call(&mut c, "W 1300/1/1/6 d 2"), Reply::Ok);
+    let bad = Request::Setup {
+        start: [0.0; 8],
+        cycle_s: 2.0,
+    };
+    assert_eq!(request(&mut c, &bad), Reply::Access(AccessError::Range));
+    assert_eq!(call(&mut c, RADIUS), Reply::Value(Value::F64(2.0)));
+    assert_eq!(spool_log(&mut c, true), Reply::Access(AccessError::State));
+}
+
+#[test]
+fn the_shared_emulator_cannot_be_logged() {
+    for core in [Core::Lock, Core::Owner] {
+        let (addr, _stop) = serve(core);
+        let mut c = BlockingClient::connect(&addr.to_string()).expect("connect");
+        assert_eq!(spool_log(&mut c, true), Reply::Access(AccessError::State));
+        assert_eq!(call(&mut c, "LIN X1"), Reply::Ok);
+        assert_eq!(spool_log(&mut c, false), Reply::Access(AccessError::State));
+    }
+}
+
+/// Spools `n` lines on a connection in pipelined batches.
+fn spool_lines(addr: SocketAddr, session: bool, n: usize) -> Vec<Reply> {
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("rt");
+    rt.block_on(async move {
+        let mut c = Client::connect(addr).await.expect("connect");
+        let mut reqs = Vec::new();
+        if session {
+            reqs.push(Request::Setup {
+                start: [0.0; 8],
+                cycle_s: 1e-3,
+            });
+            reqs.push(Request::SpoolLog { logging: true });
+        }
+        reqs.extend((0..n).map(|k| parse_request(&format!("LIN X{}", k % 2)).expect("LIN")));
+        reqs.push(Request::SpoolLog { logging: true });
+        reqs.push(Request::Setup {
+            start: [0.0; 8],
+            cycle_s: 1e-3,
+        });
+        reqs.push(Request::SpoolLog { logging: true });
+        let wire: Vec<_> = reqs.iter().map(Request::to_wire).collect();
+        let answers = c.pipeline(&wire).await.expect("pipeline");
+        reqs.iter()
+            .zip(&answers)
+            .map(|(r, a)| Reply::from_wire(r.wire_op(), a).expect("a TC reply"))
+            .collect()
+    })
+}
+
+/// A reply, a spool log shown by its length only.
+fn short(r: &Reply) -> String {
+    match r {
+        Reply::Spool(els, more) => format!("Spool({} elements, more {more})", els.len()),
+        other => format!("{other:?}"),
+    }
+}
+
+#[test]
+fn a_full_session_log_is_reported_until_the_next_setup() {
+    let (addr, _stop) = serve(Core::Lock);
+    let cap = addipos::session::LOG_CAPACITY;
+    let replies = spool_lines(addr, true, cap + 1);
+    let n = replies.len();
+    // The log overflowed: SPOOL_LOG says so instead of a partial log...
+    assert_eq!(short(&replies[n - 3]), "Access(State)");
+    // ...until SETUP starts afresh, with an empty log.
+    assert_eq!(replies[n - 2], Reply::Ok);
+    assert_eq!(replies[n - 1], Reply::Spool(Vec::new(), false));
+    // Exactly full is still a whole log.
+    let replies = spool_lines(addr, true, cap);
+    let Reply::Spool(els, more) = &replies[replies.len() - 3] else {
+        panic!("{}", short(&replies[replies.len() - 3]));
+    };
+    assert_eq!((els.len(), *more), (tc_request::wire::SPOOL_BATCH, true));
+}
+
+/// `addipos serve` on a free port; killed on drop.
+struct Serve(Child, String);
+
+impl Drop for Serve {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_addipos"))
+}
+
+fn start_serve() -> Serve {
+    let mut child = bin()
+        .args(["serve", "--listen", "127.0.0.1:0"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start serve");
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().expect("stdout"))
+        .read_line(&mut line)
+        .expect("banner");
+    let addr = line
+        .split_whitespace()
+        .find(|w| w.starts_with("127.0.0.1:"))
+        .unwrap_or_else(|| panic!("no address in {line:?}"))
+        .to_string();
+    Serve(child, addr)
+}
+
+fn cli(args: &[&str]) -> (bool, String) {
+    let out = bin().args(args).output().expect("run addipos");
+    let text = String::from_utf8_lossy(&out.stdout).trim().to_string();
+    (out.status.success(), text)
+}
+
+/// The new user's steps: a radius written with `call`, then the README's
+/// `replay --server` command; the radius is still there.
+#[test]
+fn replay_over_the_wire_leaves_the_shared_emulator_alone() {
+    let server = start_serve();
+    let a = server.1.as_str();
+    assert_eq!(
+        cli(&["call", a, "W", "1300/1/1/6", "d", "7.25"]),
+        (true, "ok".into())
+    );
+    let traces = Path::new(env!("CARGO_MANIFEST_DIR")).join("traces");
+    let trace = traces.join("d0-reinit.trace");
+    let trace = trace.to_str().expect("utf-8 path");
+    let (passed, out) = cli(&["replay", "--server", a, trace]);
+    assert!(passed, "{out}");
+    assert!(out.contains("1 passed, 0 failed"), "{out}");
+    assert_eq!(
+        cli(&["call", a, "R", "1300/1/1/6", "d"]),
+        (true, "7.25".into())
+    );
+}
