@@ -30,7 +30,8 @@ impl RemoteTarget {
             .ok_or_else(|| ClientError::Unexpected(format!("{ans:?}")))
     }
 
-    /// A fresh emulator at the trace's start, with the spool log on.
+    /// A fresh emulator of this connection's own (a conformance session)
+    /// at the trace's start, with the spool log on.
     pub fn prepare(&mut self, trace: &Trace) -> Result<(), String> {
         let setup = Request::Setup {
             start: trace.start,
@@ -78,8 +79,8 @@ impl Target for RemoteTarget {
     }
 }
 
-/// Replays a trace over the wire: a fresh emulator on the server, then the
-/// same comparison as in-process.
+/// Replays a trace over the wire: a fresh conformance session on the
+/// server, then the same comparison as in-process.
 pub fn replay_remote(trace: &Trace, target: &mut RemoteTarget) -> Vec<Mismatch> {
     if let Err(e) = target.prepare(trace) {
         return vec![Mismatch {
