@@ -16,6 +16,7 @@
 
 pub mod config;
 pub mod emulator;
+pub mod reference;
 pub mod remote;
 pub mod service;
 pub mod trace;
