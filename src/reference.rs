@@ -79,7 +79,11 @@ fn device_section<K: Meaning>(out: &mut String, title: &str, index: &str, rows: 
             r.name,
             r.ty,
             r.access,
-            if r.access.writable() { r.range.to_string() } else { String::new() },
+            if r.access.writable() {
+                r.range.to_string()
+            } else {
+                String::new()
+            },
             r.key.meaning(),
         );
     }
@@ -102,12 +106,21 @@ fn access_errors(out: &mut String) {
     );
     out.push_str("| name | code | when |\n|---|---|---|\n");
     for e in AccessError::ALL {
-        let _ = writeln!(out, "| `{}` | 0x{:08X} | {} |", e.name(), e.code(), e.text());
+        let _ = writeln!(
+            out,
+            "| `{}` | 0x{:08X} | {} |",
+            e.name(),
+            e.code(),
+            e.text()
+        );
     }
 }
 
 fn bits<F: Flags<Bits = i32>>(out: &mut String, title: &str) {
-    let _ = write!(out, "\n## {title}\n\n| bit | value | name | meaning |\n|---|---|---|---|\n");
+    let _ = write!(
+        out,
+        "\n## {title}\n\n| bit | value | name | meaning |\n|---|---|---|---|\n"
+    );
     for flag in F::FLAGS {
         let value = flag.value().bits();
         let name = camel(flag.name());
@@ -126,7 +139,9 @@ fn camel(name: &str) -> String {
         .map(|w| {
             let mut cs = w.chars();
             cs.next().map_or(String::new(), |c| {
-                c.to_uppercase().chain(cs.flat_map(char::to_lowercase)).collect()
+                c.to_uppercase()
+                    .chain(cs.flat_map(char::to_lowercase))
+                    .collect()
             })
         })
         .collect()

@@ -30,14 +30,20 @@ fn every_device_and_bit_is_described() {
     assert_eq!(bits_without_meaning(), Vec::<String>::new());
     let text = object_reference();
     for row in tc_module::object_map::object_table::<otc_ext::OtcExtension>() {
-        assert!(text.contains(&format!("| {} |", row.name)), "{} missing", row.name);
+        assert!(
+            text.contains(&format!("| {} |", row.name)),
+            "{} missing",
+            row.name
+        );
     }
     assert!(!text.contains("|  |\n"), "a row without meaning");
 }
 
 /// Text files of the repository (not `target/`, not hidden folders).
 fn text_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = fs::read_dir(dir) else { return };
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
     for e in entries.flatten() {
         let p = e.path();
         let name = e.file_name().to_string_lossy().into_owned();
@@ -69,5 +75,9 @@ fn no_file_points_outside_the_repository() {
             }
         }
     }
-    assert!(hits.is_empty(), "paths outside the repository:\n{}", hits.join("\n"));
+    assert!(
+        hits.is_empty(),
+        "paths outside the repository:\n{}",
+        hits.join("\n")
+    );
 }

@@ -31,7 +31,9 @@ impl Meaning for O {
                 "How fast a PLC offset is ramped, in percent of 1e-3 units per cycle \
                  (default 100)."
             }
-            O::OtcError => "Read: the OTC error bits (table below). Write (any value): clears them.",
+            O::OtcError => {
+                "Read: the OTC error bits (table below). Write (any value): clears them."
+            }
             O::WearRadius => "Radius wear booked for the current tool at OTC switch-off, in units.",
             O::WearRadiusCont => "Its continuous (path) part, in units.",
             O::WearAxis => {

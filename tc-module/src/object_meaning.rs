@@ -61,8 +61,12 @@ impl Meaning for TcObject {
                 "The current tool entry, 0..1023. Written while running: InitError, the value \
                  stays."
             }
-            TcObject::Left => "Any value: correct on the left of the contour. InitError while running.",
-            TcObject::Right => "Any value: correct on the right of the contour. InitError while running.",
+            TcObject::Left => {
+                "Any value: correct on the left of the contour. InitError while running."
+            }
+            TcObject::Right => {
+                "Any value: correct on the right of the contour. InitError while running."
+            }
             TcObject::ZAxis => {
                 "Machine axis that takes the tool length (default 2). Same rule as XAxis."
             }
