@@ -17,6 +17,7 @@
 
 pub mod config;
 pub mod emulator;
+pub mod reference;
 pub mod remote;
 pub mod service;
 pub mod session;

@@ -61,6 +61,10 @@ enum Command {
         #[arg(short, long)]
         verbose: bool,
     },
+    /// Print the object reference of bus 1300 (Markdown): every object with
+    /// its address, type, access, range and meaning, the access errors and
+    /// the register bits. `docs/objects.md` is this output.
+    Objects,
 }
 
 fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
@@ -281,5 +285,9 @@ fn main() -> ExitCode {
             server,
             verbose,
         } => cmd_replay(&files, server.as_deref(), verbose),
+        Command::Objects => {
+            print!("{}", addipos::reference::object_reference());
+            ExitCode::SUCCESS
+        }
     }
 }

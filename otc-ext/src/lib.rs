@@ -25,6 +25,7 @@
 //! assert_eq!(server.write(wear, Value::F64(1.0)), Err(AccessError::ReadOnly));
 //! ```
 
+mod meaning;
 mod objects;
 mod registers;
 mod state;

@@ -30,6 +30,7 @@ pub mod geometry;
 pub mod group;
 pub mod module;
 pub mod object_map;
+pub mod object_meaning;
 pub mod plane;
 pub mod rotation;
 pub mod spooler;

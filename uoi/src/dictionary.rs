@@ -1,5 +1,6 @@
 //! The declarative object table a module hands to the dispatcher.
 
+use std::fmt;
 use std::ops::RangeInclusive;
 
 use crate::{AccessError, ObjectAddress, Value, ValueType};
@@ -15,6 +16,17 @@ pub enum Access {
     ReadWrite,
 }
 
+impl fmt::Display for Access {
+    /// `r`, `w` or `rw`, as in an object map.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Access::ReadOnly => "r",
+            Access::WriteOnly => "w",
+            Access::ReadWrite => "rw",
+        })
+    }
+}
+
 impl Access {
     /// Whether a read is allowed.
     pub const fn readable(self) -> bool {
@@ -25,6 +37,14 @@ impl Access {
     pub const fn writable(self) -> bool {
         !matches!(self, Access::ReadOnly)
     }
+}
+
+/// What an object means to a user, for the object reference a module's
+/// documentation is generated from: implemented by a module's object keys.
+pub trait Meaning {
+    /// One or two sentences: what a read gives, what a write does, the
+    /// default.
+    fn meaning(&self) -> &'static str;
 }
 
 /// Values a write may carry: the range column of an object map.
@@ -65,6 +85,39 @@ impl ValueRange {
                 v.is_finite() && (min..=max).contains(&v)
             }
             _ => false,
+        }
+    }
+}
+
+impl fmt::Display for ValueRange {
+    /// The range column of an object map: `any`, `0..=7`, `17, 18, 19`,
+    /// `finite`, `-1e9..=1e9`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            ValueRange::AnyInt => f.write_str("any"),
+            ValueRange::Int { min, max } if min == max => write!(f, "{min}"),
+            ValueRange::Int { min, max } => write!(f, "{min}..={max}"),
+            ValueRange::IntSet(set) => {
+                let items: Vec<String> = set.iter().map(i32::to_string).collect();
+                f.write_str(&items.join(", "))
+            }
+            ValueRange::AnyFinite => f.write_str("finite"),
+            ValueRange::Finite { min, max } if max == f64::MAX => write!(f, ">= {}", Short(min)),
+            ValueRange::Finite { min, max } if min == -f64::MAX => write!(f, "<= {}", Short(max)),
+            ValueRange::Finite { min, max } => write!(f, "{}..={}", Short(min), Short(max)),
+        }
+    }
+}
+
+/// A range bound written short: `1e9` rather than `1000000000`.
+struct Short(f64);
+
+impl fmt::Display for Short {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.0.abs() >= 1e6 {
+            write!(f, "{:e}", self.0)
+        } else {
+            write!(f, "{}", self.0)
         }
     }
 }

@@ -53,7 +53,7 @@ pub mod wire;
 
 pub use address::{AddressParseError, ObjectAddress};
 pub use bus::{Bus, ObjectBus};
-pub use dictionary::{lookup, Access, ObjectDesc, ValueRange};
+pub use dictionary::{lookup, Access, Meaning, ObjectDesc, ValueRange};
 pub use error::AccessError;
 pub use server::{ObjectServer, RegisterError};
 pub use value::{Value, ValueType};
