@@ -32,7 +32,11 @@ pub fn parse_int(s: &str) -> TextResult<i32> {
             return Ok(i32::from_ne_bytes(bits.to_ne_bytes()));
         }
     }
-    let v = if neg { -i128::from(mag) } else { i128::from(mag) };
+    let v = if neg {
+        -i128::from(mag)
+    } else {
+        i128::from(mag)
+    };
     i32::try_from(v).map_err(|_| out_of_range())
 }
 
