@@ -142,22 +142,21 @@ fn long_request_is_echoed_short() {
 
 #[test]
 fn lines_are_replayed_as_they_are_read() {
-    // A mismatch before a malformed line is still reported: the trace is
-    // replayed while it is read, not parsed whole first.
+    // Mismatches before a malformed line are still reported, the step
+    // just before it too: the trace is replayed while it is read, not
+    // parsed whole first.
     let p = write_trace(
         "late-error.trace",
-        "R 1300/0/3/0 i => 18\nR 1300/0/3/0 i\nFROB\n",
+        "R 1300/0/3/0 i => 18\nR 1300/0/3/0 i => 19\nFROB\n",
     );
     let (code, out) = replay(&[&p]);
     assert_eq!(code, 1, "{out}");
-    assert!(
-        out.contains("late-error.trace:1: `R 1300/0/3/0 i`: expected 18, got 17"),
-        "{out}"
-    );
-    assert!(
-        out.contains("late-error.trace:3: unknown request `FROB`"),
-        "{out}"
-    );
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 4, "{out}");
+    assert!(lines[0].ends_with("late-error.trace:1: `R 1300/0/3/0 i`: expected 18, got 17"));
+    assert!(lines[1].ends_with("late-error.trace:2: `R 1300/0/3/0 i`: expected 19, got 17"));
+    assert!(lines[2].ends_with("late-error.trace:3: unknown request `FROB`"));
+    assert_eq!(lines[3], "0 passed, 1 failed");
 }
 
 #[test]

@@ -114,6 +114,9 @@ pub struct TraceReader<R> {
     /// The request read last; complete once the next request line (or the
     /// end) shows that no more `<` lines follow.
     pending: Option<Step>,
+    /// An error found on the line after a complete step, given out after
+    /// that step.
+    deferred: Option<TraceError>,
     finished: bool,
 }
 
@@ -133,6 +136,7 @@ impl<R: BufRead> TraceReader<R> {
             line: 0,
             buf: Vec::new(),
             pending: None,
+            deferred: None,
             finished: false,
         };
         while reader.pending.is_none() {
@@ -198,9 +202,13 @@ impl<R: BufRead> TraceReader<R> {
 
     /// The next complete step, `None` at the end.
     fn next_step(&mut self) -> Result<Option<Step>, TraceError> {
+        if let Some(e) = self.deferred.take() {
+            return Err(e);
+        }
         while let Some(code) = self.next_code()? {
             if code.starts_with('@') {
-                return Err(self.error("header lines must come before the first request".into()));
+                let e = self.error("header lines must come before the first request".into());
+                return self.complete_then(e);
             }
             if let Some(spool) = code.strip_prefix('<') {
                 let expect = parse_spool(self.line, spool).map_err(|m| self.error(m))?;
@@ -213,10 +221,27 @@ impl<R: BufRead> TraceReader<R> {
                 }
                 continue;
             }
-            let next = parse_step(self.line, &code).map_err(|m| self.error(m))?;
-            return Ok(self.pending.replace(next));
+            return match parse_step(self.line, &code) {
+                Ok(next) => Ok(self.pending.replace(next)),
+                Err(m) => {
+                    let e = self.error(m);
+                    self.complete_then(e)
+                }
+            };
         }
         Ok(self.pending.take())
+    }
+
+    /// A line that is not a `<` line completes the step before it: that
+    /// step first, the error of the line after it.
+    fn complete_then(&mut self, e: TraceError) -> Result<Option<Step>, TraceError> {
+        match self.pending.take() {
+            Some(step) => {
+                self.deferred = Some(e);
+                Ok(Some(step))
+            }
+            None => Err(e),
+        }
     }
 }
 
@@ -302,6 +327,22 @@ mod tests {
             .map(|s| s.spool.iter().map(|e| e.line).collect())
             .collect();
         assert_eq!(lines, [vec![2, 5], vec![]]);
+    }
+
+    #[test]
+    fn the_step_before_a_malformed_line_comes_first() {
+        for (bad, line) in [("FROB", 3), ("@tol 1", 3), ("< FROB", 3)] {
+            let text = format!("R 1300/0/3/0 i\nR 1300/0/3/0 i => 17\n{bad}\nR 1300/0/3/0 i\n");
+            let items: Vec<Result<Step, TraceError>> =
+                TraceReader::open("m.trace", text.as_bytes())
+                    .unwrap()
+                    .collect();
+            let complete = if bad.starts_with('<') { 1 } else { 2 };
+            assert_eq!(items.len(), complete + 1, "{bad}: {items:?}");
+            assert!(items[..complete].iter().all(Result::is_ok), "{bad}");
+            let e = items[complete].as_ref().unwrap_err();
+            assert_eq!(e.line, line, "{bad}: {e}");
+        }
     }
 
     #[test]
