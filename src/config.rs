@@ -1,12 +1,13 @@
 //! Settings of `addipos serve`: TOML, with built-in defaults
 //! (`config/default.toml`, embedded in the binary).
 
-use std::net::SocketAddr;
 use std::time::Duration;
 
 use serde::Deserialize;
 use tc_module::AXES;
 use uoi::tcp::{Core, ServerConfig};
+
+use crate::address::parse_address;
 
 /// Most connections `max_connections` may allow (each holds up to two
 /// 64 KiB buffers).
@@ -19,7 +20,7 @@ pub const DEFAULT_CONFIG: &str = include_str!("../config/default.toml");
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Config {
-    /// Listen address.
+    /// Listen address, in a form [`parse_address`] reads.
     pub listen: String,
     /// Allow a non-loopback listen address.
     pub allow_remote: bool,
@@ -62,12 +63,8 @@ impl Config {
 
     /// The server settings, checked.
     pub fn server(&self) -> Result<ServerConfig, ConfigError> {
-        let listen: SocketAddr = self.listen.parse().map_err(|_| {
-            ConfigError(format!(
-                "listen = \"{}\" is not an address like 127.0.0.1:1300",
-                self.listen
-            ))
-        })?;
+        let listen = parse_address(&self.listen)
+            .map_err(|e| ConfigError(format!("listen = \"{}\": {e}", self.listen)))?;
         let core = match self.core.as_str() {
             "lock" => Core::Lock,
             "owner" => Core::Owner,

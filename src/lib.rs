@@ -15,6 +15,7 @@
 //! assert!(replay(&trace).is_empty());
 //! ```
 
+pub mod address;
 pub mod config;
 pub mod emulator;
 pub mod reference;

@@ -1,21 +1,39 @@
 //! The `addipos` command line.
 
+use std::io::IsTerminal;
+use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use addipos::address::parse_address;
 use addipos::config::{Config, DEFAULT_CONFIG};
-use addipos::remote::{replay_remote, RemoteTarget};
+use addipos::remote::{setup_failed, RemoteTarget};
 use addipos::service::EmulatorService;
-use addipos::trace::{load_trace, replay, trace_files, Mismatch};
+use addipos::trace::{fresh_emulator, open_trace, replay_stream, trace_files, Target};
 use tc_request::text::parse_request;
 use tc_request::Reply;
 use uoi::tcp::Server;
 
+/// Exit status when the command ran and found a failure: a trace that
+/// differs, an error answer to `call`, a server that failed while serving.
+const EXIT_FAILED: u8 = 1;
+
+/// Exit status when the command could not do its job at all: bad
+/// arguments or settings, no traces, an address it cannot listen on or
+/// connect to (clap's usage errors exit with 2 as well).
+const EXIT_TROUBLE: u8 = 2;
+
+/// Exit statuses, for `--help`.
+const EXIT_HELP: &str = "Exit status: 0 success; 1 ran and found a failure (a trace differs, \
+an error answer, the server failed while serving); 2 could not start (bad arguments or \
+settings, no traces found, a path that does not exist, an address that cannot be listened \
+on or connected to).";
+
 /// Emulator of the ADDIPOS TC module (UOI bus 1300) with OTC wear compensation.
 #[derive(Parser)]
-#[command(version, about, long_about = None)]
+#[command(version, about, long_about = None, after_help = EXIT_HELP)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -25,11 +43,13 @@ struct Cli {
 enum Command {
     /// Serve the emulator over TCP (UOI wire protocol, docs/protocol.md).
     /// Without --config the built-in settings apply (127.0.0.1:1300).
+    #[command(after_help = EXIT_HELP)]
     Serve {
         /// Settings file (TOML, keys as in config/default.toml).
         #[arg(long, value_name = "FILE")]
         config: Option<PathBuf>,
-        /// Listen address, overriding the settings.
+        /// Listen address, overriding the settings: HOST:PORT,
+        /// localhost:PORT, or a bare PORT (on 127.0.0.1).
         #[arg(long, value_name = "ADDR")]
         listen: Option<String>,
         /// Allow listening on a non-loopback address.
@@ -41,8 +61,10 @@ enum Command {
     },
     /// Send one request to a server and print the answer, e.g.
     /// `addipos call 127.0.0.1:1300 R 1300/0/3/0 i`.
+    #[command(after_help = EXIT_HELP)]
     Call {
-        /// Server address.
+        /// Server address: HOST:PORT, localhost:PORT, or a bare PORT (on
+        /// 127.0.0.1).
         addr: String,
         /// The request in trace syntax (R, W, LIN, CIR, JA, JS, SSF, RS, EXEC, POS, QUEUE).
         #[arg(required = true, num_args = 1.., allow_hyphen_values = true)]
@@ -50,11 +72,13 @@ enum Command {
     },
     /// Replay conformance traces (*.trace) against a fresh emulator each and
     /// report every mismatch; exits non-zero if any trace fails.
+    #[command(after_help = EXIT_HELP)]
     Replay {
         /// Trace files, or folders whose *.trace files are replayed.
         #[arg(required = true)]
         files: Vec<PathBuf>,
-        /// Replay over the wire against this server instead of in-process.
+        /// Replay over the wire against this server instead of in-process
+        /// (HOST:PORT, localhost:PORT, or a bare PORT).
         #[arg(long, value_name = "ADDR")]
         server: Option<String>,
         /// Print a line for every trace, not only failing ones.
@@ -67,16 +91,77 @@ enum Command {
     Objects,
 }
 
+/// The trace files the arguments name: files as given, folders as their
+/// `*.trace` files. A path that does not exist, or a folder without
+/// traces, is an error.
 fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
     let mut out = Vec::new();
     for p in paths {
-        if p.is_dir() {
-            out.extend(trace_files(p).map_err(|e| format!("{}: {e}", p.display()))?);
-        } else {
+        let meta = std::fs::metadata(p).map_err(|e| match e.kind() {
+            std::io::ErrorKind::NotFound => format!("{}: no such file or folder", p.display()),
+            _ => format!("{}: {e}", p.display()),
+        })?;
+        if !meta.is_dir() {
             out.push(p.clone());
+            continue;
         }
+        let files = trace_files(p).map_err(|e| format!("{}: {e}", p.display()))?;
+        if files.is_empty() {
+            return Err(format!(
+                "no traces found: {} holds no *.trace file",
+                p.display()
+            ));
+        }
+        out.extend(files);
     }
     Ok(out)
+}
+
+/// Connects to a server given as the user typed its address.
+fn connect(addr: &str) -> Result<RemoteTarget, String> {
+    let resolved = parse_address(addr)?;
+    RemoteTarget::connect(&resolved.to_string())
+        .map_err(|e| format!("cannot connect to {addr} ({resolved}): {e}"))
+}
+
+/// Replays one trace file as it is read, printing every mismatch; true
+/// when it passed.
+fn replay_file(path: &Path, remote: Option<&mut RemoteTarget>, verbose: bool) -> bool {
+    let mut reader = match open_trace(path) {
+        Ok(r) => r,
+        Err(e) => {
+            println!("{e}");
+            return false;
+        }
+    };
+    let header = reader.header().clone();
+    let mut emulator;
+    let target: &mut dyn Target = match remote {
+        Some(r) => match r.prepare(&header) {
+            Ok(()) => r,
+            Err(e) => {
+                println!("{}", setup_failed(&header, e));
+                return false;
+            }
+        },
+        None => {
+            emulator = fresh_emulator(&header);
+            &mut emulator
+        }
+    };
+    match replay_stream(&mut reader, target, &mut |m| println!("{m}")) {
+        Ok(done) if done.mismatches == 0 => {
+            if verbose {
+                println!("{}: ok ({} requests)", header.file, done.steps);
+            }
+            true
+        }
+        Ok(_) => false,
+        Err(e) => {
+            println!("{e}");
+            false
+        }
+    }
 }
 
 fn cmd_replay(files: &[PathBuf], server: Option<&str>, verbose: bool) -> ExitCode {
@@ -84,51 +169,30 @@ fn cmd_replay(files: &[PathBuf], server: Option<&str>, verbose: bool) -> ExitCod
         Ok(f) => f,
         Err(e) => {
             eprintln!("error: {e}");
-            return ExitCode::from(2);
+            return ExitCode::from(EXIT_TROUBLE);
         }
     };
-    let mut remote = match server.map(RemoteTarget::connect) {
+    let mut remote = match server.map(connect) {
         None => None,
         Some(Ok(r)) => Some(r),
         Some(Err(e)) => {
-            eprintln!(
-                "error: cannot connect to {}: {e}",
-                server.unwrap_or_default()
-            );
-            return ExitCode::from(2);
+            eprintln!("error: {e}");
+            return ExitCode::from(EXIT_TROUBLE);
         }
     };
     let (mut passed, mut failed) = (0usize, 0usize);
     for f in &files {
-        let trace = match load_trace(f) {
-            Ok(t) => t,
-            Err(e) => {
-                println!("{e}");
-                failed += 1;
-                continue;
-            }
-        };
-        let mismatches: Vec<Mismatch> = match remote.as_mut() {
-            Some(r) => replay_remote(&trace, r),
-            None => replay(&trace),
-        };
-        if mismatches.is_empty() {
+        if replay_file(f, remote.as_mut(), verbose) {
             passed += 1;
-            if verbose {
-                println!("{}: ok ({} requests)", trace.file, trace.steps.len());
-            }
         } else {
             failed += 1;
-            for m in &mismatches {
-                println!("{m}");
-            }
         }
     }
     println!("{passed} passed, {failed} failed");
     if failed == 0 {
         ExitCode::SUCCESS
     } else {
-        ExitCode::FAILURE
+        ExitCode::from(EXIT_FAILED)
     }
 }
 
@@ -138,14 +202,14 @@ fn cmd_call(addr: &str, words: &[String]) -> ExitCode {
         Ok(r) => r,
         Err(e) => {
             eprintln!("error: `{text}`: {e}");
-            return ExitCode::from(2);
+            return ExitCode::from(EXIT_TROUBLE);
         }
     };
-    let mut client = match RemoteTarget::connect(addr) {
+    let mut client = match connect(addr) {
         Ok(c) => c,
         Err(e) => {
-            eprintln!("error: cannot connect to {addr}: {e}");
-            return ExitCode::from(2);
+            eprintln!("error: {e}");
+            return ExitCode::from(EXIT_TROUBLE);
         }
     };
     match client.call(&req) {
@@ -198,36 +262,62 @@ async fn shutdown_signal() {
     tracing::info!("stop requested");
 }
 
-fn cmd_serve(config: Option<&Path>, listen: Option<String>, allow_remote: bool) -> ExitCode {
+/// What `serve` runs with.
+struct ServeSettings {
+    cfg: Config,
+    server: uoi::tcp::ServerConfig,
+    cycle_s: f64,
+}
+
+/// The settings file (or the built-in settings) with `--listen` and
+/// `--allow-remote` applied, checked; every error names where the bad
+/// value came from.
+fn serve_settings(
+    config: Option<&Path>,
+    listen: Option<&str>,
+    allow_remote: bool,
+) -> Result<ServeSettings, String> {
+    let source = config.map_or_else(|| "built-in settings".into(), |p| p.display().to_string());
     let text = match config {
         None => DEFAULT_CONFIG.to_string(),
-        Some(p) => match std::fs::read_to_string(p) {
-            Ok(t) => t,
-            Err(e) => {
-                eprintln!("error: cannot read {}: {e}", p.display());
-                return ExitCode::from(2);
-            }
-        },
+        Some(p) => std::fs::read_to_string(p).map_err(|e| format!("cannot read {source}: {e}"))?,
     };
-    let mut cfg = match Config::parse(&text) {
-        Ok(c) => c,
-        Err(e) => {
-            eprintln!(
-                "error: {}: {e}",
-                config.map_or("built-in settings".into(), |p| p.display().to_string())
-            );
-            return ExitCode::from(2);
-        }
-    };
+    let in_source = |e: addipos::config::ConfigError| format!("{source}: {e}");
+    let mut cfg = Config::parse(&text).map_err(in_source)?;
     if let Some(l) = listen {
-        cfg.listen = l;
+        cfg.listen = parse_address(l)
+            .map_err(|e| format!("--listen: {e}"))?
+            .to_string();
     }
     cfg.allow_remote |= allow_remote;
-    let (server_cfg, cycle_s) = match (cfg.server(), cfg.cycle_s()) {
-        (Ok(s), Ok(c)) => (s, c),
-        (Err(e), _) | (_, Err(e)) => {
+    let server = cfg.server().map_err(in_source)?;
+    let cycle_s = cfg.cycle_s().map_err(in_source)?;
+    Ok(ServeSettings {
+        cfg,
+        server,
+        cycle_s,
+    })
+}
+
+/// Why the server could not listen on `addr`, and what to do about it.
+fn listen_error(addr: SocketAddr, e: &std::io::Error) -> String {
+    const HINT: &str = "choose another with --listen ADDR or `listen` in the settings file";
+    match e.kind() {
+        std::io::ErrorKind::AddrInUse => {
+            format!("cannot listen on {addr}: address already in use ({HINT})")
+        }
+        // The server's own refusal (a non-loopback address) says what to do.
+        _ if e.raw_os_error().is_none() => e.to_string(),
+        _ => format!("cannot listen on {addr}: {e} ({HINT})"),
+    }
+}
+
+fn cmd_serve(config: Option<&Path>, listen: Option<&str>, allow_remote: bool) -> ExitCode {
+    let settings = match serve_settings(config, listen, allow_remote) {
+        Ok(s) => s,
+        Err(e) => {
             eprintln!("error: {e}");
-            return ExitCode::from(2);
+            return ExitCode::from(EXIT_TROUBLE);
         }
     };
     let rt = match tokio::runtime::Builder::new_multi_thread()
@@ -237,35 +327,46 @@ fn cmd_serve(config: Option<&Path>, listen: Option<String>, allow_remote: bool) 
         Ok(rt) => rt,
         Err(e) => {
             eprintln!("error: cannot start the runtime: {e}");
-            return ExitCode::FAILURE;
+            return ExitCode::from(EXIT_TROUBLE);
         }
     };
-    let result = rt.block_on(async move {
-        let server = Server::bind(server_cfg, EmulatorService::new(cfg.start, cycle_s)).await?;
-        println!(
-            "addipos: serving UOI on {} (Ctrl-C to stop)",
-            server.local_addr()?
-        );
-        server.run(shutdown_signal()).await
-    });
-    match result {
+    let addr = settings.server.listen;
+    let service = EmulatorService::new(settings.cfg.start, settings.cycle_s);
+    // The server logs its one start line (address, limits) once bound.
+    let server = match rt.block_on(Server::bind(settings.server, service)) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {}", listen_error(addr, &e));
+            return ExitCode::from(EXIT_TROUBLE);
+        }
+    };
+    match rt.block_on(server.run(shutdown_signal())) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");
-            ExitCode::FAILURE
+            ExitCode::from(EXIT_FAILED)
         }
     }
 }
 
-fn main() -> ExitCode {
-    let cli = Cli::parse();
+/// Log lines on stderr; colour only on a terminal, and not with `NO_COLOR`
+/// set.
+fn init_log() {
+    let colour = std::io::stderr().is_terminal()
+        && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty());
     tracing_subscriber::fmt()
         .with_env_filter(
             tracing_subscriber::EnvFilter::try_from_default_env()
                 .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
         )
         .with_writer(std::io::stderr)
+        .with_ansi(colour)
         .init();
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    init_log();
     match cli.command {
         Command::Serve {
             config,
@@ -277,7 +378,7 @@ fn main() -> ExitCode {
                 print!("{DEFAULT_CONFIG}");
                 return ExitCode::SUCCESS;
             }
-            cmd_serve(config.as_deref(), listen, allow_remote)
+            cmd_serve(config.as_deref(), listen.as_deref(), allow_remote)
         }
         Command::Call { addr, request } => cmd_call(&addr, &request),
         Command::Replay {

@@ -4,7 +4,7 @@ use tc_request::{Reply, Request, SpoolRecord};
 use uoi::tcp::{BlockingClient, ClientError};
 use uoi::{ObjectAddress, Value, ValueType};
 
-use crate::trace::{replay_on, Mismatch, Target, Trace};
+use crate::trace::{replay_on, Header, Mismatch, Target, Trace};
 
 /// A trace target over the wire.
 pub struct RemoteTarget {
@@ -32,10 +32,10 @@ impl RemoteTarget {
 
     /// A fresh emulator of this connection's own (a conformance session)
     /// at the trace's start, with the spool log on.
-    pub fn prepare(&mut self, trace: &Trace) -> Result<(), String> {
+    pub fn prepare(&mut self, header: &Header) -> Result<(), String> {
         let setup = Request::Setup {
-            start: trace.start,
-            cycle_s: trace.cycle_s,
+            start: header.start,
+            cycle_s: header.cycle_s,
         };
         match self.call(&setup).map_err(transport)? {
             Reply::Ok => {}
@@ -82,14 +82,19 @@ impl Target for RemoteTarget {
 /// Replays a trace over the wire: a fresh conformance session on the
 /// server, then the same comparison as in-process.
 pub fn replay_remote(trace: &Trace, target: &mut RemoteTarget) -> Vec<Mismatch> {
-    if let Err(e) = target.prepare(trace) {
-        return vec![Mismatch {
-            file: trace.file.clone(),
-            line: 0,
-            request: "(setup)".into(),
-            expected: "a fresh emulator".into(),
-            got: e,
-        }];
+    if let Err(e) = target.prepare(&trace.header) {
+        return vec![setup_failed(&trace.header, e)];
     }
     replay_on(trace, target)
+}
+
+/// The report of a server that could not set up a fresh emulator.
+pub fn setup_failed(header: &Header, e: String) -> Mismatch {
+    Mismatch {
+        file: header.file.clone(),
+        line: 0,
+        request: "(setup)".into(),
+        expected: "a fresh emulator".into(),
+        got: e,
+    }
 }

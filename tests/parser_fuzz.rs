@@ -7,6 +7,39 @@
 use addipos::trace::parse_trace;
 use proptest::prelude::*;
 
+/// Integers at the limits of i32, u32, i64 and u64, with signs in every
+/// position.
+const EDGES: &[&str] = &[
+    "2147483647",
+    "-2147483648",
+    "2147483648",
+    "-2147483649",
+    "0x7fffffff",
+    "0x80000000",
+    "-0x80000000",
+    "-0x80000001",
+    "0xffffffff",
+    "-0xffffffff",
+    "0x100000000",
+    "9223372036854775807",
+    "-9223372036854775808",
+    "-9223372036854775809",
+    "18446744073709551616",
+    "0x7fffffffffffffff",
+    "0x8000000000000000",
+    "-0x8000000000000000",
+    "-0x-8000000000000000",
+    "0x-8000000000000000",
+    "0xffffffffffffffff",
+    "-0xffffffffffffffff",
+    "0x10000000000000000",
+    "-0x-1",
+    "0x+1f",
+    "+0x+1f",
+    "--1",
+    "+-1",
+];
+
 /// Tokens that make random lines look like trace lines often enough to get
 /// past the first checks.
 fn token() -> impl Strategy<Value = String> {
@@ -33,6 +66,10 @@ fn token() -> impl Strategy<Value = String> {
         "1300/[0-9]{1,6}/[0-9]{1,6}/[0-9]{1,6}",
         "[XYZABCUVIJKF]-?[0-9.e]{0,6}",
         "-?(0x)?[0-9a-f]{0,12}",
+        // Signs before and after `0x`, and values at and past the i32 and
+        // i64 limits.
+        "[+-]{0,2}(0[xX])?[+-]{0,2}[0-9a-fA-F]{0,20}",
+        prop::sample::select(EDGES.to_vec()).prop_map(str::to_string),
         "\\PC{0,8}",
     ]
 }
@@ -42,6 +79,34 @@ fn line() -> impl Strategy<Value = String> {
         prop::collection::vec(token(), 0..7).prop_map(|t| t.join(" ")),
         "\\PC{0,40}",
     ]
+}
+
+/// The fuzz tests are only worth their time with overflow checks on (the
+/// test profile's default; no profile in Cargo.toml may turn them off).
+#[test]
+fn overflow_checks_are_on() {
+    let max = std::hint::black_box(i32::MAX);
+    let add = std::panic::catch_unwind(|| max + std::hint::black_box(1));
+    assert!(add.is_err(), "overflow checks are off in the test profile");
+}
+
+#[test]
+fn integer_edges_in_every_position_never_panic() {
+    for v in EDGES {
+        for line in [
+            format!("W 1300/1/1/8 i {v}"),
+            format!("R 1300/1/1/8 i => {v}"),
+            format!("SSF X {v}"),
+            format!("EXEC {v}"),
+            format!("QUEUE => {v}"),
+            format!("LIN X{v}"),
+        ] {
+            let text = format!("{line}\n");
+            if let Err(e) = parse_trace("edge.trace", &text) {
+                assert!(e.to_string().starts_with("edge.trace:1: "), "{e}");
+            }
+        }
+    }
 }
 
 proptest! {

@@ -76,9 +76,9 @@ pub struct Step {
     pub spool: Vec<SpoolExpect>,
 }
 
-/// A parsed trace.
+/// What the header lines of a trace set, and the file it came from.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Trace {
+pub struct Header {
     /// The file it came from.
     pub file: String,
     /// `@name`.
@@ -89,6 +89,14 @@ pub struct Trace {
     pub start: AxisPos,
     /// `@cycle` in seconds.
     pub cycle_s: f64,
+}
+
+/// A trace parsed as a whole (the replayer of files reads them step by
+/// step instead, see [`super::TraceReader`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trace {
+    /// Its header.
+    pub header: Header,
     /// The requests.
     pub steps: Vec<Step>,
 }

@@ -1,14 +1,18 @@
-//! The replayer: runs a [`Trace`] on a fresh [`Emulator`] and lists every
-//! line whose answer differs from the expectation.
+//! The replayer: runs a trace on a fresh [`Emulator`] and reports every
+//! line whose answer differs from the expectation, step by step as the
+//! trace is read.
 
 use std::fmt::Write as _;
+use std::io::BufRead;
 
 use tc_module::{AXES, AXIS_NAMES};
 use tc_request::text::write_axis_words;
 use tc_request::{Reply, Request, SpoolRecord};
 use uoi::Value;
 
-use super::model::{Expect, SpoolExpect, SpoolKind, Step, Trace};
+use super::model::{Expect, Header, SpoolExpect, SpoolKind, Step, Trace, TraceError};
+use super::parse::TraceReader;
+use super::shorten;
 use crate::Emulator;
 
 /// One line whose answer differs from the trace.
@@ -18,7 +22,7 @@ pub struct Mismatch {
     pub file: String,
     /// The line number (the request's, or the `<` line's).
     pub line: usize,
-    /// The request text.
+    /// The request text (whole; shortened when displayed).
     pub request: String,
     /// What the trace expected.
     pub expected: String,
@@ -27,12 +31,18 @@ pub struct Mismatch {
 }
 
 impl std::fmt::Display for Mismatch {
+    /// `file:line: `request`: expected .., got ..`; a long request is cut
+    /// short with `…` and its length given.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "{}:{}: `{}`: expected {}, got {}",
-            self.file, self.line, self.request, self.expected, self.got
-        )
+        write!(f, "{}:{}: ", self.file, self.line)?;
+        let request = shorten(&self.request);
+        if request.len() == self.request.len() {
+            write!(f, "`{request}`")?;
+        } else {
+            let chars = self.request.chars().count();
+            write!(f, "`{request}` ({chars} characters)")?;
+        }
+        write!(f, ": expected {}, got {}", self.expected, self.got)
     }
 }
 
@@ -170,7 +180,7 @@ fn check_spool(
     axis_nr: [u8; 3],
     tol: f64,
     file: &str,
-    out: &mut Vec<Mismatch>,
+    report: &mut dyn FnMut(Mismatch),
 ) {
     let n = step.spool.len().max(got.len());
     for k in 0..n {
@@ -181,7 +191,7 @@ fn check_spool(
             _ => false,
         };
         if !ok {
-            out.push(Mismatch {
+            report(Mismatch {
                 file: file.to_string(),
                 line: exp.map_or(step.line, |e| e.line),
                 request: step.text.clone(),
@@ -194,11 +204,18 @@ fn check_spool(
     }
 }
 
+/// A fresh emulator for a trace: its start position and cycle, spool log
+/// on.
+pub fn fresh_emulator(header: &Header) -> Emulator {
+    let mut emu = Emulator::new(header.start, header.cycle_s);
+    emu.set_spool_log(true);
+    emu
+}
+
 /// Replays `trace` on a fresh emulator; returns every mismatch (empty when
 /// the trace passes).
 pub fn replay(trace: &Trace) -> Vec<Mismatch> {
-    let mut emu = Emulator::new(trace.start, trace.cycle_s);
-    emu.set_spool_log(true);
+    let mut emu = fresh_emulator(&trace.header);
     replay_on(trace, &mut emu)
 }
 
@@ -207,43 +224,178 @@ pub fn replay(trace: &Trace) -> Vec<Mismatch> {
 pub fn replay_on(trace: &Trace, target: &mut dyn Target) -> Vec<Mismatch> {
     let mut out = Vec::new();
     for step in &trace.steps {
-        let got = target.run(&step.request);
-        if !matches(&step.expect, &got, trace.tol) {
-            out.push(Mismatch {
-                file: trace.file.clone(),
-                line: step.line,
-                request: step.text.clone(),
-                expected: describe_expect(&step.expect),
-                got: describe(&got),
-            });
+        if !replay_step(step, &trace.header, target, &mut |m| out.push(m)) {
+            break;
         }
-        let fail = |out: &mut Vec<Mismatch>, e: String| {
-            out.push(Mismatch {
-                file: trace.file.clone(),
-                line: step.line,
-                request: step.text.clone(),
-                expected: "a spool log".into(),
-                got: e,
-            })
-        };
-        let spooled = match target.take_spooled() {
-            Ok(s) => s,
-            Err(e) => {
-                fail(&mut out, e);
-                break;
-            }
-        };
-        if spooled.is_empty() && step.spool.is_empty() {
-            continue;
-        }
-        let axis_nr = match target.axis_nr() {
-            Ok(a) => a,
-            Err(e) => {
-                fail(&mut out, e);
-                break;
-            }
-        };
-        check_spool(step, &spooled, axis_nr, trace.tol, &trace.file, &mut out);
     }
     out
+}
+
+/// How a streamed replay went.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Replayed {
+    /// Requests replayed.
+    pub steps: usize,
+    /// Mismatches reported.
+    pub mismatches: usize,
+}
+
+/// Replays a trace while reading it, against a target already set up for
+/// its header; hands each mismatch to `report` as it is found. Only the
+/// step being replayed is in memory. A malformed line ends the replay with
+/// its error (the steps before it have been replayed and reported).
+pub fn replay_stream<R: BufRead>(
+    reader: &mut TraceReader<R>,
+    target: &mut dyn Target,
+    report: &mut dyn FnMut(Mismatch),
+) -> Result<Replayed, TraceError> {
+    let header = reader.header().clone();
+    let mut done = Replayed::default();
+    let mut count = |m: Mismatch| {
+        done.mismatches += 1;
+        report(m);
+    };
+    let mut steps = 0;
+    for step in reader {
+        let step = step?;
+        steps += 1;
+        if !replay_step(&step, &header, target, &mut count) {
+            break;
+        }
+    }
+    done.steps = steps;
+    Ok(done)
+}
+
+/// Replays one step; `false` when the target broke and the rest of the
+/// trace cannot run.
+fn replay_step(
+    step: &Step,
+    header: &Header,
+    target: &mut dyn Target,
+    report: &mut dyn FnMut(Mismatch),
+) -> bool {
+    let mismatch = |expected: String, got: String| Mismatch {
+        file: header.file.clone(),
+        line: step.line,
+        request: step.text.clone(),
+        expected,
+        got,
+    };
+    let got = target.run(&step.request);
+    if !matches(&step.expect, &got, header.tol) {
+        report(mismatch(describe_expect(&step.expect), describe(&got)));
+    }
+    let spooled = match target.take_spooled() {
+        Ok(s) => s,
+        Err(e) => {
+            report(mismatch("a spool log".into(), e));
+            return false;
+        }
+    };
+    if spooled.is_empty() && step.spool.is_empty() {
+        return true;
+    }
+    match target.axis_nr() {
+        Ok(axis_nr) => {
+            check_spool(step, &spooled, axis_nr, header.tol, &header.file, report);
+            true
+        }
+        Err(e) => {
+            report(mismatch("a spool log".into(), e));
+            false
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::{BufReader, Read};
+
+    /// `lines` copies of one trace line, then a read error: input that
+    /// cannot be read whole before replaying.
+    struct FailsAfter {
+        lines: usize,
+        text: &'static [u8],
+        at: usize,
+    }
+
+    impl Read for FailsAfter {
+        fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+            if self.lines == 0 {
+                return Err(std::io::Error::other("cable pulled"));
+            }
+            let rest = &self.text[self.at..];
+            let n = rest.len().min(buf.len());
+            buf[..n].copy_from_slice(&rest[..n]);
+            self.at += n;
+            if self.at == self.text.len() {
+                self.at = 0;
+                self.lines -= 1;
+            }
+            Ok(n)
+        }
+    }
+
+    #[test]
+    fn steps_replay_as_they_are_read() {
+        let input = FailsAfter {
+            lines: 1000,
+            text: b"R 1300/0/3/0 i => 18\n",
+            at: 0,
+        };
+        let mut reader = TraceReader::open("stream.trace", BufReader::new(input)).unwrap();
+        let mut emu = fresh_emulator(reader.header());
+        let mut lines = Vec::new();
+        let e = replay_stream(&mut reader, &mut emu, &mut |m| lines.push(m.line)).unwrap_err();
+        // Every step before the failing read was replayed and reported;
+        // the last line read stays unreplayed, as `<` lines might follow.
+        assert_eq!(lines.len(), 999);
+        assert!(lines.iter().copied().eq(1..=999));
+        assert_eq!(e.line, 1001);
+        assert!(e.message.contains("cable pulled"), "{e}");
+        assert_eq!(reader.next(), None);
+    }
+
+    #[test]
+    fn counts_steps_and_mismatches() {
+        let text = "@tol 0.1\nR 1300/0/3/0 i => 17\nR 1300/0/3/0 i => 1\nPOS => X0\n";
+        let mut reader = TraceReader::open("count.trace", text.as_bytes()).unwrap();
+        let mut emu = fresh_emulator(reader.header());
+        let done = replay_stream(&mut reader, &mut emu, &mut |_| {}).unwrap();
+        assert_eq!(
+            done,
+            Replayed {
+                steps: 3,
+                mismatches: 1
+            }
+        );
+    }
+
+    #[test]
+    fn long_requests_are_echoed_short() {
+        let request = format!("LIN X1.{}", "0".repeat(300));
+        let m = Mismatch {
+            file: "long.trace".into(),
+            line: 7,
+            request: request.clone(),
+            expected: "err State".into(),
+            got: "ok".into(),
+        };
+        let shown = m.to_string();
+        assert!(!shown.contains(&request), "{shown}");
+        let cut = format!("`{}…` (307 characters)", &request[..120]);
+        assert!(shown.contains(&cut), "{shown}");
+        assert!(shown.starts_with("long.trace:7: "), "{shown}");
+        assert!(shown.ends_with(": expected err State, got ok"), "{shown}");
+        let short = Mismatch {
+            request: "LIN X1".into(),
+            ..m
+        };
+        assert_eq!(
+            short.to_string(),
+            "long.trace:7: `LIN X1`: expected err State, got ok"
+        );
+    }
 }

@@ -8,26 +8,36 @@ use crate::axes::{axis_index, AxisWords};
 /// What is wrong with a piece of text (a message for the user).
 pub type TextResult<T> = Result<T, String>;
 
-/// Parses an integer: decimal or `0x` hex, optionally signed. Hex values
-/// up to `0xffffffff` are read as the i32 with that bit pattern.
+/// Parses an integer: decimal or `0x` hex digits, with at most one sign,
+/// before the digits or before `0x` (`-5`, `+0x1f`, `-0x10`). Hex values
+/// up to `0xffffffff` without `-` are read as the i32 with that bit
+/// pattern; anything else outside the i32 range is an error.
 pub fn parse_int(s: &str) -> TextResult<i32> {
     let (neg, body) = match s.strip_prefix('-') {
         Some(b) => (true, b),
         None => (false, s.strip_prefix('+').unwrap_or(s)),
     };
-    let hex = body.strip_prefix("0x").or_else(|| body.strip_prefix("0X"));
-    let mag: i64 = match hex {
-        Some(h) => i64::from_str_radix(h, 16).map_err(|_| format!("bad integer `{s}`"))?,
-        None if !body.is_empty() && body.bytes().all(|b| b.is_ascii_digit()) => body
-            .parse()
-            .map_err(|_| format!("integer `{s}` out of range"))?,
-        None => return Err(format!("bad integer `{s}`")),
+    let (digits, radix) = match body.strip_prefix("0x").or_else(|| body.strip_prefix("0X")) {
+        Some(h) => (h, 16),
+        None => (body, 10),
     };
-    if !neg && hex.is_some() && (0..=0xffff_ffff).contains(&mag) {
-        return Ok(mag as u32 as i32);
+    // Digits only: `from_str_radix` would take one more sign after `0x`.
+    if digits.is_empty() || !digits.chars().all(|c| c.is_digit(radix)) {
+        return Err(format!("bad integer `{s}`"));
     }
-    let v = if neg { -mag } else { mag };
-    i32::try_from(v).map_err(|_| format!("integer `{s}` out of range"))
+    let out_of_range = || format!("integer `{s}` out of range");
+    let mag = u64::from_str_radix(digits, radix).map_err(|_| out_of_range())?;
+    if !neg && radix == 16 {
+        if let Ok(bits) = u32::try_from(mag) {
+            return Ok(i32::from_ne_bytes(bits.to_ne_bytes()));
+        }
+    }
+    let v = if neg {
+        -i128::from(mag)
+    } else {
+        i128::from(mag)
+    };
+    i32::try_from(v).map_err(|_| out_of_range())
 }
 
 /// Parses a double (`inf`, `-inf`, `nan` allowed, to test rejection).
@@ -136,6 +146,53 @@ mod tests {
         assert_eq!(parse_f64("-inf"), Ok(f64::NEG_INFINITY));
         assert!(parse_f64("1.2.3").is_err());
         assert!(parse_f64("1x").is_err());
+    }
+
+    #[test]
+    fn integer_edges_and_signs() {
+        for (text, want) in [
+            ("2147483647", Some(i32::MAX)),
+            ("-2147483648", Some(i32::MIN)),
+            ("+2147483647", Some(i32::MAX)),
+            ("2147483648", None),
+            ("-2147483649", None),
+            ("0x7fffffff", Some(i32::MAX)),
+            ("0x80000000", Some(i32::MIN)),
+            ("-0x80000000", Some(i32::MIN)),
+            ("-0x80000001", None),
+            ("-0xffffffff", None),
+            ("+0xffffffff", Some(-1)),
+            ("0X1F", Some(31)),
+            ("-0x1f", Some(-31)),
+            ("0x100000000", None),
+            ("9223372036854775807", None),
+            ("-9223372036854775808", None),
+            ("-9223372036854775809", None),
+            ("0x7fffffffffffffff", None),
+            ("-0x8000000000000000", None),
+            ("0xffffffffffffffff", None),
+            ("0x10000000000000000", None),
+            ("-0x-8000000000000000", None),
+            ("-0x-1", None),
+            ("0x-1", None),
+            ("0x+1f", None),
+            ("+0x+1", None),
+            ("--5", None),
+            ("+-5", None),
+            ("-+5", None),
+            ("5-", None),
+            ("0x", None),
+            ("-", None),
+            ("-0x", None),
+            ("0x 1", None),
+            ("١٢", None),
+        ] {
+            assert_eq!(parse_int(text).ok(), want, "{text:?}");
+        }
+        assert!(parse_int("0x-1").unwrap_err().contains("bad integer"));
+        assert!(parse_int("-0x80000001")
+            .unwrap_err()
+            .contains("out of range"));
     }
 
     #[test]
