@@ -219,19 +219,25 @@ fn bin() -> Command {
 fn start_serve() -> Serve {
     let mut child = bin()
         .args(["serve", "--listen", "127.0.0.1:0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
         .spawn()
         .expect("start serve");
+    // The start line is the server's log line on stderr naming the address.
+    let mut log = BufReader::new(child.stderr.take().expect("stderr"));
     let mut line = String::new();
-    BufReader::new(child.stdout.take().expect("stdout"))
-        .read_line(&mut line)
-        .expect("banner");
+    while !line.contains("serving") {
+        line.clear();
+        let n = log.read_line(&mut line).expect("start line");
+        assert!(n > 0, "serve ended without a start line");
+    }
     let addr = line
         .split_whitespace()
-        .find(|w| w.starts_with("127.0.0.1:"))
+        .find_map(|w| w.strip_prefix("listen="))
         .unwrap_or_else(|| panic!("no address in {line:?}"))
         .to_string();
+    // Keep draining the log so that the server never blocks on it.
+    std::thread::spawn(move || std::io::copy(&mut log, &mut std::io::sink()));
     Serve(child, addr)
 }
 
