@@ -9,11 +9,11 @@
 
 use crate::bits::ErrorBits;
 use crate::element::{ContourNormal, NormalRule, Origin, SpoolElement};
-use crate::geometry::angle::turn_at_most;
-use crate::geometry::tolerance::{FULL_CIRCLE, ZERO_ARC};
+use crate::geometry::full_circle::{keeps_whole_turn, start_shift, whole_turn_end};
+use crate::geometry::tolerance::ZERO_ARC;
 use crate::geometry::{
-    classify, inside_point, transition, Contour, CornerKind, Offset, OffsetError, OffsetPath, Part,
-    Transition, V2,
+    classify, inside_point, transition, Contour, CornerKind, Offset, OffsetError, Part, Transition,
+    V2,
 };
 use crate::group::TransitionMode;
 use crate::plane::{AxisPos, PlaneAxes};
@@ -140,31 +140,39 @@ struct Held {
     approach: bool,
     /// Where its corrected element starts; `None` for an approach line.
     from: Option<V2>,
+    /// A programmed full circle that keeps its whole turn.
+    whole_turn: bool,
 }
 
 impl Held {
     /// Its part for an inside corner: from the corrected start to `pa`;
-    /// a programmed full circle starting on its offset start keeps its
-    /// whole turn.
+    /// the whole circle for a full circle that keeps its whole turn.
     fn part(&self) -> Part {
         Part {
             path: self.off.path,
             from: self.from,
             to: self.off.end,
-            full: self.contour.is_full_circle()
-                && self.from.is_some_and(|x| on_offset_start(&self.off, x)),
+            full: self.whole_turn,
         }
+    }
+
+    /// Where its corrected element ends when its corner asks for `x`: a
+    /// whole turn that would end just past its start (`here`) ends on it.
+    fn end_at(&self, here: V2, x: V2) -> V2 {
+        if !self.whole_turn {
+            return x;
+        }
+        let shift = start_shift(&self.off, here);
+        whole_turn_end(&self.off, here, shift, x)
     }
 }
 
-/// Whether `x` lies within
-/// [`FULL_CIRCLE`](crate::geometry::tolerance::FULL_CIRCLE) of
-/// the offset start about the arc centre.
-fn on_offset_start(off: &Offset, x: V2) -> bool {
-    let OffsetPath::Arc { centre, .. } = off.path else {
-        return false;
-    };
-    turn_at_most(x - centre, off.start - centre, FULL_CIRCLE)
+/// Whether the profile `contour` (offset `off`) whose corrected element
+/// starts at `from` is a full circle that keeps its whole turn;
+/// `continued` when it continues from the previous element's end (corner
+/// case 1).
+fn whole_turn(contour: &Contour, off: &Offset, from: V2, continued: bool) -> bool {
+    contour.is_full_circle() && keeps_whole_turn(start_shift(off, from), continued)
 }
 
 /// A plane-null profile waiting with the held one.
@@ -184,6 +192,8 @@ struct Join {
     transition: Option<Transition>,
     /// Where b's corrected element starts.
     b_from: V2,
+    /// b continues from a's end (case 1).
+    continued: bool,
 }
 
 /// The one-profile buffer of a group. Empty means the next profile is an
@@ -213,6 +223,7 @@ fn corner(a: &Held, b: &Offset, b_full: bool, mode: TransitionMode) -> Result<Jo
             a_end: pa,
             transition: None,
             b_from: pa,
+            continued: true,
         }),
         CornerKind::Outside => {
             let linear = mode == TransitionMode::Linear;
@@ -221,6 +232,7 @@ fn corner(a: &Held, b: &Offset, b_full: bool, mode: TransitionMode) -> Result<Jo
                 a_end: pa,
                 transition: Some(t),
                 b_from: b.start,
+                continued: false,
             })
         }
         CornerKind::Inside => {
@@ -235,6 +247,7 @@ fn corner(a: &Held, b: &Offset, b_full: bool, mode: TransitionMode) -> Result<Jo
                 a_end: x,
                 transition: None,
                 b_from: x,
+                continued: false,
             })
         }
     }
@@ -276,14 +289,15 @@ impl Buffer {
         }
         let off = prof.contour.offset(d).map_err(offset_error)?;
         // The held profile is read in place (no copy of it).
-        let (approach, from) = match &self.held {
+        let (approach, from, whole) = match &self.held {
             Some(a) if a.off.d == d => {
                 let join = corner(a, &off, prof.contour.is_full_circle(), mode)?;
                 spool_held(a, join.a_end, &mut self.nulls, &mut self.last_normal, sink);
                 if let Some(t) = join.transition {
                     spool_transition(t, a.contour.ends().1, prof, sink);
                 }
-                (false, Some(join.b_from))
+                let whole = whole_turn(&prof.contour, &off, join.b_from, join.continued);
+                (false, Some(join.b_from), whole)
             }
             held => {
                 if held.is_some() {
@@ -291,14 +305,21 @@ impl Buffer {
                     self.flush(sink);
                 }
                 let from = matches!(prof.contour, Contour::Arc { .. }).then_some(off.start);
-                (true, from)
+                (true, from, prof.contour.is_full_circle())
             }
         };
-        self.hold(prof, off, approach, from);
+        self.hold(prof, off, approach, from, whole);
         Ok(())
     }
 
-    fn hold(&mut self, prof: &Profile, off: Offset, approach: bool, from: Option<V2>) {
+    fn hold(
+        &mut self,
+        prof: &Profile,
+        off: Offset,
+        approach: bool,
+        from: Option<V2>,
+        whole_turn: bool,
+    ) {
         // Copied field by field from the borrowed profile: built in place,
         // this saves a whole-`Profile` temporary (208 bytes) per profile
         // on the hot path (callgrind, saw-tooth bench).
@@ -311,6 +332,7 @@ impl Buffer {
             off,
             approach,
             from,
+            whole_turn,
         });
     }
 
@@ -343,7 +365,7 @@ impl Buffer {
 
 /// Spools the held profile's corrected element(s) up to `x`, then the
 /// plane-null profiles waiting with it; `last_normal` becomes the contour
-/// normal at `x`.
+/// normal where it ends.
 fn spool_held(
     a: &Held,
     x: V2,
@@ -351,8 +373,7 @@ fn spool_held(
     last_normal: &mut Option<V2>,
     sink: &mut Sink,
 ) {
-    let n_end = a.off.normal_at(x);
-    match a.contour {
+    let x = match a.contour {
         Contour::Line { .. } => {
             let origin = if a.approach {
                 Origin::Approach
@@ -360,29 +381,40 @@ fn spool_held(
                 Origin::Corrected
             };
             let end = sink.end_point(x, &a.end);
-            sink.line(end, a.feed, a.rapid, origin, Some(rule_of(n_end)));
+            let n = rule_of(a.off.normal_at(x));
+            sink.line(end, a.feed, a.rapid, origin, Some(n));
+            x
         }
-        Contour::Arc { centre, sigma, .. } => {
-            if a.approach {
-                let end = sink.end_point(a.off.start, &a.start);
-                let n = rule_of(a.off.normal_at(a.off.start));
-                sink.line(end, a.feed, a.rapid, Origin::Approach, Some(n));
-            }
-            let zero = (sink.here() - x).norm() <= ZERO_ARC;
-            if !zero || a.contour.is_full_circle() {
-                let end = sink.end_point(x, &a.end);
-                let rule = NormalRule::Radial {
-                    centre: [centre.x, centre.y],
-                    outward: a.off.tool_outside_arc(sigma),
-                };
-                sink.arc(end, centre, sigma > 0.0, a.feed, Origin::Corrected, rule);
-            }
-        }
-    }
+        Contour::Arc { centre, sigma, .. } => spool_held_arc(a, centre, sigma, x, sink),
+    };
+    let n_end = a.off.normal_at(x);
     *last_normal = Some(n_end);
     for n in nulls.drain(..) {
         spool_null(&n, Some(n_end), sink);
     }
+}
+
+/// Spools the held arc (after its approach line, for an approach) up to
+/// `x`, or where its whole turn ends; an arc cut to zero length is not
+/// spooled, a full circle always is. Returns where it ends.
+fn spool_held_arc(a: &Held, centre: V2, sigma: f64, x: V2, sink: &mut Sink) -> V2 {
+    if a.approach {
+        let end = sink.end_point(a.off.start, &a.start);
+        let n = rule_of(a.off.normal_at(a.off.start));
+        sink.line(end, a.feed, a.rapid, Origin::Approach, Some(n));
+    }
+    let here = sink.here();
+    let x = a.end_at(here, x);
+    let zero = (here - x).norm() <= ZERO_ARC;
+    if !zero || a.contour.is_full_circle() {
+        let end = sink.end_point(x, &a.end);
+        let rule = NormalRule::Radial {
+            centre: [centre.x, centre.y],
+            outward: a.off.tool_outside_arc(sigma),
+        };
+        sink.arc(end, centre, sigma > 0.0, a.feed, Origin::Corrected, rule);
+    }
+    x
 }
 
 /// Spools a plane-null profile at the current tool position; it keeps the
