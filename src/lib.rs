@@ -14,6 +14,7 @@
 //! assert!(replay(&trace).is_empty());
 //! ```
 
+pub mod access;
 pub mod config;
 pub mod emulator;
 pub mod remote;

@@ -2,16 +2,19 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::Duration;
 
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand};
 
+use addipos::access;
 use addipos::config::{Config, DEFAULT_CONFIG};
 use addipos::remote::{replay_remote, RemoteTarget};
 use addipos::service::EmulatorService;
 use addipos::trace::{load_trace, replay, trace_files, Mismatch};
 use tc_request::text::parse_request;
 use tc_request::Reply;
-use uoi::tcp::Server;
+use uoi::tcp::{AccessToken, ClientError, ClientOptions, Server};
+use uoi::wire::ProtocolError;
 
 /// Emulator of the ADDIPOS TC module (UOI bus 1300) with OTC wear compensation.
 #[derive(Parser)]
@@ -47,6 +50,8 @@ enum Command {
         /// The request in trace syntax (R, W, LIN, CIR, JA, JS, SSF, RS, EXEC, POS, QUEUE).
         #[arg(required = true, num_args = 1.., allow_hyphen_values = true)]
         request: Vec<String>,
+        #[command(flatten)]
+        remote: RemoteArgs,
     },
     /// Replay conformance traces (*.trace) against a fresh emulator each and
     /// report every mismatch; exits non-zero if any trace fails.
@@ -60,7 +65,82 @@ enum Command {
         /// Print a line for every trace, not only failing ones.
         #[arg(short, long)]
         verbose: bool,
+        #[command(flatten)]
+        remote: RemoteArgs,
     },
+}
+
+/// How `call` and `replay --server` reach the server.
+#[derive(Args)]
+struct RemoteArgs {
+    /// Longest wait, in seconds, for the connection and for each answer
+    /// [default: 5 for the connection, 30 for an answer].
+    #[arg(long, value_name = "SECS", value_parser = parse_secs)]
+    timeout: Option<Duration>,
+    /// Access token to present (a server with allow_remote asks remote
+    /// clients for it).
+    #[arg(
+        long,
+        value_name = "TOKEN",
+        env = "ADDIPOS_TOKEN",
+        hide_env_values = true
+    )]
+    token: Option<String>,
+    /// File holding the access token (the server's <data_dir>/access-token).
+    #[arg(long, value_name = "FILE", conflicts_with = "token")]
+    token_file: Option<PathBuf>,
+}
+
+fn parse_secs(s: &str) -> Result<Duration, String> {
+    s.parse::<f64>()
+        .ok()
+        .filter(|v| *v > 0.0)
+        .and_then(|v| Duration::try_from_secs_f64(v).ok())
+        .ok_or_else(|| format!("`{s}` is not a number of seconds above 0"))
+}
+
+impl RemoteArgs {
+    /// The client options these arguments give.
+    fn options(&self) -> Result<ClientOptions, String> {
+        let mut opts = ClientOptions::default();
+        if let Some(t) = self.timeout {
+            opts.connect_timeout = t;
+            opts.request_timeout = t;
+        }
+        opts.token = match (&self.token_file, &self.token) {
+            (Some(f), _) => Some(access::read_token_file(f).map_err(|e| e.to_string())?),
+            (None, Some(t)) => Some(AccessToken::new(t).map_err(|e| format!("--token: {e}"))?),
+            (None, None) => None,
+        };
+        Ok(opts)
+    }
+}
+
+/// Connects `call` or `replay --server`, or says why not.
+fn connect(addr: &str, args: &RemoteArgs) -> Result<RemoteTarget, String> {
+    let opts = args.options()?;
+    RemoteTarget::connect_with(addr, &opts).map_err(|e| match e {
+        ClientError::TimedOut { .. } => e.to_string(),
+        e => format!("cannot connect to {addr}: {e}{}", token_hint(&e)),
+    })
+}
+
+/// A hint for an `Unauthorized` answer.
+fn token_hint(e: &ClientError) -> &'static str {
+    match e {
+        ClientError::Protocol(p) => protocol_hint(*p),
+        _ => "",
+    }
+}
+
+/// What to do about a protocol error, if the user can do something.
+fn protocol_hint(e: ProtocolError) -> &'static str {
+    match e {
+        ProtocolError::Unauthorized => {
+            " (pass the server's access token with --token-file FILE, --token or ADDIPOS_TOKEN)"
+        }
+        _ => "",
+    }
 }
 
 fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
@@ -75,7 +155,12 @@ fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
     Ok(out)
 }
 
-fn cmd_replay(files: &[PathBuf], server: Option<&str>, verbose: bool) -> ExitCode {
+fn cmd_replay(
+    files: &[PathBuf],
+    server: Option<&str>,
+    verbose: bool,
+    remote_args: &RemoteArgs,
+) -> ExitCode {
     let files = match expand(files) {
         Ok(f) => f,
         Err(e) => {
@@ -83,14 +168,11 @@ fn cmd_replay(files: &[PathBuf], server: Option<&str>, verbose: bool) -> ExitCod
             return ExitCode::from(2);
         }
     };
-    let mut remote = match server.map(RemoteTarget::connect) {
+    let mut remote = match server.map(|s| connect(s, remote_args)) {
         None => None,
         Some(Ok(r)) => Some(r),
         Some(Err(e)) => {
-            eprintln!(
-                "error: cannot connect to {}: {e}",
-                server.unwrap_or_default()
-            );
+            eprintln!("error: {e}");
             return ExitCode::from(2);
         }
     };
@@ -128,7 +210,7 @@ fn cmd_replay(files: &[PathBuf], server: Option<&str>, verbose: bool) -> ExitCod
     }
 }
 
-fn cmd_call(addr: &str, words: &[String]) -> ExitCode {
+fn cmd_call(addr: &str, words: &[String], remote_args: &RemoteArgs) -> ExitCode {
     let text = words.join(" ");
     let req = match parse_request(&text) {
         Ok(r) => r,
@@ -137,10 +219,10 @@ fn cmd_call(addr: &str, words: &[String]) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let mut client = match RemoteTarget::connect(addr) {
+    let mut client = match connect(addr, remote_args) {
         Ok(c) => c,
         Err(e) => {
-            eprintln!("error: cannot connect to {addr}: {e}");
+            eprintln!("error: {e}");
             return ExitCode::from(2);
         }
     };
@@ -160,16 +242,34 @@ fn cmd_call(addr: &str, words: &[String]) -> ExitCode {
             println!("err {}", e.name());
             return ExitCode::FAILURE;
         }
+        Ok(Reply::Protocol(e)) => {
+            eprintln!("error: {e}{}", protocol_hint(e));
+            return ExitCode::FAILURE;
+        }
         Ok(other) => {
             eprintln!("error: unexpected answer {other:?}");
             return ExitCode::FAILURE;
         }
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {e}{}", token_hint(&e));
             return ExitCode::FAILURE;
         }
     }
     ExitCode::SUCCESS
+}
+
+/// The server's access token, read or generated; the log names its file
+/// (not the token itself: logs are often read more widely than the file).
+fn server_token(data_dir: &Path) -> std::io::Result<AccessToken> {
+    let t = access::load_or_create(data_dir)?;
+    let file = t.path.display();
+    if t.created {
+        tracing::info!("generated a new access token in {file}");
+    }
+    tracing::info!(
+        "clients must present the access token in {file} (call/replay: --token-file FILE)"
+    );
+    Ok(t.token)
 }
 
 async fn shutdown_signal() {
@@ -219,13 +319,22 @@ fn cmd_serve(config: Option<&Path>, listen: Option<String>, allow_remote: bool) 
         cfg.listen = l;
     }
     cfg.allow_remote |= allow_remote;
-    let (server_cfg, cycle_s) = match (cfg.server(), cfg.cycle_s()) {
+    let (mut server_cfg, cycle_s) = match (cfg.server(), cfg.cycle_s()) {
         (Ok(s), Ok(c)) => (s, c),
         (Err(e), _) | (_, Err(e)) => {
             eprintln!("error: {e}");
             return ExitCode::from(2);
         }
     };
+    if cfg.wants_token() {
+        match server_token(&cfg.data_dir) {
+            Ok(t) => server_cfg.access.token = Some(t),
+            Err(e) => {
+                eprintln!("error: access token: {e}");
+                return ExitCode::from(2);
+            }
+        }
+    }
     let rt = match tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .build()
@@ -275,11 +384,16 @@ fn main() -> ExitCode {
             }
             cmd_serve(config.as_deref(), listen, allow_remote)
         }
-        Command::Call { addr, request } => cmd_call(&addr, &request),
+        Command::Call {
+            addr,
+            request,
+            remote,
+        } => cmd_call(&addr, &request, &remote),
         Command::Replay {
             files,
             server,
             verbose,
-        } => cmd_replay(&files, server.as_deref(), verbose),
+            remote,
+        } => cmd_replay(&files, server.as_deref(), verbose, &remote),
     }
 }
