@@ -108,6 +108,14 @@ impl Serve {
     }
 }
 
+/// A failed test does not leave the server running.
+impl Drop for Serve {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
 /// Issue 8, point 13, end to end: `serve` generates the token file
 /// (owner only), logs where it is but not the token, and `call` gets in
 /// only with the token (file, option or environment).
