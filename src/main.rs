@@ -13,7 +13,7 @@ use addipos::service::EmulatorService;
 use addipos::trace::{load_trace, replay, trace_files, Mismatch};
 use tc_request::text::parse_request;
 use tc_request::Reply;
-use uoi::tcp::{AccessToken, ClientError, ClientOptions, Server};
+use uoi::tcp::{AccessToken, ClientError, ClientOptions, Server, ServerConfig};
 use uoi::wire::ProtocolError;
 
 /// Emulator of the ADDIPOS TC module (UOI bus 1300) with OTC wear compensation.
@@ -258,6 +258,18 @@ fn cmd_call(addr: &str, words: &[String], remote_args: &RemoteArgs) -> ExitCode 
     ExitCode::SUCCESS
 }
 
+/// The server's settings and the interpolation cycle, checked, with the
+/// access token if the settings want one.
+fn server_settings(cfg: &Config) -> Result<(ServerConfig, f64), String> {
+    let mut server_cfg = cfg.server().map_err(|e| e.to_string())?;
+    let cycle_s = cfg.cycle_s().map_err(|e| e.to_string())?;
+    if cfg.wants_token() {
+        let token = server_token(&cfg.data_dir).map_err(|e| format!("access token: {e}"))?;
+        server_cfg.access.token = Some(token);
+    }
+    Ok((server_cfg, cycle_s))
+}
+
 /// The server's access token, read or generated; the log names its file
 /// (not the token itself: logs are often read more widely than the file).
 fn server_token(data_dir: &Path) -> std::io::Result<AccessToken> {
@@ -319,22 +331,13 @@ fn cmd_serve(config: Option<&Path>, listen: Option<String>, allow_remote: bool) 
         cfg.listen = l;
     }
     cfg.allow_remote |= allow_remote;
-    let (mut server_cfg, cycle_s) = match (cfg.server(), cfg.cycle_s()) {
-        (Ok(s), Ok(c)) => (s, c),
-        (Err(e), _) | (_, Err(e)) => {
+    let (server_cfg, cycle_s) = match server_settings(&cfg) {
+        Ok(s) => s,
+        Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::from(2);
         }
     };
-    if cfg.wants_token() {
-        match server_token(&cfg.data_dir) {
-            Ok(t) => server_cfg.access.token = Some(t),
-            Err(e) => {
-                eprintln!("error: access token: {e}");
-                return ExitCode::from(2);
-            }
-        }
-    }
     let rt = match tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .build()

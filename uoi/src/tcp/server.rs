@@ -22,7 +22,8 @@ use super::idle::Watchdog;
 use super::peers::Peers;
 use crate::wire::{Answer, ProtocolError, Request, ServerCodec};
 
-/// What serves the requests: the emulator, in `addipos`.
+/// What serves the requests: the emulator, in `addipos`. HELLO frames
+/// are answered by the connection itself and never reach it.
 pub trait Handler: Send + 'static {
     /// Answers one request.
     fn handle(&mut self, req: Request) -> Answer;
