@@ -86,8 +86,9 @@ struct RemoteArgs {
         hide_env_values = true
     )]
     token: Option<String>,
-    /// File holding the access token (the server's <data_dir>/access-token).
-    #[arg(long, value_name = "FILE", conflicts_with = "token")]
+    /// File holding the access token (the server's <data_dir>/access-token);
+    /// takes precedence over --token and ADDIPOS_TOKEN.
+    #[arg(long, value_name = "FILE")]
     token_file: Option<PathBuf>,
 }
 
@@ -274,7 +275,8 @@ fn server_settings(cfg: &Config) -> Result<(ServerConfig, f64), String> {
 /// (not the token itself: logs are often read more widely than the file).
 fn server_token(data_dir: &Path) -> std::io::Result<AccessToken> {
     let t = access::load_or_create(data_dir)?;
-    let file = t.path.display();
+    let path = std::path::absolute(&t.path).unwrap_or_else(|_| t.path.clone());
+    let file = path.display();
     if t.created {
         tracing::info!("generated a new access token in {file}");
     }

@@ -503,3 +503,46 @@ fn the_client_gives_up_on_a_silent_or_full_server() {
         );
     });
 }
+
+/// This machine's address on its first non-loopback interface, if it
+/// has one (a UDP socket "connected" to a documentation address sends
+/// nothing, but picks the source address a route would use).
+fn non_loopback_address() -> Option<std::net::IpAddr> {
+    let s = std::net::UdpSocket::bind("0.0.0.0:0").ok()?;
+    s.connect("192.0.2.1:9").ok()?;
+    let ip = s.local_addr().ok()?.ip();
+    (!ip.is_loopback() && !ip.is_unspecified()).then_some(ip)
+}
+
+/// Issue 8, point 13, with a real non-loopback peer where the machine
+/// has a network interface: a server on 0.0.0.0 asks a connection to its
+/// network address for the token, not one over loopback.
+#[test]
+fn a_peer_on_the_network_must_present_the_token() {
+    let Some(ip) = non_loopback_address() else {
+        eprintln!("no non-loopback interface: skipped");
+        return;
+    };
+    let (addr, _stop) = serve(ServerConfig {
+        listen: "0.0.0.0:0".parse().expect("addr"),
+        allow_remote: true,
+        access: AccessPolicy {
+            token: Some(token()),
+            on_loopback: false,
+        },
+        ..ServerConfig::default()
+    });
+    let remote = SocketAddr::new(ip, addr.port());
+    let mut s = connect(remote);
+    s.write_all(&read_frame(3)).expect("write");
+    assert_eq!(read_head(&mut s), (3, 0x01, UNAUTHORIZED));
+    let mut s = connect(remote);
+    s.write_all(&hello_frame(1, token().as_bytes()))
+        .expect("write");
+    assert_eq!(read_head(&mut s), (1, HELLO, 0));
+    s.write_all(&read_frame(3)).expect("write");
+    assert_eq!(read_answer(&mut s), (3, 3));
+    let mut s = connect(SocketAddr::from(([127, 0, 0, 1], addr.port())));
+    s.write_all(&read_frame(4)).expect("write");
+    assert_eq!(read_answer(&mut s), (4, 4));
+}

@@ -4,6 +4,7 @@
 //! presented the access token, or when the watchdog closes it (idle,
 //! answers not taken, or the server stopping).
 
+use std::net::SocketAddr;
 use std::sync::Arc;
 
 use futures_util::{SinkExt, StreamExt};
@@ -40,6 +41,8 @@ pub(crate) struct Gatekeeper {
     /// The server's token; `None` when it asks none.
     token: Option<AccessToken>,
     authorized: bool,
+    /// The peer, for the log.
+    peer: SocketAddr,
 }
 
 /// Whether a connection goes on after an answer.
@@ -50,10 +53,13 @@ enum Then {
 }
 
 impl Gatekeeper {
-    /// A gate for a peer that is `authorized` already or must present
-    /// `token`.
-    pub(crate) fn new(token: Option<AccessToken>, authorized: bool) -> Self {
-        Self { token, authorized }
+    /// A gate for `peer`, `authorized` already or to present `token`.
+    pub(crate) fn new(token: Option<AccessToken>, authorized: bool, peer: SocketAddr) -> Self {
+        Self {
+            token,
+            authorized,
+            peer,
+        }
     }
 
     /// HELLO: `Ok` for the server's token, or any token when the server
@@ -62,7 +68,7 @@ impl Gatekeeper {
     fn hello(&mut self, presented: &[u8]) -> (Answer, Then) {
         match &self.token {
             Some(t) if !t.matches(presented) => {
-                warn!("wrong access token, closing");
+                warn!(peer = %self.peer, "wrong access token, closing");
                 (Answer::Protocol(ProtocolError::Unauthorized), Then::Close)
             }
             _ => {
@@ -158,12 +164,12 @@ impl<H: Handler> Connection<H> {
                 (reply(id, Op::Hello.code(), ans), then)
             }
             Ok((id, req)) if !self.gate.authorized => {
-                warn!("request before the access token, closing");
+                warn!(peer = %self.gate.peer, "request before the access token, closing");
                 let ans = Answer::Protocol(ProtocolError::Unauthorized);
                 (reply(id, req.op().code(), ans), Then::Close)
             }
             Err(r) if !self.gate.authorized => {
-                warn!("bad frame before the access token, closing");
+                warn!(peer = %self.gate.peer, "bad frame before the access token, closing");
                 let ans = Answer::Protocol(ProtocolError::Unauthorized);
                 (reply(r.id, r.op, ans), Then::Close)
             }

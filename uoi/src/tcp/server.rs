@@ -258,7 +258,13 @@ impl<H: Handler> Gate<H> {
         let authorized = !self.access.needs_token(peer.ip());
         self.tasks.spawn(async move {
             debug!(%peer, authorized, "connected");
-            serve_connection(stream, shared, activity, Gatekeeper::new(token, authorized)).await;
+            serve_connection(
+                stream,
+                shared,
+                activity,
+                Gatekeeper::new(token, authorized, peer),
+            )
+            .await;
             debug!(%peer, "disconnected");
             drop((permit, place));
         });
