@@ -105,6 +105,8 @@ async fn serve_ours(core: Core, tx: std::sync::mpsc::Sender<SocketAddr>) {
     let cfg = ServerConfig {
         listen: "127.0.0.1:0".parse().expect("addr"),
         core,
+        // Every bench connection comes from 127.0.0.1.
+        max_connections_per_peer: 256,
         ..ServerConfig::default()
     };
     let server = Server::bind(cfg, EmulatorService::new([0.0; 8], 1e-3))

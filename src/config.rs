@@ -1,11 +1,12 @@
 //! Settings of `addipos serve`: TOML, with built-in defaults
 //! (`config/default.toml`, embedded in the binary).
 
+use std::path::PathBuf;
 use std::time::Duration;
 
 use serde::Deserialize;
 use tc_module::AXES;
-use uoi::tcp::{Core, ServerConfig};
+use uoi::tcp::{AccessPolicy, Core, ServerConfig};
 
 use crate::address::parse_address;
 
@@ -22,12 +23,23 @@ pub const DEFAULT_CONFIG: &str = include_str!("../config/default.toml");
 pub struct Config {
     /// Listen address, in a form [`parse_address`] reads.
     pub listen: String,
-    /// Allow a non-loopback listen address.
+    /// Allow a non-loopback listen address; remote peers must then present
+    /// the access token.
     pub allow_remote: bool,
+    /// Ask programs on this machine (loopback peers) for the token too.
+    pub token_on_loopback: bool,
+    /// Folder of the server's own files (the access token); relative to
+    /// the working directory.
+    pub data_dir: PathBuf,
     /// Connections served at once.
     pub max_connections: usize,
+    /// Connections served at once from one peer address.
+    pub max_connections_per_peer: usize,
     /// Idle timeout in seconds.
     pub idle_timeout_s: u64,
+    /// Seconds the answers waiting for a client that does not read them
+    /// may take to leave before the connection is closed.
+    pub write_timeout_s: u64,
     /// `lock` or `owner`.
     pub core: String,
     /// Interpolation cycle in ms.
@@ -41,8 +53,12 @@ impl Default for Config {
         Self {
             listen: "127.0.0.1:1300".into(),
             allow_remote: false,
+            token_on_loopback: false,
+            data_dir: PathBuf::from("addipos-data"),
             max_connections: 256,
+            max_connections_per_peer: 16,
             idle_timeout_s: 300,
+            write_timeout_s: 30,
             core: "lock".into(),
             cycle_ms: 1.0,
             start: [0.0; AXES],
@@ -61,7 +77,15 @@ impl Config {
         toml::from_str(text).map_err(|e| ConfigError(format!("bad settings: {e}")))
     }
 
-    /// The server settings, checked.
+    /// Whether the server asks for an access token (kept in
+    /// [`data_dir`](Self::data_dir)): from remote peers with
+    /// `allow_remote`, from every peer with `token_on_loopback`.
+    pub fn wants_token(&self) -> bool {
+        self.allow_remote || self.token_on_loopback
+    }
+
+    /// The server settings, checked; the access token is still to be
+    /// given (`access.token`) when [`wants_token`](Self::wants_token).
     pub fn server(&self) -> Result<ServerConfig, ConfigError> {
         let listen = parse_address(&self.listen)
             .map_err(|e| ConfigError(format!("listen = \"{}\": {e}", self.listen)))?;
@@ -80,14 +104,29 @@ impl Config {
                 self.max_connections
             )));
         }
+        if !(1..=MAX_CONNECTIONS).contains(&self.max_connections_per_peer) {
+            return Err(ConfigError(format!(
+                "max_connections_per_peer = {} must lie in 1..={MAX_CONNECTIONS}",
+                self.max_connections_per_peer
+            )));
+        }
         if self.idle_timeout_s == 0 {
             return Err(ConfigError("idle_timeout_s must be at least 1".into()));
+        }
+        if self.write_timeout_s == 0 {
+            return Err(ConfigError("write_timeout_s must be at least 1".into()));
         }
         Ok(ServerConfig {
             listen,
             allow_remote: self.allow_remote,
             max_connections: self.max_connections,
+            max_connections_per_peer: self.max_connections_per_peer,
             idle_timeout: Duration::from_secs(self.idle_timeout_s),
+            write_timeout: Duration::from_secs(self.write_timeout_s),
+            access: AccessPolicy {
+                token: None,
+                on_loopback: self.token_on_loopback,
+            },
             core,
         })
     }
@@ -116,6 +155,9 @@ mod tests {
         let s = c.server().unwrap();
         assert_eq!(s.listen.to_string(), "127.0.0.1:1300");
         assert_eq!(s.max_connections, 256);
+        assert_eq!(s.max_connections_per_peer, 16);
+        assert_eq!(s.write_timeout, Duration::from_secs(30));
+        assert!(!c.wants_token());
     }
 
     #[test]
@@ -132,5 +174,13 @@ mod tests {
         assert!(c.cycle_s().is_err());
         let c = Config::parse("max_connections = 2305843009213693952").unwrap();
         assert!(c.server().unwrap_err().0.contains("max_connections"));
+        let c = Config::parse("max_connections_per_peer = 0").unwrap();
+        assert!(c
+            .server()
+            .unwrap_err()
+            .0
+            .contains("max_connections_per_peer"));
+        let c = Config::parse("write_timeout_s = 0").unwrap();
+        assert!(c.server().unwrap_err().0.contains("write_timeout_s"));
     }
 }

@@ -15,6 +15,7 @@
 //! assert!(replay(&trace).is_empty());
 //! ```
 
+pub mod access;
 pub mod address;
 pub mod config;
 pub mod emulator;

@@ -4,9 +4,11 @@ use std::io::IsTerminal;
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::Duration;
 
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand};
 
+use addipos::access;
 use addipos::address::parse_address;
 use addipos::config::{Config, DEFAULT_CONFIG};
 use addipos::remote::{setup_failed, RemoteTarget};
@@ -14,7 +16,8 @@ use addipos::service::EmulatorService;
 use addipos::trace::{fresh_emulator, open_trace, replay_stream, trace_files, Target};
 use tc_request::text::parse_request;
 use tc_request::Reply;
-use uoi::tcp::Server;
+use uoi::tcp::{AccessToken, ClientError, ClientOptions, Server};
+use uoi::wire::ProtocolError;
 
 /// Exit status when the command ran and found a failure: a trace that
 /// differs, an error answer to `call`, a server that failed while serving.
@@ -69,6 +72,8 @@ enum Command {
         /// The request in trace syntax (R, W, LIN, CIR, JA, JS, SSF, RS, EXEC, POS, QUEUE).
         #[arg(required = true, num_args = 1.., allow_hyphen_values = true)]
         request: Vec<String>,
+        #[command(flatten)]
+        remote: RemoteArgs,
     },
     /// Replay conformance traces (*.trace) against a fresh emulator each and
     /// report every mismatch; exits non-zero if any trace fails.
@@ -84,11 +89,78 @@ enum Command {
         /// Print a line for every trace, not only failing ones.
         #[arg(short, long)]
         verbose: bool,
+        #[command(flatten)]
+        remote: RemoteArgs,
     },
     /// Print the object reference of bus 1300 (Markdown): every object with
     /// its address, type, access, range and meaning, the access errors and
     /// the register bits. `docs/objects.md` is this output.
     Objects,
+}
+
+/// How `call` and `replay --server` reach the server.
+#[derive(Args)]
+struct RemoteArgs {
+    /// Longest wait, in seconds, for the connection and for each answer
+    /// [default: 5 for the connection, 30 for an answer].
+    #[arg(long, value_name = "SECS", value_parser = parse_secs)]
+    timeout: Option<Duration>,
+    /// Access token to present (a server with allow_remote asks remote
+    /// clients for it).
+    #[arg(
+        long,
+        value_name = "TOKEN",
+        env = "ADDIPOS_TOKEN",
+        hide_env_values = true
+    )]
+    token: Option<String>,
+    /// File holding the access token (the server's <data_dir>/access-token);
+    /// takes precedence over --token and ADDIPOS_TOKEN.
+    #[arg(long, value_name = "FILE")]
+    token_file: Option<PathBuf>,
+}
+
+fn parse_secs(s: &str) -> Result<Duration, String> {
+    s.parse::<f64>()
+        .ok()
+        .filter(|v| *v > 0.0)
+        .and_then(|v| Duration::try_from_secs_f64(v).ok())
+        .ok_or_else(|| format!("`{s}` is not a number of seconds above 0"))
+}
+
+impl RemoteArgs {
+    /// The client options these arguments give.
+    fn options(&self) -> Result<ClientOptions, String> {
+        let mut opts = ClientOptions::default();
+        if let Some(t) = self.timeout {
+            opts.connect_timeout = t;
+            opts.request_timeout = t;
+        }
+        opts.token = match (&self.token_file, &self.token) {
+            (Some(f), _) => Some(access::read_token_file(f).map_err(|e| e.to_string())?),
+            (None, Some(t)) => Some(AccessToken::new(t).map_err(|e| format!("--token: {e}"))?),
+            (None, None) => None,
+        };
+        Ok(opts)
+    }
+}
+
+/// A hint for an `Unauthorized` answer.
+fn token_hint(e: &ClientError) -> &'static str {
+    match e {
+        ClientError::Protocol(p) => protocol_hint(*p),
+        _ => "",
+    }
+}
+
+/// What to do about a protocol error, if the user can do something.
+fn protocol_hint(e: ProtocolError) -> &'static str {
+    match e {
+        ProtocolError::Unauthorized => {
+            " (pass the server's access token with --token-file FILE, --token or ADDIPOS_TOKEN)"
+        }
+        _ => "",
+    }
 }
 
 /// The trace files the arguments name: files as given, folders as their
@@ -117,11 +189,15 @@ fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
     Ok(out)
 }
 
-/// Connects to a server given as the user typed its address.
-fn connect(addr: &str) -> Result<RemoteTarget, String> {
+/// Connects `call` or `replay --server` to a server given as the user
+/// typed its address, or says why not.
+fn connect(addr: &str, args: &RemoteArgs) -> Result<RemoteTarget, String> {
     let resolved = parse_address(addr)?;
-    RemoteTarget::connect(&resolved.to_string())
-        .map_err(|e| format!("cannot connect to {addr} ({resolved}): {e}"))
+    let opts = args.options()?;
+    RemoteTarget::connect_with(&resolved.to_string(), &opts).map_err(|e| match e {
+        ClientError::TimedOut { .. } => e.to_string(),
+        e => format!("cannot connect to {addr} ({resolved}): {e}{}", token_hint(&e)),
+    })
 }
 
 /// Replays one trace file as it is read, printing every mismatch; true
@@ -164,7 +240,12 @@ fn replay_file(path: &Path, remote: Option<&mut RemoteTarget>, verbose: bool) ->
     }
 }
 
-fn cmd_replay(files: &[PathBuf], server: Option<&str>, verbose: bool) -> ExitCode {
+fn cmd_replay(
+    files: &[PathBuf],
+    server: Option<&str>,
+    verbose: bool,
+    remote_args: &RemoteArgs,
+) -> ExitCode {
     let files = match expand(files) {
         Ok(f) => f,
         Err(e) => {
@@ -172,7 +253,7 @@ fn cmd_replay(files: &[PathBuf], server: Option<&str>, verbose: bool) -> ExitCod
             return ExitCode::from(EXIT_TROUBLE);
         }
     };
-    let mut remote = match server.map(connect) {
+    let mut remote = match server.map(|s| connect(s, remote_args)) {
         None => None,
         Some(Ok(r)) => Some(r),
         Some(Err(e)) => {
@@ -196,7 +277,7 @@ fn cmd_replay(files: &[PathBuf], server: Option<&str>, verbose: bool) -> ExitCod
     }
 }
 
-fn cmd_call(addr: &str, words: &[String]) -> ExitCode {
+fn cmd_call(addr: &str, words: &[String], remote_args: &RemoteArgs) -> ExitCode {
     let text = words.join(" ");
     let req = match parse_request(&text) {
         Ok(r) => r,
@@ -205,7 +286,7 @@ fn cmd_call(addr: &str, words: &[String]) -> ExitCode {
             return ExitCode::from(EXIT_TROUBLE);
         }
     };
-    let mut client = match connect(addr) {
+    let mut client = match connect(addr, remote_args) {
         Ok(c) => c,
         Err(e) => {
             eprintln!("error: {e}");
@@ -228,12 +309,16 @@ fn cmd_call(addr: &str, words: &[String]) -> ExitCode {
             println!("err {}", e.name());
             return ExitCode::FAILURE;
         }
+        Ok(Reply::Protocol(e)) => {
+            eprintln!("error: {e}{}", protocol_hint(e));
+            return ExitCode::FAILURE;
+        }
         Ok(other) => {
             eprintln!("error: unexpected answer {other:?}");
             return ExitCode::FAILURE;
         }
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {e}{}", token_hint(&e));
             return ExitCode::FAILURE;
         }
     }
@@ -290,13 +375,32 @@ fn serve_settings(
             .to_string();
     }
     cfg.allow_remote |= allow_remote;
-    let server = cfg.server().map_err(in_source)?;
+    let mut server = cfg.server().map_err(in_source)?;
     let cycle_s = cfg.cycle_s().map_err(in_source)?;
+    if cfg.wants_token() {
+        let token = server_token(&cfg.data_dir).map_err(|e| format!("access token: {e}"))?;
+        server.access.token = Some(token);
+    }
     Ok(ServeSettings {
         cfg,
         server,
         cycle_s,
     })
+}
+
+/// The server's access token, read or generated; the log names its file
+/// (not the token itself: logs are often read more widely than the file).
+fn server_token(data_dir: &Path) -> std::io::Result<AccessToken> {
+    let t = access::load_or_create(data_dir)?;
+    let path = std::path::absolute(&t.path).unwrap_or_else(|_| t.path.clone());
+    let file = path.display();
+    if t.created {
+        tracing::info!("generated a new access token in {file}");
+    }
+    tracing::info!(
+        "clients must present the access token in {file} (call/replay: --token-file FILE)"
+    );
+    Ok(t.token)
 }
 
 /// Why the server could not listen on `addr`, and what to do about it.
@@ -380,12 +484,17 @@ fn main() -> ExitCode {
             }
             cmd_serve(config.as_deref(), listen.as_deref(), allow_remote)
         }
-        Command::Call { addr, request } => cmd_call(&addr, &request),
+        Command::Call {
+            addr,
+            request,
+            remote,
+        } => cmd_call(&addr, &request, &remote),
         Command::Replay {
             files,
             server,
             verbose,
-        } => cmd_replay(&files, server.as_deref(), verbose),
+            remote,
+        } => cmd_replay(&files, server.as_deref(), verbose, &remote),
         Command::Objects => {
             print!("{}", addipos::reference::object_reference());
             ExitCode::SUCCESS

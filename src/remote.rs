@@ -1,7 +1,7 @@
 //! A trace target on the far side of a connection: `replay --server`.
 
 use tc_request::{Reply, Request, SpoolRecord};
-use uoi::tcp::{BlockingClient, ClientError};
+use uoi::tcp::{BlockingClient, ClientError, ClientOptions};
 use uoi::{ObjectAddress, Value, ValueType};
 
 use crate::trace::{replay_on, Header, Mismatch, Target, Trace};
@@ -16,10 +16,16 @@ fn transport(e: impl std::fmt::Display) -> String {
 }
 
 impl RemoteTarget {
-    /// Connects to a server.
-    pub fn connect(addr: &str) -> std::io::Result<Self> {
+    /// Connects to a server with the default options (timeouts, no token).
+    pub fn connect(addr: &str) -> Result<Self, ClientError> {
+        Self::connect_with(addr, &ClientOptions::default())
+    }
+
+    /// Connects to a server within `opts.connect_timeout`, presenting
+    /// `opts.token` if given; every call waits at most `opts.request_timeout`.
+    pub fn connect_with(addr: &str, opts: &ClientOptions) -> Result<Self, ClientError> {
         Ok(Self {
-            client: BlockingClient::connect(addr)?,
+            client: BlockingClient::connect_with(addr, opts)?,
         })
     }
 

@@ -406,7 +406,12 @@ fn shutdown_closes_connections_and_returns() {
 /// the interleaving.
 #[test]
 fn two_hundred_clients_a_thousand_requests_each() {
-    let server = TestServer::local(Core::Lock);
+    // All from 127.0.0.1: one peer address, allowed them all.
+    let server = TestServer::start(ServerConfig {
+        listen: "127.0.0.1:0".parse().expect("addr"),
+        max_connections_per_peer: 256,
+        ..ServerConfig::default()
+    });
     let a = server.addr;
     let rt = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)

@@ -1,5 +1,6 @@
 //! The server's connection handling with a trivial handler: answers in
-//! order, batches only over complete requests, idle and shutdown closes.
+//! order, batches only over complete requests, idle, write-timeout and
+//! shutdown closes, limits per peer, the access token, client timeouts.
 
 // Test and bench helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
@@ -8,9 +9,12 @@ use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::time::Duration;
 
-use bytes::BytesMut;
-use uoi::tcp::{Handler, Server, ServerConfig};
-use uoi::wire::{encode_request, Answer, Request};
+use bytes::{Bytes, BytesMut};
+use uoi::tcp::{
+    AccessPolicy, AccessToken, Client, ClientError, ClientOptions, Handler, Server, ServerConfig,
+    Waited,
+};
+use uoi::wire::{encode_request, Answer, ProtocolError, Request};
 use uoi::{ObjectAddress, Value, ValueType};
 
 /// Answers a READ with the object's index.
@@ -178,4 +182,369 @@ fn a_client_that_never_reads_is_closed_when_idle_and_frees_its_place() {
         );
         std::thread::sleep(Duration::from_millis(50));
     }
+}
+
+/// A connection to `addr` from the local address `from` (any of
+/// 127.0.0.0/8 on Linux): another peer address on the same machine.
+fn connect_from(from: [u8; 4], addr: SocketAddr) -> TcpStream {
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("runtime");
+    let s = rt.block_on(async {
+        let sock = tokio::net::TcpSocket::new_v4().expect("socket");
+        sock.bind(SocketAddr::from((from, 0))).expect("bind");
+        sock.connect(addr).await.expect("connect")
+    });
+    let s = s.into_std().expect("std");
+    s.set_nonblocking(false).expect("blocking");
+    s.set_read_timeout(Some(Duration::from_secs(60)))
+        .expect("timeout");
+    s
+}
+
+/// Reads one answer frame: (id, op, status).
+fn read_head(s: &mut TcpStream) -> (u32, u8, u32) {
+    let mut pre = [0u8; 4];
+    s.read_exact(&mut pre).expect("prefix");
+    let mut body = vec![0u8; u32::from_le_bytes(pre) as usize];
+    s.read_exact(&mut body).expect("body");
+    let word = |at: usize| u32::from_le_bytes([body[at], body[at + 1], body[at + 2], body[at + 3]]);
+    (word(4), body[3], word(8))
+}
+
+/// Issue 8, point 7: a frame whose first two bytes arrive before a look
+/// of the watchdog and the rest after it is answered (the read is not
+/// cancelled halfway through the length prefix).
+#[test]
+fn a_frame_split_across_a_watchdog_look_is_answered() {
+    // Looks every 250 ms; the pause below spans two of them and stays
+    // well under the idle timeout.
+    let (addr, _stop) = serve(ServerConfig {
+        idle_timeout: Duration::from_secs(2),
+        ..local()
+    });
+    let mut s = connect(addr);
+    let f = read_frame(6);
+    s.write_all(&f[..2]).expect("write");
+    std::thread::sleep(Duration::from_millis(600));
+    s.write_all(&f[2..]).expect("write");
+    assert_eq!(read_answer(&mut s), (6, 6));
+}
+
+/// Issue 8, point 8: a READ followed by two bytes of the next frame is
+/// answered at once, not when the next frame is complete.
+#[test]
+fn a_read_and_two_bytes_of_the_next_frame_get_the_answer_at_once() {
+    let (addr, _stop) = serve(local());
+    let mut s = connect(addr);
+    let mut bytes = read_frame(1);
+    bytes.extend_from_slice(&read_frame(2)[..2]);
+    s.write_all(&bytes).expect("write");
+    // The 60 s read timeout of `connect` is only the hang guard.
+    assert_eq!(read_answer(&mut s), (1, 1));
+}
+
+/// Issue 8, point 6: a client that floods requests and then takes its
+/// answers a few bytes at a time cannot keep its place: the answers
+/// waiting for it must leave within the write timeout. The idle timeout
+/// is far away, so only the write timeout can free the place.
+#[test]
+fn a_client_that_takes_its_answers_a_trickle_at_a_time_loses_its_place() {
+    let (addr, _stop) = serve(ServerConfig {
+        idle_timeout: Duration::from_secs(3600),
+        write_timeout: Duration::from_millis(500),
+        max_connections: 1,
+        ..local()
+    });
+    let mut hog = connect(addr);
+    hog.set_write_timeout(Some(Duration::from_millis(200)))
+        .expect("timeout");
+    let burst: Vec<u8> = (0..4096).flat_map(|i| read_frame(i as u16)).collect();
+    while hog.write_all(&burst).is_ok() {}
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let stopped = std::sync::Arc::clone(&stop);
+    let trickle = std::thread::spawn(move || {
+        let mut b = [0u8; 64];
+        while !stopped.load(std::sync::atomic::Ordering::Relaxed) {
+            if matches!(hog.read(&mut b), Ok(0) | Err(_)) {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    });
+    // A guard of 60 s, not a timed assertion.
+    let deadline = std::time::Instant::now() + Duration::from_secs(60);
+    loop {
+        let mut c = connect(addr);
+        c.write_all(&read_frame(5)).expect("write");
+        if read_head(&mut c).2 == 0 {
+            break;
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the trickling client kept its place"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    trickle.join().expect("trickle");
+}
+
+/// Issue 8, point 6: clients from one address that hold connections
+/// without using them cannot lock out another host. 127.0.0.1 plays the
+/// greedy host, 127.0.0.2 the other one.
+#[test]
+fn one_peer_address_cannot_take_every_place() {
+    let (addr, _stop) = serve(ServerConfig {
+        max_connections: 6,
+        max_connections_per_peer: 3,
+        ..local()
+    });
+    // Accepted in order: the first three are served, the rest refused.
+    let mut hogs: Vec<TcpStream> = (0..6).map(|_| connect(addr)).collect();
+    for (k, hog) in hogs.iter_mut().enumerate().skip(3) {
+        assert_eq!(read_head(hog), (0, 0, 0xE000_0007), "connection {k}");
+        assert!(is_closed(hog));
+    }
+    for (k, hog) in hogs.iter_mut().enumerate().take(3) {
+        hog.write_all(&read_frame(k as u16)).expect("write");
+        assert_eq!(read_answer(hog), (k as u32, k as i32));
+    }
+    let mut other = connect_from([127, 0, 0, 2], addr);
+    other.write_all(&read_frame(9)).expect("write");
+    assert_eq!(read_answer(&mut other), (9, 9));
+}
+
+fn token() -> AccessToken {
+    AccessToken::new("0123456789abcdef0123456789abcdef").expect("token")
+}
+
+fn hello_frame(id: u32, token: &[u8]) -> Vec<u8> {
+    let mut f = BytesMut::new();
+    encode_request(id, &Request::Hello(Bytes::copy_from_slice(token)), &mut f);
+    f.to_vec()
+}
+
+/// A server that asks every peer, loopback too, for the token.
+fn guarded() -> ServerConfig {
+    ServerConfig {
+        access: AccessPolicy {
+            token: Some(token()),
+            on_loopback: true,
+        },
+        ..local()
+    }
+}
+
+const UNAUTHORIZED: u32 = 0xE000_0008;
+const HELLO: u8 = 0x03;
+
+/// Issue 8, point 13: before a valid HELLO, every frame is answered
+/// `Unauthorized` and the connection closed.
+#[test]
+fn a_peer_that_must_present_the_token_gets_nothing_else_before_it() {
+    let (addr, _stop) = serve(guarded());
+    let mut s = connect(addr);
+    s.write_all(&read_frame(3)).expect("write");
+    assert_eq!(read_head(&mut s), (3, 0x01, UNAUTHORIZED));
+    assert!(is_closed(&mut s));
+
+    let mut s = connect(addr);
+    s.write_all(&hello_frame(1, b"0123456789abcdef0123456789abcdeX"))
+        .expect("write");
+    assert_eq!(read_head(&mut s), (1, HELLO, UNAUTHORIZED));
+    assert!(is_closed(&mut s));
+
+    let mut s = connect(addr);
+    s.write_all(&hello_frame(1, token().as_bytes()))
+        .expect("write");
+    assert_eq!(read_head(&mut s), (1, HELLO, 0));
+    s.write_all(&read_frame(3)).expect("write");
+    assert_eq!(read_answer(&mut s), (3, 3));
+}
+
+/// The client presents its token on connecting; without one its first
+/// call is refused.
+#[test]
+fn the_client_presents_its_token() {
+    let (addr, _stop) = serve(guarded());
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("runtime");
+    let obj = ObjectAddress::new(7, 0, 4, 0);
+    rt.block_on(async {
+        let opts = ClientOptions {
+            token: Some(token()),
+            ..ClientOptions::default()
+        };
+        let mut c = Client::connect_with(addr, &opts).await.expect("connect");
+        assert_eq!(
+            c.read(obj, ValueType::I32).await.expect("read"),
+            Value::I32(4)
+        );
+        let mut c = Client::connect(addr).await.expect("connect");
+        let err = c.read(obj, ValueType::I32).await.expect_err("refused");
+        assert!(
+            matches!(err, ClientError::Protocol(ProtocolError::Unauthorized)),
+            "{err}"
+        );
+    });
+}
+
+/// Loopback peers need no token unless configured; one that presents a
+/// wrong token anyway is told so.
+#[test]
+fn loopback_peers_need_no_token_unless_asked() {
+    let (addr, _stop) = serve(ServerConfig {
+        access: AccessPolicy {
+            token: Some(token()),
+            on_loopback: false,
+        },
+        ..local()
+    });
+    let mut s = connect(addr);
+    s.write_all(&read_frame(3)).expect("write");
+    assert_eq!(read_answer(&mut s), (3, 3));
+    s.write_all(&hello_frame(2, token().as_bytes()))
+        .expect("write");
+    assert_eq!(read_head(&mut s), (2, HELLO, 0));
+    s.write_all(&hello_frame(3, b"0123456789abcdef0123456789abcdeX"))
+        .expect("write");
+    assert_eq!(read_head(&mut s), (3, HELLO, UNAUTHORIZED));
+    assert!(is_closed(&mut s));
+}
+
+#[test]
+fn a_remote_listener_needs_a_token() {
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("runtime");
+    let cfg = ServerConfig {
+        listen: "0.0.0.0:0".parse().expect("addr"),
+        allow_remote: true,
+        ..ServerConfig::default()
+    };
+    let err = rt
+        .block_on(Server::bind(cfg, Index))
+        .err()
+        .expect("refused");
+    assert_eq!(err.kind(), std::io::ErrorKind::PermissionDenied);
+    assert!(err.to_string().contains("access token"), "{err}");
+}
+
+/// Issue 8, point 9: a server that accepts but never answers, and one
+/// whose backlog is full, make the client give up with an error that
+/// names the address and the time waited.
+#[test]
+fn the_client_gives_up_on_a_silent_or_full_server() {
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("runtime");
+    let opts = ClientOptions {
+        connect_timeout: Duration::from_millis(300),
+        request_timeout: Duration::from_millis(300),
+        token: None,
+    };
+    rt.block_on(async {
+        // Never accepts: the kernel completes the connection, nobody reads.
+        let silent = std::net::TcpListener::bind("127.0.0.1:0").expect("bind");
+        let addr = silent.local_addr().expect("addr");
+        let mut c = Client::connect_with(addr, &opts).await.expect("connect");
+        let err = c
+            .read(ObjectAddress::new(7, 0, 1, 0), ValueType::I32)
+            .await
+            .expect_err("no answer");
+        assert!(
+            matches!(
+                err,
+                ClientError::TimedOut {
+                    waited: Waited::Answer,
+                    ..
+                }
+            ),
+            "{err}"
+        );
+        assert_eq!(
+            err.to_string(),
+            format!("no answer from {addr} within 0.3 s")
+        );
+        // Later calls on the connection fail at once.
+        assert!(c
+            .read(ObjectAddress::new(7, 0, 1, 0), ValueType::I32)
+            .await
+            .is_err());
+
+        // A backlog of 0 holds one connection; the next handshake waits.
+        let sock = tokio::net::TcpSocket::new_v4().expect("socket");
+        sock.bind("127.0.0.1:0".parse().expect("addr"))
+            .expect("bind");
+        let full = sock.listen(0).expect("listen");
+        let addr = full.local_addr().expect("addr");
+        let _first = std::net::TcpStream::connect(addr).expect("first");
+        let err = Client::connect_with(addr, &opts)
+            .await
+            .err()
+            .expect("no connection");
+        assert!(
+            matches!(
+                err,
+                ClientError::TimedOut {
+                    waited: Waited::Connect,
+                    ..
+                }
+            ),
+            "{err}"
+        );
+        assert_eq!(
+            err.to_string(),
+            format!("no connection to {addr} within 0.3 s")
+        );
+    });
+}
+
+/// This machine's address on its first non-loopback interface, if it
+/// has one (a UDP socket "connected" to a documentation address sends
+/// nothing, but picks the source address a route would use).
+fn non_loopback_address() -> Option<std::net::IpAddr> {
+    let s = std::net::UdpSocket::bind("0.0.0.0:0").ok()?;
+    s.connect("192.0.2.1:9").ok()?;
+    let ip = s.local_addr().ok()?.ip();
+    (!ip.is_loopback() && !ip.is_unspecified()).then_some(ip)
+}
+
+/// Issue 8, point 13, with a real non-loopback peer where the machine
+/// has a network interface: a server on 0.0.0.0 asks a connection to its
+/// network address for the token, not one over loopback.
+#[test]
+fn a_peer_on_the_network_must_present_the_token() {
+    let Some(ip) = non_loopback_address() else {
+        eprintln!("no non-loopback interface: skipped");
+        return;
+    };
+    let (addr, _stop) = serve(ServerConfig {
+        listen: "0.0.0.0:0".parse().expect("addr"),
+        allow_remote: true,
+        access: AccessPolicy {
+            token: Some(token()),
+            on_loopback: false,
+        },
+        ..ServerConfig::default()
+    });
+    let remote = SocketAddr::new(ip, addr.port());
+    let mut s = connect(remote);
+    s.write_all(&read_frame(3)).expect("write");
+    assert_eq!(read_head(&mut s), (3, 0x01, UNAUTHORIZED));
+    let mut s = connect(remote);
+    s.write_all(&hello_frame(1, token().as_bytes()))
+        .expect("write");
+    assert_eq!(read_head(&mut s), (1, HELLO, 0));
+    s.write_all(&read_frame(3)).expect("write");
+    assert_eq!(read_answer(&mut s), (3, 3));
+    let mut s = connect(SocketAddr::from(([127, 0, 0, 1], addr.port())));
+    s.write_all(&read_frame(4)).expect("write");
+    assert_eq!(read_answer(&mut s), (4, 4));
 }

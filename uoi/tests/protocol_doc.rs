@@ -33,3 +33,15 @@ fn documented_example_bytes() {
         "18 00 00 00 55 4f 01 01 01 00 00 00 00 00 00 00 69 00 00 00 11 00 00 00 00 00 00 00"
     );
 }
+
+#[test]
+fn documented_hello_bytes() {
+    let mut req = BytesMut::new();
+    let hello = Request::Hello(bytes::Bytes::from_static(b"0123456789abcdef"));
+    encode_request(1, &hello, &mut req);
+    assert_eq!(
+        hex(&req),
+        "1c 00 00 00 55 4f 01 03 01 00 00 00 00 00 00 00 \
+         30 31 32 33 34 35 36 37 38 39 61 62 63 64 65 66"
+    );
+}

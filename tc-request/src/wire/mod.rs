@@ -94,6 +94,8 @@ impl Request {
             WireRequest::Read(a, ty) => return Ok(Request::Read(*a, *ty)),
             WireRequest::Write(a, v) => return Ok(Request::Write(*a, *v)),
             WireRequest::Ext(code, payload) => (*code, payload),
+            // The server's connection answers HELLO; it is no TC request.
+            WireRequest::Hello(_) => return Err(ProtocolError::UnknownOp),
         };
         let op = TcOp::from_code(code).ok_or(ProtocolError::UnknownOp)?;
         let bad = ProtocolError::BadPayload;

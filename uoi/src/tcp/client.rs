@@ -1,14 +1,58 @@
-//! The client: async, and a small blocking wrapper.
+//! The client: async, and a small blocking wrapper. Connecting and every
+//! call are bounded in time ([`ClientOptions`]); a client with an access
+//! token presents it in a HELLO frame right after connecting.
 
+use std::fmt::Display;
 use std::io;
+use std::time::Duration;
 
 use futures_util::{SinkExt, StreamExt};
 use tokio::net::tcp::{OwnedReadHalf, OwnedWriteHalf};
 use tokio::net::{TcpStream, ToSocketAddrs};
 use tokio_util::codec::{FramedRead, FramedWrite};
 
+use super::access::AccessToken;
 use crate::wire::{decode_answer, Answer, ClientCodec, CodecError, Op, ProtocolError, Request};
 use crate::{AccessError, ObjectAddress, Value, ValueType};
+
+/// How long a client waits, and what it presents.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ClientOptions {
+    /// Longest wait for the connection (default 5 s).
+    pub connect_timeout: Duration,
+    /// Longest wait for the answers to one call or pipeline (default 30 s).
+    pub request_timeout: Duration,
+    /// The access token, presented in a HELLO frame on connecting.
+    pub token: Option<AccessToken>,
+}
+
+impl Default for ClientOptions {
+    fn default() -> Self {
+        Self {
+            connect_timeout: Duration::from_secs(5),
+            request_timeout: Duration::from_secs(30),
+            token: None,
+        }
+    }
+}
+
+/// What a client waited for in vain.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Waited {
+    /// The connection.
+    Connect,
+    /// An answer.
+    Answer,
+}
+
+impl std::fmt::Display for Waited {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Waited::Connect => "no connection to",
+            Waited::Answer => "no answer from",
+        })
+    }
+}
 
 /// Why a call failed.
 #[derive(Debug, thiserror::Error)]
@@ -25,6 +69,18 @@ pub enum ClientError {
     /// The answer does not fit the request.
     #[error("unexpected answer: {0}")]
     Unexpected(String),
+    /// The server did not accept the connection, or did not answer, in
+    /// time. After a call timed out the connection is out of step: later
+    /// calls on it fail at once.
+    #[error("{waited} {addr} within {} s", after.as_secs_f64())]
+    TimedOut {
+        /// What was waited for.
+        waited: Waited,
+        /// The server's address.
+        addr: String,
+        /// How long.
+        after: Duration,
+    },
 }
 
 impl From<CodecError> for ClientError {
@@ -41,19 +97,76 @@ pub struct Client {
     reader: FramedRead<OwnedReadHalf, ClientCodec>,
     writer: FramedWrite<OwnedWriteHalf, ClientCodec>,
     next_id: u32,
+    /// The server's address, as given, for messages.
+    addr: String,
+    request_timeout: Duration,
+    /// A call timed out: answers may still come, the ids are out of step.
+    out_of_step: bool,
 }
 
 impl Client {
-    /// Connects.
-    pub async fn connect(addr: impl ToSocketAddrs) -> io::Result<Self> {
-        let s = TcpStream::connect(addr).await?;
+    /// Connects with the default [`ClientOptions`].
+    pub async fn connect(addr: impl ToSocketAddrs + Display) -> Result<Self, ClientError> {
+        Self::connect_with(addr, &ClientOptions::default()).await
+    }
+
+    /// Connects within `opts.connect_timeout`, and presents `opts.token`
+    /// if there is one (`Protocol(Unauthorized)` if the server refuses it).
+    pub async fn connect_with(
+        addr: impl ToSocketAddrs + Display,
+        opts: &ClientOptions,
+    ) -> Result<Self, ClientError> {
+        let name = addr.to_string();
+        let s = tokio::time::timeout(opts.connect_timeout, TcpStream::connect(addr))
+            .await
+            .map_err(|_| ClientError::TimedOut {
+                waited: Waited::Connect,
+                addr: name.clone(),
+                after: opts.connect_timeout,
+            })??;
         s.set_nodelay(true)?;
         let (r, w) = s.into_split();
-        Ok(Self {
+        let mut client = Self {
             reader: FramedRead::new(r, ClientCodec),
             writer: FramedWrite::new(w, ClientCodec),
             next_id: 1,
-        })
+            addr: name,
+            request_timeout: opts.request_timeout,
+            out_of_step: false,
+        };
+        if let Some(token) = &opts.token {
+            let hello = Request::Hello(bytes::Bytes::copy_from_slice(token.as_bytes()));
+            match client.call(&hello).await? {
+                Answer::Ok => {}
+                other => return Err(answer_error(other)),
+            }
+        }
+        Ok(client)
+    }
+
+    /// Runs `call` on this client within the request timeout.
+    async fn bounded<T>(
+        &mut self,
+        call: impl AsyncFnOnce(&mut Self) -> Result<T, ClientError>,
+    ) -> Result<T, ClientError> {
+        if self.out_of_step {
+            return Err(ClientError::Io(io::Error::new(
+                io::ErrorKind::NotConnected,
+                format!("{}: connection out of step after a timeout", self.addr),
+            )));
+        }
+        let limit = self.request_timeout;
+        match tokio::time::timeout(limit, call(self)).await {
+            Ok(r) => r,
+            Err(_) => {
+                self.out_of_step = true;
+                Err(ClientError::TimedOut {
+                    waited: Waited::Answer,
+                    addr: self.addr.clone(),
+                    after: limit,
+                })
+            }
+        }
     }
 
     /// Queues a request (not flushed); returns its id.
@@ -69,7 +182,8 @@ impl Client {
         Ok(SinkExt::<(u32, &Request)>::flush(&mut self.writer).await?)
     }
 
-    /// Receives the next answer, to a request of op `op`.
+    /// Receives the next answer, to a request of op `op`. Not bounded in
+    /// time: [`call`](Self::call) and [`pipeline`](Self::pipeline) are.
     pub async fn recv(&mut self, op: Op) -> Result<(u32, Answer), ClientError> {
         let body = match self.reader.next().await {
             Some(frame) => frame?,
@@ -78,8 +192,13 @@ impl Client {
         decode_answer(body, op).ok_or_else(|| ClientError::Unexpected("undecodable answer".into()))
     }
 
-    /// One request, one answer.
+    /// One request, one answer, within the request timeout.
     pub async fn call(&mut self, req: &Request) -> Result<Answer, ClientError> {
+        self.bounded(async |c: &mut Self| c.call_unbounded(req).await)
+            .await
+    }
+
+    async fn call_unbounded(&mut self, req: &Request) -> Result<Answer, ClientError> {
         let id = self.send(req).await?;
         self.flush().await?;
         let (got, ans) = self.recv(req.op()).await?;
@@ -91,8 +210,14 @@ impl Client {
         Ok(ans)
     }
 
-    /// Sends all requests, then reads all answers (in order).
+    /// Sends all requests, then reads all answers (in order), within the
+    /// request timeout.
     pub async fn pipeline(&mut self, reqs: &[Request]) -> Result<Vec<Answer>, ClientError> {
+        self.bounded(async |c: &mut Self| c.pipeline_unbounded(reqs).await)
+            .await
+    }
+
+    async fn pipeline_unbounded(&mut self, reqs: &[Request]) -> Result<Vec<Answer>, ClientError> {
         let first = self.next_id;
         for r in reqs {
             self.send(r).await?;
@@ -145,12 +270,17 @@ pub struct BlockingClient {
 }
 
 impl BlockingClient {
-    /// Connects.
-    pub fn connect(addr: &str) -> io::Result<Self> {
+    /// Connects with the default [`ClientOptions`].
+    pub fn connect(addr: &str) -> Result<Self, ClientError> {
+        Self::connect_with(addr, &ClientOptions::default())
+    }
+
+    /// Connects with `opts` (see [`Client::connect_with`]).
+    pub fn connect_with(addr: &str, opts: &ClientOptions) -> Result<Self, ClientError> {
         let rt = tokio::runtime::Builder::new_current_thread()
             .enable_all()
             .build()?;
-        let inner = rt.block_on(Client::connect(addr))?;
+        let inner = rt.block_on(Client::connect_with(addr, opts))?;
         Ok(Self { rt, inner })
     }
 

@@ -1,8 +1,10 @@
 //! One connection: frames in, answers out, in order. Pipelined answers are
 //! written in batches; the connection ends when the peer closes, on a
-//! frame over the size limit, or when the watchdog closes it (idle, or the
-//! server stopping) while it waits for a request.
+//! frame over the size limit, on a request from a peer that has not
+//! presented the access token, or when the watchdog closes it (idle,
+//! answers not taken, or the server stopping).
 
+use std::net::SocketAddr;
 use std::sync::Arc;
 
 use futures_util::{SinkExt, StreamExt};
@@ -12,11 +14,13 @@ use tokio::net::TcpStream;
 use tokio_util::codec::{FramedRead, FramedWrite};
 use tracing::{debug, warn};
 
+use super::access::AccessToken;
 use super::halves::{ClosableRead, ClosableWrite};
 use super::idle::{Activity, Closed};
 use super::server::{Handler, Served, Session, Shared};
 use crate::wire::{
-    Answer, CodecError, ProtocolError, Rejected, Reply, Request, ServerCodec, MAX_FRAME, PREFIX_LEN,
+    Answer, CodecError, Op, ProtocolError, Rejected, Reply, Request, ServerCodec, MAX_FRAME,
+    PREFIX_LEN,
 };
 
 /// Answers buffered before they are written out even if more requests wait.
@@ -30,16 +34,62 @@ pub(crate) fn reply(id: u32, op: u8, answer: Answer) -> Reply {
     Reply { id, op, answer }
 }
 
+/// What a connection lets through: everything once its peer is
+/// authorized (it needs no token, or has presented it in a HELLO frame).
+#[derive(Debug)]
+pub(crate) struct Gatekeeper {
+    /// The server's token; `None` when it asks none.
+    token: Option<AccessToken>,
+    authorized: bool,
+    /// The peer, for the log.
+    peer: SocketAddr,
+}
+
+/// Whether a connection goes on after an answer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Then {
+    GoOn,
+    Close,
+}
+
+impl Gatekeeper {
+    /// A gate for `peer`, `authorized` already or to present `token`.
+    pub(crate) fn new(token: Option<AccessToken>, authorized: bool, peer: SocketAddr) -> Self {
+        Self {
+            token,
+            authorized,
+            peer,
+        }
+    }
+
+    /// HELLO: `Ok` for the server's token, or any token when the server
+    /// asks none; `Unauthorized`, and the connection closed, for a wrong
+    /// one (also from a peer that needs none: its client is misconfigured).
+    fn hello(&mut self, presented: &[u8]) -> (Answer, Then) {
+        match &self.token {
+            Some(t) if !t.matches(presented) => {
+                warn!(peer = %self.peer, "wrong access token, closing");
+                (Answer::Protocol(ProtocolError::Unauthorized), Then::Close)
+            }
+            _ => {
+                self.authorized = true;
+                (Answer::Ok, Then::GoOn)
+            }
+        }
+    }
+}
+
 /// Serves one accepted connection to its end.
 pub(crate) async fn serve_connection<H: Handler>(
     stream: TcpStream,
     shared: Shared<H>,
     activity: Arc<Activity>,
+    gate: Gatekeeper,
 ) {
-    let mut conn = Connection::new(stream, shared, activity);
+    let mut conn = Connection::new(stream, shared, activity, gate);
     while let Some(item) = conn.next_request().await {
-        let out = conn.answer(item).await;
-        if conn.send(out).await.is_err() {
+        let (out, then) = conn.answer(item).await;
+        if conn.send(out).await.is_err() || then == Then::Close {
             break;
         }
     }
@@ -54,10 +104,16 @@ struct Connection<H: Handler> {
     /// This connection's own state; ends with it.
     session: H::Session,
     activity: Arc<Activity>,
+    gate: Gatekeeper,
 }
 
 impl<H: Handler> Connection<H> {
-    fn new(stream: TcpStream, shared: Shared<H>, activity: Arc<Activity>) -> Self {
+    fn new(
+        stream: TcpStream,
+        shared: Shared<H>,
+        activity: Arc<Activity>,
+        gate: Gatekeeper,
+    ) -> Self {
         let (r, w) = stream.into_split();
         let r = ClosableRead::new(r, Arc::clone(&activity));
         let w = ClosableWrite::new(w, Arc::clone(&activity));
@@ -70,6 +126,7 @@ impl<H: Handler> Connection<H> {
             shared,
             session: H::Session::default(),
             activity,
+            gate,
         }
     }
 
@@ -90,29 +147,47 @@ impl<H: Handler> Connection<H> {
                 None
             }
             Some(Err(CodecError::Io(_))) | None => {
-                if self.activity.closed() == Some(Closed::Idle) {
-                    debug!("idle timeout");
+                match self.activity.closed() {
+                    Some(Closed::Idle) => debug!("idle timeout"),
+                    Some(Closed::Write) => debug!("answers not taken: write timeout"),
+                    _ => {}
                 }
                 None
             }
         }
     }
 
-    /// The answer to one frame: from the connection's session, or else
-    /// from the shared handler.
-    async fn answer(&mut self, item: Incoming) -> Reply {
+    /// The answer to one frame, and whether the connection goes on: from
+    /// the connection's session, or else from the shared handler. A peer
+    /// not yet authorized gets `Unauthorized` for anything but HELLO, and
+    /// the connection is closed.
+    async fn answer(&mut self, item: Incoming) -> (Reply, Then) {
         match item {
+            Ok((id, Request::Hello(token))) => {
+                let (ans, then) = self.gate.hello(&token);
+                (reply(id, Op::Hello.code(), ans), then)
+            }
+            Ok((id, req)) if !self.gate.authorized => {
+                warn!(peer = %self.gate.peer, "request before the access token, closing");
+                let ans = Answer::Protocol(ProtocolError::Unauthorized);
+                (reply(id, req.op().code(), ans), Then::Close)
+            }
+            Err(r) if !self.gate.authorized => {
+                warn!(peer = %self.gate.peer, "bad frame before the access token, closing");
+                let ans = Answer::Protocol(ProtocolError::Unauthorized);
+                (reply(r.id, r.op, ans), Then::Close)
+            }
             Ok((id, req)) => {
                 let op = req.op().code();
                 let ans = match self.session.handle(req) {
                     Served::Here(ans) => ans,
                     Served::Shared(req) => self.shared.handle(req).await,
                 };
-                reply(id, op, ans)
+                (reply(id, op, ans), Then::GoOn)
             }
             Err(r) => {
                 debug!(error = %r.error, "bad request");
-                reply(r.id, r.op, Answer::Protocol(r.error))
+                (reply(r.id, r.op, Answer::Protocol(r.error)), Then::GoOn)
             }
         }
     }

@@ -9,8 +9,9 @@
 //! * [`ClosableWrite`] writes with `write`, not `writev` (the answers wait
 //!   in one contiguous buffer, and for a vectored write `tokio-util` first
 //!   fills an array of 64 slices, which costs more than the frame itself);
-//!   every write counts as progress for the watchdog, and a write blocked
-//!   by a client that does not read fails once the connection is closed.
+//!   it tells the watchdog when answers wait on a full socket and when a
+//!   batch has left in full (progress), and a write blocked by a client
+//!   that does not read fails once the connection is closed.
 
 use std::io;
 use std::pin::Pin;
@@ -52,10 +53,9 @@ impl<R: AsyncRead + Unpin> AsyncRead for ClosableRead<R> {
     }
 }
 
-/// `inner`, written without vectored writes, counting every write as
-/// progress and failing once the watchdog has closed its connection: a
-/// client that stops reading its answers blocks the writes, and the close
-/// must end them too.
+/// `inner`, written without vectored writes, reporting to the watchdog and
+/// failing once it has closed the connection: a client that stops reading
+/// its answers blocks the writes, and the close must end them too.
 #[derive(Debug)]
 pub(crate) struct ClosableWrite<W> {
     inner: W,
@@ -80,9 +80,11 @@ fn closed_error() -> io::Error {
 }
 
 impl<W> ClosableWrite<W> {
-    /// `Pending` from the socket: still pending unless the connection was
-    /// closed meanwhile (then an error; the task is woken by the close).
+    /// `Pending` from the socket (the answers are stuck): still pending
+    /// unless the connection was closed meanwhile (then an error; the task
+    /// is woken by the close).
     fn pending<T>(&self, cx: &mut Context<'_>) -> Poll<io::Result<T>> {
+        self.activity.write_stuck();
         match self.activity.poll_closed(cx) {
             Poll::Ready(_) => Poll::Ready(Err(closed_error())),
             Poll::Pending => Poll::Pending,
@@ -99,19 +101,21 @@ impl<W: AsyncWrite + Unpin> AsyncWrite for ClosableWrite<W> {
         let this = self.get_mut();
         match Pin::new(&mut this.inner).poll_write(cx, buf) {
             Poll::Pending => this.pending(cx),
-            Poll::Ready(Ok(n)) => {
-                this.activity.progress();
-                Poll::Ready(Ok(n))
-            }
-            err => err,
+            ready => ready,
         }
     }
 
+    /// The codec flushes the socket once its buffer is written out in
+    /// full: the batch has left, which is progress.
     fn poll_flush(self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<io::Result<()>> {
         let this = self.get_mut();
         match Pin::new(&mut this.inner).poll_flush(cx) {
             Poll::Pending => this.pending(cx),
-            ready => ready,
+            Poll::Ready(Ok(())) => {
+                this.activity.written();
+                Poll::Ready(Ok(()))
+            }
+            err => err,
         }
     }
 
@@ -130,8 +134,10 @@ mod tests {
     use crate::tcp::idle::Closed;
     use tokio::io::{AsyncReadExt, AsyncWriteExt};
 
+    const HOUR: std::time::Duration = std::time::Duration::from_secs(3600);
+
     fn activity() -> Arc<Activity> {
-        super::super::idle::Watchdog::start(std::time::Duration::from_secs(3600), 4)
+        super::super::idle::Watchdog::start(HOUR, HOUR, 4)
             .expect("thread")
             .watch()
     }
@@ -183,9 +189,11 @@ mod write_tests {
     use crate::tcp::idle::{Closed, Watchdog};
     use tokio::io::AsyncWriteExt;
 
+    const HOUR: std::time::Duration = std::time::Duration::from_secs(3600);
+
     #[tokio::test]
-    async fn a_blocked_write_ends_when_closed_and_writes_count_as_progress() {
-        let dog = Watchdog::start(std::time::Duration::from_secs(3600), 4).expect("thread");
+    async fn a_blocked_write_ends_when_closed() {
+        let dog = Watchdog::start(HOUR, HOUR, 4).expect("thread");
         let act = dog.watch();
         // A peer that never reads: 16 bytes of room.
         let (tx, _rx) = tokio::io::duplex(16);
@@ -201,5 +209,27 @@ mod write_tests {
             .expect_err("blocked, then closed");
         assert_eq!(err.kind(), io::ErrorKind::TimedOut);
         closer.await.expect("closer");
+    }
+
+    /// Bytes trickling out are no progress; the batch leaving in full is.
+    #[tokio::test]
+    async fn only_a_batch_written_out_in_full_counts_as_progress() {
+        use tokio::io::AsyncReadExt;
+        let dog = Watchdog::start(HOUR, HOUR, 4).expect("thread");
+        let act = dog.watch();
+        let (tx, mut rx) = tokio::io::duplex(4);
+        let mut w = ClosableWrite::new(tx, Arc::clone(&act));
+        let reader = tokio::spawn(async move {
+            let mut b = [0u8; 1];
+            while rx.read(&mut b).await.is_ok_and(|n| n > 0) {}
+        });
+        w.write_all(&[7; 64])
+            .await
+            .expect("written a few bytes at a time");
+        assert_eq!(act.progress_count(), 0);
+        w.flush().await.expect("flush");
+        assert_eq!(act.progress_count(), 1);
+        drop(w);
+        reader.await.expect("reader");
     }
 }

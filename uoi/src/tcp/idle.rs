@@ -1,7 +1,12 @@
 //! The connection watchdog: one thread per server looks at every
-//! connection [`TICKS`] times per idle timeout and closes each one that has
-//! had no complete request for at least the timeout; on shutdown it closes
-//! them all.
+//! connection [`TICKS`] times per timeout (the shorter of the idle and the
+//! write timeout) and closes each one that has made no progress for the
+//! idle timeout, or whose answers have been stuck on a full socket for the
+//! write timeout; on shutdown it closes them all.
+//!
+//! Progress is a complete request read, or a batch of answers written out
+//! in full. A client that takes its answers a few bytes at a time does not
+//! hold its place: its batch must leave within the write timeout.
 //!
 //! Why a thread and not a tokio timer per connection: a timer armed in the
 //! serving runtime makes every park of that runtime dearer (the time
@@ -13,7 +18,7 @@
 //! not from a second future raced against every read.
 
 use std::io;
-use std::sync::atomic::{AtomicU64, AtomicU8, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicU8, Ordering};
 use std::sync::mpsc::{self, RecvTimeoutError};
 use std::sync::{Arc, Mutex, Weak};
 use std::task::{Context, Poll};
@@ -21,9 +26,8 @@ use std::time::Duration;
 
 use futures_util::task::AtomicWaker;
 
-/// Looks per idle timeout. A silent connection is closed after between
-/// `idle` and `idle * (1 + 1 / TICKS)` without a complete request, never
-/// before `idle`.
+/// Looks per timeout. A connection is closed after between the timeout
+/// and `timeout * (1 + 1 / TICKS)`, never before the timeout.
 const TICKS: u32 = 8;
 
 /// Shortest time between two looks.
@@ -33,10 +37,12 @@ const MIN_TICK: Duration = Duration::from_millis(1);
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u8)]
 pub(crate) enum Closed {
-    /// No complete request for the idle timeout.
+    /// No progress for the idle timeout.
     Idle = 1,
+    /// Answers stuck on a full socket for the write timeout.
+    Write = 2,
     /// The server is stopping.
-    Stop = 2,
+    Stop = 3,
 }
 
 /// The state of a connection not closed.
@@ -45,9 +51,12 @@ const OPEN: u8 = 0;
 /// What a connection shares with the watchdog.
 #[derive(Debug)]
 pub(crate) struct Activity {
-    /// Progress so far: complete requests read and answers written. Only
-    /// the connection's own task moves it.
+    /// Progress so far: complete requests read and batches of answers
+    /// written out in full. Only the connection's own task moves it.
     progress: AtomicU64,
+    /// Answers are waiting on a full socket (the client does not read
+    /// them, or too slowly); cleared when the batch is out.
+    stuck: AtomicBool,
     /// [`OPEN`], or why the connection is closed ([`Closed`]).
     state: AtomicU8,
     /// The connection's task while it waits for input.
@@ -58,15 +67,32 @@ impl Activity {
     fn new() -> Self {
         Self {
             progress: AtomicU64::new(0),
+            stuck: AtomicBool::new(false),
             state: AtomicU8::new(OPEN),
             waker: AtomicWaker::new(),
         }
     }
 
-    /// Records progress: a complete request read, or answer bytes
-    /// written (a client that reads its answers slowly is not idle).
+    /// Records progress: a complete request read.
     pub(crate) fn progress(&self) {
         self.progress.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// Records that a write found the socket full: the answers wait.
+    pub(crate) fn write_stuck(&self) {
+        self.stuck.store(true, Ordering::Relaxed);
+    }
+
+    /// Records that every answer queued has been written: progress.
+    pub(crate) fn written(&self) {
+        self.stuck.store(false, Ordering::Relaxed);
+        self.progress();
+    }
+
+    /// The progress count, for tests.
+    #[cfg(test)]
+    pub(crate) fn progress_count(&self) -> u64 {
+        self.progress.load(Ordering::Relaxed)
     }
 
     /// Closes the connection (the first reason given stays) and wakes it.
@@ -82,6 +108,7 @@ impl Activity {
         match self.state.load(Ordering::Acquire) {
             OPEN => None,
             s if s == Closed::Idle as u8 => Some(Closed::Idle),
+            s if s == Closed::Write as u8 => Some(Closed::Write),
             _ => Some(Closed::Stop),
         }
     }
@@ -98,36 +125,81 @@ impl Activity {
     }
 }
 
+/// The timeouts, in looks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Limits {
+    /// Looks without progress before an idle close.
+    idle: u32,
+    /// Looks with the answers stuck before a write-timeout close.
+    write: u32,
+}
+
+impl Limits {
+    /// The time between looks, and the timeouts counted in looks of it.
+    fn new(idle: Duration, write: Duration) -> (Duration, Self) {
+        let tick = (idle.min(write) / TICKS).max(MIN_TICK);
+        let looks = |t: Duration| {
+            let n = t.as_nanos().div_ceil(tick.as_nanos());
+            u32::try_from(n).unwrap_or(u32::MAX)
+        };
+        let limits = Self {
+            idle: looks(idle),
+            write: looks(write),
+        };
+        (tick, limits)
+    }
+}
+
 /// The watchdog's view of one connection.
 #[derive(Debug)]
 struct Entry {
     conn: Weak<Activity>,
-    /// The request count at the last look (`None` before the first look:
+    /// The progress count at the last look (`None` before the first look:
     /// the connection may have opened just before it).
     seen: Option<u64>,
-    /// Looks in a row that found no new request.
+    /// Looks in a row that found no progress.
     quiet: u32,
+    /// Looks in a row, after the first, that found the answers stuck
+    /// with no progress (`None` while they are not: the first look that
+    /// finds them stuck only notes it, they may have just got stuck).
+    stuck: Option<u32>,
 }
 
 impl Entry {
+    fn new(conn: &Arc<Activity>) -> Self {
+        Self {
+            conn: Arc::downgrade(conn),
+            seen: None,
+            quiet: 0,
+            stuck: None,
+        }
+    }
+
     /// One look. Returns whether to keep watching the connection: not
-    /// when it is gone, or has just been closed for idleness.
-    fn look(&mut self) -> bool {
+    /// when it is gone, or has just been closed.
+    fn look(&mut self, limits: Limits) -> bool {
         let Some(conn) = self.conn.upgrade() else {
             return false;
         };
         let progress = conn.progress.load(Ordering::Relaxed);
+        let stuck = conn.stuck.load(Ordering::Relaxed);
         if self.seen != Some(progress) {
             self.seen = Some(progress);
             self.quiet = 0;
+            self.stuck = stuck.then_some(0);
             return true;
         }
-        // No request since the last look: one more full tick of silence.
+        // No progress since the last look: one more full tick of silence.
         self.quiet += 1;
-        if self.quiet < TICKS {
+        self.stuck = stuck.then(|| self.stuck.map_or(0, |n| n + 1));
+        let why = if self.quiet >= limits.idle {
+            Closed::Idle
+        } else if self.stuck.is_some_and(|n| n >= limits.write) {
+            Closed::Write
+        } else {
             return true;
-        }
-        conn.close(Closed::Idle);
+        };
+        conn.close(why);
         false
     }
 }
@@ -142,8 +214,8 @@ impl Entries {
     }
 
     /// One look at every connection.
-    fn sweep(&self) {
-        self.lock().retain_mut(Entry::look);
+    fn sweep(&self, limits: Limits) {
+        self.lock().retain_mut(|e| e.look(limits));
     }
 
     /// Closes every connection.
@@ -167,18 +239,23 @@ pub(crate) struct Watchdog {
 }
 
 impl Watchdog {
-    /// Starts the thread for connections idle after `idle`; `max_connections`
-    /// bounds the entries kept between looks.
-    pub(crate) fn start(idle: Duration, max_connections: usize) -> io::Result<Self> {
+    /// Starts the thread for connections idle after `idle`, or with
+    /// answers stuck for `write`; `max_connections` bounds the entries kept
+    /// between looks.
+    pub(crate) fn start(
+        idle: Duration,
+        write: Duration,
+        max_connections: usize,
+    ) -> io::Result<Self> {
         let entries = Arc::new(Entries::default());
         let (stop, stopped) = mpsc::channel::<()>();
-        let tick = (idle / TICKS).max(MIN_TICK);
+        let (tick, limits) = Limits::new(idle, write);
         let watched = Arc::clone(&entries);
         std::thread::Builder::new()
             .name("uoi-idle".into())
             .spawn(move || {
                 while let Err(RecvTimeoutError::Timeout) = stopped.recv_timeout(tick) {
-                    watched.sweep();
+                    watched.sweep(limits);
                 }
             })?;
         Ok(Self {
@@ -195,11 +272,7 @@ impl Watchdog {
         if entries.len() >= self.prune_at {
             entries.retain(|e| e.conn.strong_count() > 0);
         }
-        entries.push(Entry {
-            conn: Arc::downgrade(&conn),
-            seen: None,
-            quiet: 0,
-        });
+        entries.push(Entry::new(&conn));
         conn
     }
 
@@ -213,22 +286,66 @@ impl Watchdog {
 mod tests {
     use super::*;
 
+    /// Idle after `TICKS` looks, answers stuck too long after 3.
+    const LIMITS: Limits = Limits {
+        idle: TICKS,
+        write: 3,
+    };
+
     fn watched() -> (Arc<Activity>, Entry) {
         let conn = Arc::new(Activity::new());
-        let entry = Entry {
-            conn: Arc::downgrade(&conn),
-            seen: None,
-            quiet: 0,
-        };
+        let entry = Entry::new(&conn);
         (conn, entry)
+    }
+
+    /// `n` looks that keep watching and leave the connection open.
+    fn looks(n: u32, conn: &Activity, e: &mut Entry) {
+        for _ in 0..n {
+            assert!(e.look(LIMITS));
+            assert_eq!(conn.closed(), None);
+        }
     }
 
     /// `TICKS` looks that keep watching and leave the connection open.
     fn a_timeout_of_looks(conn: &Activity, e: &mut Entry) {
-        for _ in 0..TICKS {
-            assert!(e.look());
-            assert_eq!(conn.closed(), None);
-        }
+        looks(TICKS, conn, e);
+    }
+
+    #[test]
+    fn timeouts_in_looks_round_up_and_the_tick_follows_the_shorter() {
+        let (tick, l) = Limits::new(Duration::from_secs(300), Duration::from_secs(30));
+        assert_eq!(tick, Duration::from_millis(3750));
+        assert_eq!(l, Limits { idle: 80, write: 8 });
+        let (tick, l) = Limits::new(Duration::from_secs(1), Duration::from_millis(1500));
+        assert_eq!(tick, Duration::from_millis(125));
+        assert_eq!(l, Limits { idle: 8, write: 12 });
+    }
+
+    #[test]
+    fn answers_stuck_for_the_write_timeout_close_the_connection() {
+        let (conn, mut e) = watched();
+        looks(1, &conn, &mut e);
+        conn.progress();
+        conn.write_stuck();
+        // The look that first sees them stuck only notes it.
+        looks(LIMITS.write, &conn, &mut e);
+        assert!(!e.look(LIMITS));
+        assert_eq!(conn.closed(), Some(Closed::Write));
+    }
+
+    #[test]
+    fn a_batch_written_out_in_full_is_progress_bytes_alone_are_not() {
+        let (conn, mut e) = watched();
+        looks(1, &conn, &mut e);
+        conn.write_stuck();
+        looks(LIMITS.write, &conn, &mut e);
+        // The batch leaves: the stuck count starts again.
+        conn.written();
+        looks(LIMITS.write, &conn, &mut e);
+        conn.write_stuck();
+        looks(LIMITS.write, &conn, &mut e);
+        assert!(!e.look(LIMITS));
+        assert_eq!(conn.closed(), Some(Closed::Write));
     }
 
     #[test]
@@ -236,7 +353,7 @@ mod tests {
         let (conn, mut e) = watched();
         // The first look only notes the count: the connection may be new.
         a_timeout_of_looks(&conn, &mut e);
-        assert!(!e.look());
+        assert!(!e.look(LIMITS));
         assert_eq!(conn.closed(), Some(Closed::Idle));
     }
 
@@ -246,7 +363,7 @@ mod tests {
         a_timeout_of_looks(&conn, &mut e);
         conn.progress();
         a_timeout_of_looks(&conn, &mut e);
-        assert!(!e.look());
+        assert!(!e.look(LIMITS));
         assert_eq!(conn.closed(), Some(Closed::Idle));
     }
 
@@ -254,12 +371,13 @@ mod tests {
     fn closed_connections_are_dropped_from_the_watch() {
         let (conn, mut e) = watched();
         drop(conn);
-        assert!(!e.look());
+        assert!(!e.look(LIMITS));
     }
 
     #[test]
     fn entries_of_closed_connections_are_pruned() {
-        let dog = Watchdog::start(Duration::from_secs(3600), 2).expect("thread");
+        let dog = Watchdog::start(Duration::from_secs(3600), Duration::from_secs(3600), 2)
+            .expect("thread");
         let mut open = Vec::new();
         for k in 0..100 {
             let conn = dog.watch();
@@ -279,7 +397,7 @@ mod tests {
         entries.lock().extend([e1, e2]);
         for _ in 0..=TICKS {
             busy.progress();
-            entries.sweep();
+            entries.sweep(LIMITS);
         }
         assert_eq!(quiet.closed(), Some(Closed::Idle));
         assert_eq!(busy.closed(), None);
@@ -288,7 +406,8 @@ mod tests {
 
     #[test]
     fn close_all_closes_the_open_and_keeps_the_first_reason() {
-        let dog = Watchdog::start(Duration::from_secs(3600), 8).expect("thread");
+        let dog = Watchdog::start(Duration::from_secs(3600), Duration::from_secs(3600), 8)
+            .expect("thread");
         let (a, b) = (dog.watch(), dog.watch());
         a.close(Closed::Idle);
         dog.close_all();

@@ -1,11 +1,16 @@
 //! UOI over TCP: a tokio server that many host programs share, and a
 //! client (async, plus a blocking wrapper). Frames as in [`crate::wire`].
 
+mod access;
 mod client;
 mod connection;
 mod halves;
 mod idle;
+mod peers;
 mod server;
 
-pub use client::{answer_error, BlockingClient, Client, ClientError};
+pub use access::{
+    is_loopback_peer, AccessPolicy, AccessToken, BadToken, MAX_TOKEN_LEN, MIN_TOKEN_LEN,
+};
+pub use client::{answer_error, BlockingClient, Client, ClientError, ClientOptions, Waited};
 pub use server::{Core, Handler, Served, Server, ServerConfig, Session};

@@ -17,11 +17,14 @@ use tokio::task::JoinSet;
 use tokio_util::codec::FramedWrite;
 use tracing::{debug, info, warn};
 
-use super::connection::{reply, serve_connection};
+use super::access::AccessPolicy;
+use super::connection::{reply, serve_connection, Gatekeeper};
 use super::idle::Watchdog;
+use super::peers::Peers;
 use crate::wire::{Answer, ProtocolError, Request, ServerCodec};
 
-/// What serves the requests: the emulator, in `addipos`.
+/// What serves the requests: the emulator, in `addipos`. HELLO frames
+/// are answered by the connection itself and never reach it.
 pub trait Handler: Send + 'static {
     /// What each connection keeps for itself (`()` for nothing).
     type Session: Session;
@@ -69,12 +72,21 @@ pub enum Core {
 pub struct ServerConfig {
     /// Address to listen on (default `127.0.0.1:1300`).
     pub listen: SocketAddr,
-    /// Allow a non-loopback listen address.
+    /// Allow a non-loopback listen address (it also needs an access token).
     pub allow_remote: bool,
     /// Connections served at once; more are answered `Busy` and closed.
     pub max_connections: usize,
-    /// A connection with no complete request for this long is closed.
+    /// Connections served at once from one peer address; more from it are
+    /// answered `Busy` and closed.
+    pub max_connections_per_peer: usize,
+    /// A connection with no complete request read and no batch of answers
+    /// written for this long is closed.
     pub idle_timeout: Duration,
+    /// A connection whose answers wait on a full socket (the client does
+    /// not read them) and do not all leave within this time is closed.
+    pub write_timeout: Duration,
+    /// Which peers must present an access token in a HELLO frame first.
+    pub access: AccessPolicy,
     /// Lock or owner task.
     pub core: Core,
 }
@@ -85,7 +97,10 @@ impl Default for ServerConfig {
             listen: SocketAddr::from(([127, 0, 0, 1], 1300)),
             allow_remote: false,
             max_connections: 256,
+            max_connections_per_peer: 16,
             idle_timeout: Duration::from_secs(300),
+            write_timeout: Duration::from_secs(30),
+            access: AccessPolicy::default(),
             core: Core::Lock,
         }
     }
@@ -137,13 +152,22 @@ pub struct Server<H> {
 
 impl<H: Handler> Server<H> {
     /// Binds the listen address. A non-loopback address is refused unless
-    /// `allow_remote` is set.
+    /// `allow_remote` is set and an access token is given.
     pub async fn bind(cfg: ServerConfig, handler: H) -> io::Result<Self> {
         if !cfg.listen.ip().is_loopback() && !cfg.allow_remote {
             return Err(io::Error::new(
                 io::ErrorKind::PermissionDenied,
                 format!(
                     "{} is not a loopback address: listening there needs --allow-remote",
+                    cfg.listen
+                ),
+            ));
+        }
+        if !cfg.listen.ip().is_loopback() && cfg.access.token.is_none() {
+            return Err(io::Error::new(
+                io::ErrorKind::PermissionDenied,
+                format!(
+                    "{} is not a loopback address: listening there needs an access token",
                     cfg.listen
                 ),
             ));
@@ -182,10 +206,20 @@ impl<H: Handler> Server<H> {
             cfg,
             shared,
         } = self;
-        info!(listen = %listener.local_addr()?, max_connections = cfg.max_connections, core = ?cfg.core, "serving UOI");
+        info!(
+            listen = %listener.local_addr()?,
+            max_connections = cfg.max_connections,
+            max_connections_per_peer = cfg.max_connections_per_peer,
+            token_from_remote = cfg.access.token.is_some(),
+            token_from_loopback = cfg.access.token.is_some() && cfg.access.on_loopback,
+            core = ?cfg.core,
+            "serving UOI"
+        );
         let mut gate = Gate {
             permits: Arc::new(Semaphore::new(cfg.max_connections)),
-            watchdog: Watchdog::start(cfg.idle_timeout, cfg.max_connections)?,
+            peers: Peers::new(cfg.max_connections_per_peer),
+            watchdog: Watchdog::start(cfg.idle_timeout, cfg.write_timeout, cfg.max_connections)?,
+            access: cfg.access,
             shared,
             tasks: JoinSet::new(),
         };
@@ -220,6 +254,10 @@ impl<H: Handler> Server<H> {
 struct Gate<H> {
     /// One per connection served at once.
     permits: Arc<Semaphore>,
+    /// Connections open per peer address.
+    peers: Arc<Peers>,
+    /// Who must present the access token.
+    access: AccessPolicy,
     /// Closes idle connections, and all of them on shutdown.
     watchdog: Watchdog,
     shared: Shared<H>,
@@ -228,9 +266,15 @@ struct Gate<H> {
 
 impl<H: Handler> Gate<H> {
     /// Serves an accepted connection, or answers `Busy` and closes it when
-    /// `max_connections` are open.
+    /// `max_connections` are open, or `max_connections_per_peer` from its
+    /// address.
     fn admit(&mut self, stream: TcpStream, peer: SocketAddr) {
         let _ = stream.set_nodelay(true);
+        let Some(place) = self.peers.take(peer.ip()) else {
+            warn!(%peer, "connection limit per peer address reached, refusing");
+            self.tasks.spawn(refuse(stream));
+            return;
+        };
         let Ok(permit) = Arc::clone(&self.permits).try_acquire_owned() else {
             warn!(%peer, "connection limit reached, refusing");
             self.tasks.spawn(refuse(stream));
@@ -238,11 +282,19 @@ impl<H: Handler> Gate<H> {
         };
         let shared = self.shared.clone();
         let activity = self.watchdog.watch();
+        let token = self.access.token.clone();
+        let authorized = !self.access.needs_token(peer.ip());
         self.tasks.spawn(async move {
-            debug!(%peer, "connected");
-            serve_connection(stream, shared, activity).await;
+            debug!(%peer, authorized, "connected");
+            serve_connection(
+                stream,
+                shared,
+                activity,
+                Gatekeeper::new(token, authorized, peer),
+            )
+            .await;
             debug!(%peer, "disconnected");
-            drop(permit);
+            drop((permit, place));
         });
     }
 }

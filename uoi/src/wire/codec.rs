@@ -163,7 +163,7 @@ impl Encoder<(u32, &Request)> for ClientCodec {
     /// `FrameTooLarge`, and nothing sent, for an extension request too
     /// large for one frame.
     fn encode(&mut self, (id, req): (u32, &Request), dst: &mut BytesMut) -> Result<(), CodecError> {
-        if let Request::Ext(_, payload) = req {
+        if let Request::Ext(_, payload) | Request::Hello(payload) = req {
             fits(payload.len())?;
         }
         encode_request(id, req, dst);

@@ -60,6 +60,9 @@ pub enum Op {
     Read,
     /// `0x02`: write an object.
     Write,
+    /// `0x03`: present the access token (docs/protocol.md, "HELLO"); taken
+    /// by the connection itself, never handed to the bus.
+    Hello,
     /// A code in [`EXT_OPS`], defined by the request layer above.
     Ext(u8),
 }
@@ -70,6 +73,7 @@ impl Op {
         match code {
             0x01 => Some(Op::Read),
             0x02 => Some(Op::Write),
+            0x03 => Some(Op::Hello),
             c if EXT_OPS.contains(&c) => Some(Op::Ext(c)),
             _ => None,
         }
@@ -80,6 +84,7 @@ impl Op {
         match self {
             Op::Read => 0x01,
             Op::Write => 0x02,
+            Op::Hello => 0x03,
             Op::Ext(c) => c,
         }
     }
@@ -104,6 +109,9 @@ crate::code_enum! {
         FrameTooShort = 0xE000_0006 => "frame too short",
         /// The server has no room for another connection; it is closed.
         Busy = 0xE000_0007 => "server busy",
+        /// The connection must present the access token in a HELLO
+        /// frame first, or the token it presented is wrong; it is closed.
+        Unauthorized = 0xE000_0008 => "access token missing or wrong",
     }
 }
 
@@ -121,7 +129,7 @@ mod tests {
         for c in 0..=u8::MAX {
             match Op::from_code(c) {
                 Some(op) => assert_eq!(op.code(), c),
-                None => assert!(c == 0 || (0x03..0x10).contains(&c) || c >= 0x80),
+                None => assert!(c == 0 || (0x04..0x10).contains(&c) || c >= 0x80),
             }
         }
     }

@@ -19,6 +19,9 @@ pub enum Request {
     Write(ObjectAddress, Value),
     /// An extension op (a code in [`super::EXT_OPS`]) with its payload.
     Ext(u8, Bytes),
+    /// HELLO: the access token, as the client presents it. The server's
+    /// connection answers it; a handler never sees one.
+    Hello(Bytes),
 }
 
 impl Request {
@@ -28,6 +31,7 @@ impl Request {
             Request::Read(..) => Op::Read,
             Request::Write(..) => Op::Write,
             Request::Ext(code, _) => Op::Ext(*code),
+            Request::Hello(_) => Op::Hello,
         }
     }
 }
@@ -129,6 +133,7 @@ pub fn decode_request_with(
             Request::Write((&w.addr).into(), v)
         }
         Op::Ext(c) => Request::Ext(c, ext(payload)),
+        Op::Hello => Request::Hello(Bytes::copy_from_slice(payload)),
     };
     Ok((id, req))
 }
@@ -168,7 +173,7 @@ pub fn encode_request(id: u32, req: &Request, out: &mut BytesMut) {
             };
             encode_frame(out, header, w.as_bytes());
         }
-        Request::Ext(_, payload) => encode_frame(out, header, payload),
+        Request::Ext(_, payload) | Request::Hello(payload) => encode_frame(out, header, payload),
     }
 }
 
@@ -201,8 +206,8 @@ pub fn decode_answer(body: Bytes, op: Op) -> Option<(u32, Answer)> {
     }
     let ans = match op {
         Op::Read => Answer::Value(WireValue::ref_from_bytes(payload).ok()?.value()?),
-        Op::Write if payload.is_empty() => Answer::Ok,
-        Op::Write => return None,
+        Op::Write | Op::Hello if payload.is_empty() => Answer::Ok,
+        Op::Write | Op::Hello => return None,
         Op::Ext(_) => Answer::Ext(body.slice(HEADER_LEN..)),
     };
     Some((id, ans))
@@ -227,6 +232,7 @@ mod tests {
             Request::Write(a, Value::F64(2.5)),
             Request::Ext(0x10, Bytes::from_static(&[1, 2, 3])),
             Request::Ext(0x21, Bytes::new()),
+            Request::Hello(Bytes::from_static(b"0123456789abcdef")),
         ] {
             let mut out = BytesMut::new();
             encode_request(7, &req, &mut out);
@@ -241,6 +247,8 @@ mod tests {
             (Op::Read, Answer::Value(Value::F64(1.5))),
             (Op::Write, Answer::Ok),
             (Op::Write, Answer::Access(AccessError::Range)),
+            (Op::Hello, Answer::Ok),
+            (Op::Hello, Answer::Protocol(ProtocolError::Unauthorized)),
             (Op::Ext(0x10), Answer::Protocol(ProtocolError::BadPayload)),
             (Op::Ext(0x21), Answer::Ext(Bytes::from_static(&[9; 64]))),
         ] {
@@ -316,7 +324,7 @@ mod tests {
             })
         );
         b[2] = VERSION;
-        b[3] = 0x03;
+        b[3] = 0x04;
         assert_eq!(
             reject(&b).map_err(|r| r.error),
             Err(ProtocolError::UnknownOp)
