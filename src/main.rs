@@ -196,7 +196,10 @@ fn connect(addr: &str, args: &RemoteArgs) -> Result<RemoteTarget, String> {
     let opts = args.options()?;
     RemoteTarget::connect_with(&resolved.to_string(), &opts).map_err(|e| match e {
         ClientError::TimedOut { .. } => e.to_string(),
-        e => format!("cannot connect to {addr} ({resolved}): {e}{}", token_hint(&e)),
+        e => format!(
+            "cannot connect to {addr} ({resolved}): {e}{}",
+            token_hint(&e)
+        ),
     })
 }
 
