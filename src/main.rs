@@ -7,7 +7,6 @@ use clap::{Parser, Subcommand};
 
 use addipos::config::{Config, DEFAULT_CONFIG};
 use addipos::remote::{replay_remote, RemoteTarget};
-use addipos::service::EmulatorService;
 use addipos::trace::{load_trace, replay, trace_files, Mismatch};
 use tc_request::text::parse_request;
 use tc_request::Reply;
@@ -219,10 +218,11 @@ fn cmd_serve(config: Option<&Path>, listen: Option<String>, allow_remote: bool) 
         cfg.listen = l;
     }
     cfg.allow_remote |= allow_remote;
-    let (server_cfg, cycle_s) = match (cfg.server(), cfg.cycle_s()) {
-        (Ok(s), Ok(c)) => (s, c),
+    let (server_cfg, service) = match (cfg.server(), cfg.service()) {
+        (Ok(s), Ok(h)) => (s, h),
         (Err(e), _) | (_, Err(e)) => {
-            eprintln!("error: {e}");
+            let file = config.map_or("built-in settings".into(), |p| p.display().to_string());
+            eprintln!("error: {file}: {e}");
             return ExitCode::from(2);
         }
     };
@@ -237,7 +237,7 @@ fn cmd_serve(config: Option<&Path>, listen: Option<String>, allow_remote: bool) 
         }
     };
     let result = rt.block_on(async move {
-        let server = Server::bind(server_cfg, EmulatorService::new(cfg.start, cycle_s)).await?;
+        let server = Server::bind(server_cfg, service).await?;
         println!(
             "addipos: serving UOI on {} (Ctrl-C to stop)",
             server.local_addr()?

@@ -34,7 +34,9 @@ impl RemoteTarget {
     pub fn prepare(&mut self, trace: &Trace) -> Result<(), String> {
         let setup = Request::Setup {
             start: trace.start,
-            cycle_s: trace.cycle_s,
+            cycle_s: trace.cycle.secs(),
+            // A capacity is at most 1,000,000: it fits u64.
+            spool_capacity: trace.spool_capacity as u64,
         };
         match self.call(&setup).map_err(transport)? {
             Reply::Ok => {}

@@ -5,55 +5,104 @@
 
 use std::collections::VecDeque;
 
-use tc_module::{AxisPos, MAX_COORD};
+use otc_ext::OtcExtension;
+use tc_module::limits::check_point;
+use tc_module::spooler::check_capacity;
+use tc_module::{AxisPos, CycleTime, ExecLeft, TcExtension};
 use tc_request::wire::SPOOL_BATCH;
 use tc_request::{Reply, Request, SpoolRecord};
-use uoi::tcp::Handler;
+use uoi::tcp::{Handler, Slice};
 use uoi::wire::{Answer, Request as WireRequest};
 use uoi::AccessError;
 
 use crate::Emulator;
 
-/// Longest interpolation cycle a `SETUP` may ask for, in seconds.
-pub const MAX_CYCLE_S: f64 = 1.0;
-
-/// The emulator as the TCP server's handler.
+/// The emulator as the TCP server's handler (extension `E`: OTC; a test
+/// model in tests).
 #[derive(Debug)]
-pub struct EmulatorService {
-    emu: Emulator,
+pub struct EmulatorService<E: TcExtension = OtcExtension> {
+    emu: Emulator<E>,
     /// Logged elements not yet handed out by `SPOOL_LOG`.
     pending: VecDeque<SpoolRecord>,
+    /// The configured spooler capacity (a `SETUP` asking for 0 gets it).
+    spool_capacity: usize,
 }
 
 impl EmulatorService {
-    /// Serves a fresh emulator at `start` with cycle `cycle_s`.
-    pub fn new(start: AxisPos, cycle_s: f64) -> Self {
+    /// Serves a fresh emulator at `start` with cycle `cycle`.
+    pub fn new(start: AxisPos, cycle: CycleTime) -> Self {
+        Self::with_emulator(Emulator::new(start, cycle))
+    }
+}
+
+impl<E: TcExtension + Default> EmulatorService<E> {
+    /// Serves `emu` (its spooler capacity is the configured one).
+    pub fn with_emulator(emu: Emulator<E>) -> Self {
         Self {
-            emu: Emulator::new(start, cycle_s),
+            spool_capacity: emu.tc().spooler().capacity(),
+            emu,
             pending: VecDeque::new(),
         }
     }
 
-    /// Carries out one request.
+    /// The same service with spoolers of `capacity` elements (checked by
+    /// `check_capacity` where it comes from outside).
+    pub fn with_spool_capacity(self, capacity: usize) -> Self {
+        Self {
+            emu: self.emu.with_spool_capacity(capacity),
+            pending: self.pending,
+            spool_capacity: capacity,
+        }
+    }
+
+    /// Carries out one request, to its end.
     pub fn run(&mut self, req: &Request) -> Reply {
         match *req {
-            Request::Setup { start, cycle_s } => self.setup(start, cycle_s),
+            Request::Setup {
+                start,
+                cycle_s,
+                spool_capacity,
+            } => self.setup(start, cycle_s, spool_capacity),
             Request::SpoolLog { logging } => self.spool_log(logging),
             ref other => self.emu.run(other),
         }
     }
 
-    /// `SETUP`: a fresh emulator; `Range` for a start or cycle out of limits.
-    fn setup(&mut self, start: AxisPos, cycle_s: f64) -> Reply {
-        let ok = start.iter().all(|v| v.is_finite() && v.abs() <= MAX_COORD)
-            && cycle_s.is_finite()
-            && cycle_s > 0.0
-            && cycle_s <= MAX_CYCLE_S;
-        if !ok {
+    /// `SETUP`: a fresh emulator; `Range` for a start, cycle or capacity
+    /// out of limits (capacity 0: the configured one).
+    fn setup(&mut self, start: AxisPos, cycle_s: f64, capacity: u64) -> Reply {
+        let Some((cycle, capacity)) = self.setup_values(&start, cycle_s, capacity) else {
             return Reply::Access(AccessError::Range);
-        }
-        *self = Self::new(start, cycle_s);
+        };
+        let emu = Emulator::with_extension(start, cycle, E::default());
+        self.emu = emu.with_spool_capacity(capacity);
+        self.pending.clear();
         Reply::Ok
+    }
+
+    /// The checked cycle and capacity of a `SETUP`, if all is in limits.
+    fn setup_values(&self, start: &AxisPos, cycle_s: f64, cap: u64) -> Option<(CycleTime, usize)> {
+        check_point(start).ok()?;
+        let cycle = CycleTime::from_secs(cycle_s).ok()?;
+        let capacity = match cap {
+            0 => self.spool_capacity,
+            n => check_capacity(n).ok()?,
+        };
+        Some((cycle, capacity))
+    }
+
+    /// One slice of a request: `EXEC` runs slice by slice
+    /// ([`TcModule::exec_slice`](tc_module::TcModule::exec_slice)); what
+    /// is left of it comes back as `Err(rest)`, to continue with
+    /// `EXEC rest`. Any other request is one slice.
+    pub fn run_slice(&mut self, req: &Request) -> Result<Reply, Option<u64>> {
+        match *req {
+            Request::Exec(cycles) => match self.emu.exec_slice(cycles) {
+                ExecLeft::Done => Ok(Reply::Ok),
+                ExecLeft::Rest(rest) => Err(rest),
+            },
+            ref other => Ok(self.run(other)),
+        }
     }
 
     /// `SPOOL_LOG`: one batch of the logged elements; logging on or off.
@@ -66,11 +115,22 @@ impl EmulatorService {
     }
 }
 
-impl Handler for EmulatorService {
+impl<E: TcExtension + Default> Handler for EmulatorService<E> {
     /// Object accesses go straight to the object layer; the TC side's own
     /// ops are decoded by `tc-request` and run by the emulator.
     fn handle(&mut self, req: WireRequest) -> Answer {
-        match req {
+        let mut req = req;
+        loop {
+            match self.handle_slice(req) {
+                Slice::Done(answer) => return answer,
+                Slice::More(rest) => req = rest,
+            }
+        }
+    }
+
+    /// As `handle`, but a long `EXEC` comes back in slices.
+    fn handle_slice(&mut self, req: WireRequest) -> Slice {
+        let answer = match req {
             WireRequest::Read(a, ty) => match self.emu.read(a, ty) {
                 Ok(v) => Answer::Value(v),
                 Err(e) => Answer::Access(e),
@@ -80,9 +140,13 @@ impl Handler for EmulatorService {
                 Err(e) => Answer::Access(e),
             },
             ext => match Request::from_wire(&ext) {
-                Ok(r) => self.run(&r).to_wire(),
+                Ok(r) => match self.run_slice(&r) {
+                    Ok(reply) => reply.to_wire(),
+                    Err(rest) => return Slice::More(Request::Exec(rest).to_wire()),
+                },
                 Err(e) => Answer::Protocol(e),
             },
-        }
+        };
+        Slice::Done(answer)
     }
 }

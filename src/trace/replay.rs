@@ -197,7 +197,7 @@ fn check_spool(
 /// Replays `trace` on a fresh emulator; returns every mismatch (empty when
 /// the trace passes).
 pub fn replay(trace: &Trace) -> Vec<Mismatch> {
-    let mut emu = Emulator::new(trace.start, trace.cycle_s);
+    let mut emu = Emulator::new(trace.start, trace.cycle).with_spool_capacity(trace.spool_capacity);
     emu.set_spool_log(true);
     replay_on(trace, &mut emu)
 }

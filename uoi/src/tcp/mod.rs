@@ -8,4 +8,4 @@ mod idle;
 mod server;
 
 pub use client::{answer_error, BlockingClient, Client, ClientError};
-pub use server::{Core, Handler, Server, ServerConfig};
+pub use server::{Core, Handler, Server, ServerConfig, Slice};
