@@ -96,9 +96,16 @@ fn another_request_is_answered_during_a_huge_exec(core: Core) {
         std::thread::sleep(Duration::from_millis(1));
     }
     assert!(cycles.load(Ordering::SeqCst) > 0, "the EXEC never started");
-    let mut b = BlockingClient::connect(&addr.to_string()).expect("connect");
-    assert_eq!(call(&mut b, &Request::Queue), Reply::Queue(0));
-    assert_eq!(call(&mut b, &Request::Pos), Reply::Pos([0.0; AXES]));
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let mut b = BlockingClient::connect(&addr.to_string()).expect("connect");
+        let _ = tx.send((call(&mut b, &Request::Queue), call(&mut b, &Request::Pos)));
+    });
+    // Hang guard only, far above any real wait.
+    let answers = rx.recv_timeout(Duration::from_secs(120));
+    let (queue, pos) = answers.expect("another connection was not served during the EXEC");
+    assert_eq!(queue, Reply::Queue(0));
+    assert_eq!(pos, Reply::Pos([0.0; AXES]));
     // Answered while the EXEC is still under way: it cannot end before
     // the model stops.
     assert!(!exec_done.load(Ordering::SeqCst));
