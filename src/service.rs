@@ -150,3 +150,35 @@ impl<E: TcExtension + Default> Handler for EmulatorService<E> {
         Slice::Done(answer)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn setup(svc: &mut EmulatorService, cycle_s: f64, spool_capacity: u64) -> Reply {
+        svc.run(&Request::Setup {
+            start: [0.0; 8],
+            cycle_s,
+            spool_capacity,
+        })
+    }
+
+    #[test]
+    fn setup_refuses_cycles_that_make_steps_vanish_and_bad_capacities() {
+        let mut svc = EmulatorService::new([0.0; 8], CycleTime::DEFAULT).with_spool_capacity(20);
+        let range = Reply::Access(AccessError::Range);
+        assert_eq!(setup(&mut svc, 5e-324, 0), range);
+        assert_eq!(setup(&mut svc, 1e-7, 0), range);
+        assert_eq!(setup(&mut svc, 1e-3, 7), range);
+        assert_eq!(setup(&mut svc, 1e-3, 0), Reply::Ok);
+        assert_eq!(
+            svc.emu.tc().spooler().capacity(),
+            20,
+            "0: the configured one"
+        );
+        assert_eq!(setup(&mut svc, 1e-6, 8), Reply::Ok);
+        assert_eq!(svc.emu.tc().spooler().capacity(), 8);
+        assert_eq!(setup(&mut svc, 1e-3, 0), Reply::Ok);
+        assert_eq!(svc.emu.tc().spooler().capacity(), 20);
+    }
+}
