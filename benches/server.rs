@@ -109,9 +109,12 @@ async fn serve_ours(core: Core, tx: std::sync::mpsc::Sender<SocketAddr>) {
         max_connections_per_peer: 256,
         ..ServerConfig::default()
     };
-    let server = Server::bind(cfg, EmulatorService::new([0.0; 8], 1e-3))
-        .await
-        .expect("bind");
+    let server = Server::bind(
+        cfg,
+        EmulatorService::new([0.0; 8], tc_module::CycleTime::DEFAULT),
+    )
+    .await
+    .expect("bind");
     tx.send(server.local_addr().expect("addr")).expect("send");
     let _ = server.run(std::future::pending()).await;
 }

@@ -5,10 +5,14 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use serde::Deserialize;
-use tc_module::AXES;
+use tc_module::limits::{check_point, MAX_COORD};
+use tc_module::spooler::{check_capacity, DEFAULT_SPOOL_CAPACITY};
+use tc_module::{CycleTime, AXES};
 use uoi::tcp::{AccessPolicy, Core, ServerConfig};
 
 use crate::address::parse_address;
+
+use crate::service::EmulatorService;
 
 /// Most connections `max_connections` may allow (each holds up to two
 /// 64 KiB buffers).
@@ -44,6 +48,8 @@ pub struct Config {
     pub core: String,
     /// Interpolation cycle in ms.
     pub cycle_ms: f64,
+    /// Elements the spooler holds.
+    pub spool_capacity: u64,
     /// Machine position at start.
     pub start: [f64; AXES],
 }
@@ -61,6 +67,7 @@ impl Default for Config {
             write_timeout_s: 30,
             core: "lock".into(),
             cycle_ms: 1.0,
+            spool_capacity: DEFAULT_SPOOL_CAPACITY as u64,
             start: [0.0; AXES],
         }
     }
@@ -131,16 +138,20 @@ impl Config {
         })
     }
 
-    /// The interpolation cycle in seconds, checked.
-    pub fn cycle_s(&self) -> Result<f64, ConfigError> {
-        if self.cycle_ms.is_finite() && self.cycle_ms > 0.0 && self.cycle_ms <= 1000.0 {
-            Ok(self.cycle_ms * 1e-3)
-        } else {
-            Err(ConfigError(format!(
-                "cycle_ms = {} must lie in (0, 1000]",
-                self.cycle_ms
-            )))
-        }
+    /// The interpolation cycle, checked.
+    pub fn cycle(&self) -> Result<CycleTime, ConfigError> {
+        CycleTime::from_secs(self.cycle_ms * 1e-3)
+            .map_err(|e| ConfigError(format!("cycle_ms = {}: {e}", self.cycle_ms)))
+    }
+
+    /// The emulator to serve (start, cycle, spooler capacity), checked.
+    pub fn service(&self) -> Result<EmulatorService, ConfigError> {
+        let cycle = self.cycle()?;
+        let capacity = check_capacity(self.spool_capacity)
+            .map_err(|e| ConfigError(format!("spool_capacity = {}: {e}", self.spool_capacity)))?;
+        check_point(&self.start)
+            .map_err(|_| ConfigError(format!("start: every axis must lie within ±{MAX_COORD}")))?;
+        Ok(EmulatorService::new(self.start, cycle).with_spool_capacity(capacity))
     }
 }
 
@@ -170,8 +181,20 @@ mod tests {
         assert!(c.server().unwrap_err().0.contains("core"));
         let c = Config::parse("listen = \"nowhere\"").unwrap();
         assert!(c.server().unwrap_err().0.contains("nowhere"));
-        let c = Config::parse("cycle_ms = 0").unwrap();
-        assert!(c.cycle_s().is_err());
+        for bad in ["0", "1e-320", "0.0001", "1000.5", "nan", "inf"] {
+            let c = Config::parse(&format!("cycle_ms = {bad}")).unwrap();
+            assert!(c.cycle().unwrap_err().0.contains("cycle_ms"), "{bad}");
+            assert!(c.service().is_err());
+        }
+        for bad in [0, 7, 1_000_001] {
+            let c = Config::parse(&format!("spool_capacity = {bad}")).unwrap();
+            assert!(
+                c.service().unwrap_err().0.contains("spool_capacity"),
+                "{bad}"
+            );
+        }
+        let c = Config::parse("start = [1e10, 0, 0, 0, 0, 0, 0, 0]").unwrap();
+        assert!(c.service().unwrap_err().0.contains("start"));
         let c = Config::parse("max_connections = 2305843009213693952").unwrap();
         assert!(c.server().unwrap_err().0.contains("max_connections"));
         let c = Config::parse("max_connections_per_peer = 0").unwrap();

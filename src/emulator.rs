@@ -2,8 +2,7 @@
 //! by the one request model.
 
 use otc_ext::OtcExtension;
-use tc_module::executor::DEFAULT_CYCLE_S;
-use tc_module::{AxisPos, Motion, TcModule, AXES};
+use tc_module::{AxisPos, CycleTime, ExecLeft, Motion, TcExtension, TcModule, AXES};
 use tc_request::{Reply, Request, SpoolRecord};
 use uoi::wire::ProtocolError;
 use uoi::{AccessError, ObjectAddress, ObjectBus, Value, ValueType};
@@ -11,34 +10,49 @@ use uoi::{AccessError, ObjectAddress, ObjectBus, Value, ValueType};
 /// The TC module as the emulator runs it.
 pub type Tc = TcModule<OtcExtension>;
 
-/// One emulated controller.
+/// One emulated controller: the TC module with extension `E` (OTC; a
+/// test model in tests).
 #[derive(Debug)]
-pub struct Emulator {
-    tc: Tc,
+pub struct Emulator<E: TcExtension = OtcExtension> {
+    tc: TcModule<E>,
 }
 
 impl Default for Emulator {
     fn default() -> Self {
-        Self::new([0.0; AXES], DEFAULT_CYCLE_S)
+        Self::new([0.0; AXES], CycleTime::DEFAULT)
     }
 }
 
 impl Emulator {
-    /// A controller whose machine stands at `start`, with an interpolation
-    /// cycle of `cycle_s` seconds.
-    pub fn new(start: AxisPos, cycle_s: f64) -> Self {
+    /// A controller whose machine stands at `start`, with interpolation
+    /// cycle `cycle`.
+    pub fn new(start: AxisPos, cycle: CycleTime) -> Self {
+        Self::with_extension(start, cycle, OtcExtension::default())
+    }
+}
+
+impl<E: TcExtension> Emulator<E> {
+    /// A controller with extension `ext`.
+    pub fn with_extension(start: AxisPos, cycle: CycleTime, ext: E) -> Self {
         Self {
-            tc: TcModule::new(start, cycle_s, OtcExtension::default()),
+            tc: TcModule::new(start, cycle, ext),
+        }
+    }
+
+    /// The same controller with a spooler of `capacity` elements.
+    pub fn with_spool_capacity(self, capacity: usize) -> Self {
+        Self {
+            tc: self.tc.with_spool_capacity(capacity),
         }
     }
 
     /// The TC module.
-    pub fn tc(&self) -> &Tc {
+    pub fn tc(&self) -> &TcModule<E> {
         &self.tc
     }
 
     /// The TC module, mutable.
-    pub fn tc_mut(&mut self) -> &mut Tc {
+    pub fn tc_mut(&mut self) -> &mut TcModule<E> {
         &mut self.tc
     }
 
@@ -83,12 +97,17 @@ impl Emulator {
         self.tc.exec(cycles)
     }
 
+    /// One slice of `EXEC cycles` (see [`TcModule::exec_slice`]).
+    pub fn exec_slice(&mut self, cycles: Option<u64>) -> ExecLeft {
+        self.tc.exec_slice(cycles)
+    }
+
     /// The executed position.
     pub fn position(&self) -> AxisPos {
         self.tc.position()
     }
 
-    /// Elements waiting in the spooler.
+    /// Motion waiting (`QUEUE`).
     pub fn queue_len(&self) -> usize {
         self.tc.queue_len()
     }

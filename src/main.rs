@@ -352,9 +352,8 @@ async fn shutdown_signal() {
 
 /// What `serve` runs with.
 struct ServeSettings {
-    cfg: Config,
     server: uoi::tcp::ServerConfig,
-    cycle_s: f64,
+    service: EmulatorService,
 }
 
 /// The settings file (or the built-in settings) with `--listen` and
@@ -379,16 +378,12 @@ fn serve_settings(
     }
     cfg.allow_remote |= allow_remote;
     let mut server = cfg.server().map_err(in_source)?;
-    let cycle_s = cfg.cycle_s().map_err(in_source)?;
+    let service = cfg.service().map_err(in_source)?;
     if cfg.wants_token() {
         let token = server_token(&cfg.data_dir).map_err(|e| format!("access token: {e}"))?;
         server.access.token = Some(token);
     }
-    Ok(ServeSettings {
-        cfg,
-        server,
-        cycle_s,
-    })
+    Ok(ServeSettings { server, service })
 }
 
 /// The server's access token, read or generated; the log names its file
@@ -438,9 +433,8 @@ fn cmd_serve(config: Option<&Path>, listen: Option<&str>, allow_remote: bool) ->
         }
     };
     let addr = settings.server.listen;
-    let service = EmulatorService::new(settings.cfg.start, settings.cycle_s);
     // The server logs its one start line (address, limits) once bound.
-    let server = match rt.block_on(Server::bind(settings.server, service)) {
+    let server = match rt.block_on(Server::bind(settings.server, settings.service)) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("error: {}", listen_error(addr, &e));

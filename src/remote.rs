@@ -41,7 +41,9 @@ impl RemoteTarget {
     pub fn prepare(&mut self, header: &Header) -> Result<(), String> {
         let setup = Request::Setup {
             start: header.start,
-            cycle_s: header.cycle_s,
+            cycle_s: header.cycle.secs(),
+            // A capacity is at most 1,000,000: it fits u64.
+            spool_capacity: header.spool_capacity as u64,
         };
         match self.call(&setup).map_err(transport)? {
             Reply::Ok => {}

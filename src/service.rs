@@ -1,30 +1,47 @@
 //! The emulator behind the wire: the [`Handler`] the TCP server drives.
 //! Object accesses (READ, WRITE) go straight to the emulator; the TC side's
 //! own ops are decoded with `tc-request`, run, and answered with the
-//! reply's wire form. The emulator-control ops (`SETUP`, `SPOOL_LOG`)
-//! belong to a connection's conformance session ([`crate::session`]): the
-//! emulator all connections share is never reset or logged by a client.
+//! reply's wire form. A long `EXEC` is served in slices, so the server can
+//! release the emulator in between. The emulator-control ops (`SETUP`,
+//! `SPOOL_LOG`) belong to a connection's conformance session
+//! ([`crate::session`]): the emulator all connections share is never reset
+//! or logged by a client.
 
-use tc_module::AxisPos;
+use otc_ext::OtcExtension;
+use tc_module::{AxisPos, CycleTime, ExecLeft, TcExtension};
 use tc_request::Request;
-use uoi::tcp::Handler;
+use uoi::tcp::{Handler, Slice};
 use uoi::wire::{Answer, Request as WireRequest};
 use uoi::AccessError;
 
 use crate::session::ConformanceSession;
 use crate::Emulator;
 
-/// The emulator all connections share, as the TCP server's handler.
+/// The emulator all connections share, as the TCP server's handler
+/// (extension `E`: OTC; a test model in tests).
 #[derive(Debug)]
-pub struct EmulatorService {
-    emu: Emulator,
+pub struct EmulatorService<E: TcExtension = OtcExtension> {
+    emu: Emulator<E>,
 }
 
 impl EmulatorService {
-    /// Serves a fresh emulator at `start` with cycle `cycle_s`.
-    pub fn new(start: AxisPos, cycle_s: f64) -> Self {
+    /// Serves a fresh emulator at `start` with cycle `cycle`.
+    pub fn new(start: AxisPos, cycle: CycleTime) -> Self {
+        Self::with_emulator(Emulator::new(start, cycle))
+    }
+}
+
+impl<E: TcExtension + Default> EmulatorService<E> {
+    /// Serves `emu`.
+    pub fn with_emulator(emu: Emulator<E>) -> Self {
+        Self { emu }
+    }
+
+    /// The same service with a spooler of `capacity` elements (checked by
+    /// `check_capacity` where it comes from outside).
+    pub fn with_spool_capacity(self, capacity: usize) -> Self {
         Self {
-            emu: Emulator::new(start, cycle_s),
+            emu: self.emu.with_spool_capacity(capacity),
         }
     }
 }
@@ -38,11 +55,16 @@ pub(crate) enum Control {
     SpoolLog(bool),
 }
 
-/// Answers `req` on `emu`: object accesses straight, the TC side's own ops
-/// decoded by `tc-request` and run. An emulator-control op (`SETUP`,
-/// `SPOOL_LOG`) is handed back, for the caller to serve.
-pub(crate) fn serve(emu: &mut Emulator, req: WireRequest) -> Result<Answer, Control> {
-    Ok(match req {
+/// Serves one slice of `req` on `emu`: object accesses straight, the TC
+/// side's own ops decoded by `tc-request` and run; an `EXEC` runs one
+/// slice ([`TcModule::exec_slice`](tc_module::TcModule::exec_slice)) and
+/// hands back the rest. An emulator-control op is handed back, for the
+/// caller to serve.
+pub(crate) fn serve_slice<E: TcExtension>(
+    emu: &mut Emulator<E>,
+    req: WireRequest,
+) -> Result<Slice, Control> {
+    let answer = match req {
         WireRequest::Read(a, ty) => match emu.read(a, ty) {
             Ok(v) => Answer::Value(v),
             Err(e) => Answer::Access(e),
@@ -54,13 +76,32 @@ pub(crate) fn serve(emu: &mut Emulator, req: WireRequest) -> Result<Answer, Cont
         ext => match Request::from_wire(&ext) {
             Ok(Request::Setup { .. }) => return Err(Control::Setup),
             Ok(Request::SpoolLog { logging }) => return Err(Control::SpoolLog(logging)),
+            Ok(Request::Exec(cycles)) => match emu.exec_slice(cycles) {
+                ExecLeft::Done => Answer::Ok,
+                ExecLeft::Rest(rest) => return Ok(Slice::More(Request::Exec(rest).to_wire())),
+            },
             Ok(r) => emu.run(&r).to_wire(),
             Err(e) => Answer::Protocol(e),
         },
-    })
+    };
+    Ok(Slice::Done(answer))
 }
 
-impl Handler for EmulatorService {
+/// Serves `req` on `emu` to its end (every slice of it).
+pub(crate) fn serve<E: TcExtension>(
+    emu: &mut Emulator<E>,
+    req: WireRequest,
+) -> Result<Answer, Control> {
+    let mut req = req;
+    loop {
+        match serve_slice(emu, req)? {
+            Slice::Done(answer) => return Ok(answer),
+            Slice::More(rest) => req = rest,
+        }
+    }
+}
+
+impl<E: TcExtension + Default> Handler for EmulatorService<E> {
     /// `SETUP` gives a connection an emulator of its own.
     type Session = ConformanceSession;
 
@@ -69,6 +110,11 @@ impl Handler for EmulatorService {
     /// only a conformance session has a spool log.
     fn handle(&mut self, req: WireRequest) -> Answer {
         serve(&mut self.emu, req).unwrap_or(Answer::Access(AccessError::State))
+    }
+
+    /// As `handle`, but a long `EXEC` comes back in slices.
+    fn handle_slice(&mut self, req: WireRequest) -> Slice {
+        serve_slice(&mut self.emu, req).unwrap_or(Slice::Done(Answer::Access(AccessError::State)))
     }
 }
 
@@ -79,7 +125,7 @@ mod tests {
 
     #[test]
     fn the_shared_emulator_never_logs() {
-        let mut s = EmulatorService::new([0.0; 8], 1e-3);
+        let mut s = EmulatorService::new([0.0; 8], CycleTime::DEFAULT);
         let on = Request::SpoolLog { logging: true }.to_wire();
         assert_eq!(s.handle(on), Answer::Access(AccessError::State));
         let lin = parse_request("LIN X1").expect("LIN").to_wire();

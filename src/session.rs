@@ -5,8 +5,11 @@
 //! log is bounded.
 
 use std::collections::VecDeque;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
-use tc_module::{AxisPos, MAX_COORD};
+use tc_module::limits::check_point;
+use tc_module::spooler::{DEFAULT_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY};
+use tc_module::{AxisPos, CycleTime};
 use tc_request::wire::{TcOp, SPOOL_BATCH};
 use tc_request::{Reply, Request, SpoolRecord};
 use uoi::tcp::{Served, Session};
@@ -16,8 +19,38 @@ use uoi::AccessError;
 use crate::service::{serve, Control};
 use crate::Emulator;
 
-/// Longest interpolation cycle a `SETUP` may ask for, in seconds.
-pub const MAX_CYCLE_S: f64 = 1.0;
+/// Most conformance sessions open at once in one server process: each
+/// may hold a spooler of up to [`MAX_SESSION_SPOOL`] elements, so this
+/// bounds what sessions can take of memory (16 × 25 MB).
+pub const MAX_SESSIONS: usize = 16;
+
+/// Largest spooler a session may ask for (the server's default capacity).
+pub const MAX_SESSION_SPOOL: usize = DEFAULT_SPOOL_CAPACITY;
+
+/// Sessions open now, in this process.
+static OPEN_SESSIONS: AtomicUsize = AtomicUsize::new(0);
+
+/// One of the [`MAX_SESSIONS`] places; given back when dropped.
+#[derive(Debug)]
+struct SessionPlace;
+
+impl SessionPlace {
+    /// A place, or `None` when all are taken.
+    fn take() -> Option<Self> {
+        OPEN_SESSIONS
+            .fetch_update(Ordering::AcqRel, Ordering::Acquire, |n| {
+                (n < MAX_SESSIONS).then_some(n + 1)
+            })
+            .ok()
+            .map(|_| SessionPlace)
+    }
+}
+
+impl Drop for SessionPlace {
+    fn drop(&mut self) {
+        OPEN_SESSIONS.fetch_sub(1, Ordering::AcqRel);
+    }
+}
 
 /// Most spooled elements a session's log holds before they are fetched
 /// (ten `SPOOL_LOG` answers).
@@ -44,35 +77,55 @@ impl Session for ConformanceSession {
 
 impl ConformanceSession {
     /// `SETUP`: a fresh emulator for this connection, in place of any it
-    /// had. Refused (`BadPayload`, `Range`), it changes nothing.
+    /// had. Refused (`BadPayload`, `Range`, `Full` when [`MAX_SESSIONS`]
+    /// are open), it changes nothing.
     fn setup(&mut self, req: &WireRequest) -> Answer {
-        let (start, cycle_s) = match Request::from_wire(req) {
-            Ok(Request::Setup { start, cycle_s }) => (start, cycle_s),
+        let (start, cycle_s, capacity) = match Request::from_wire(req) {
+            Ok(Request::Setup {
+                start,
+                cycle_s,
+                spool_capacity,
+            }) => (start, cycle_s, spool_capacity),
             Ok(_) => return Answer::Protocol(ProtocolError::UnknownOp),
             Err(e) => return Answer::Protocol(e),
         };
-        if let Err(e) = check_setup(&start, cycle_s) {
-            return Answer::Access(e);
-        }
+        let (cycle, capacity) = match check_setup(&start, cycle_s, capacity) {
+            Ok(v) => v,
+            Err(e) => return Answer::Access(e),
+        };
+        let place = match self.own.take() {
+            Some(own) => own.place,
+            None => match SessionPlace::take() {
+                Some(p) => p,
+                None => return Answer::Access(AccessError::Full),
+            },
+        };
         self.own = Some(Box::new(Conformance {
-            emu: Emulator::new(start, cycle_s),
+            emu: Emulator::new(start, cycle).with_spool_capacity(capacity),
             log: SpoolLog::default(),
+            place,
         }));
         Answer::Ok
     }
 }
 
-/// `Range` for a start or cycle out of limits.
-fn check_setup(start: &AxisPos, cycle_s: f64) -> Result<(), AccessError> {
-    let ok = start.iter().all(|v| v.is_finite() && v.abs() <= MAX_COORD)
-        && cycle_s.is_finite()
-        && cycle_s > 0.0
-        && cycle_s <= MAX_CYCLE_S;
-    if ok {
-        Ok(())
-    } else {
-        Err(AccessError::Range)
-    }
+/// The checked cycle and spooler capacity of a `SETUP` (capacity 0: the
+/// default one); `Range` for a start, cycle or capacity out of limits.
+fn check_setup(
+    start: &AxisPos,
+    cycle_s: f64,
+    capacity: u64,
+) -> Result<(CycleTime, usize), AccessError> {
+    check_point(start)?;
+    let cycle = CycleTime::from_secs(cycle_s).map_err(|_| AccessError::Range)?;
+    let capacity = match capacity {
+        0 => DEFAULT_SPOOL_CAPACITY,
+        n => usize::try_from(n)
+            .ok()
+            .filter(|n| (MIN_SPOOL_CAPACITY..=MAX_SESSION_SPOOL).contains(n))
+            .ok_or(AccessError::Range)?,
+    };
+    Ok((cycle, capacity))
 }
 
 /// The private emulator of a session and its spool log.
@@ -80,6 +133,8 @@ fn check_setup(start: &AxisPos, cycle_s: f64) -> Result<(), AccessError> {
 struct Conformance {
     emu: Emulator,
     log: SpoolLog,
+    /// Its place among the [`MAX_SESSIONS`].
+    place: SessionPlace,
 }
 
 impl Conformance {

@@ -35,9 +35,12 @@ impl TestServer {
                 .build()
                 .expect("runtime");
             rt.block_on(async move {
-                let server = Server::bind(cfg, EmulatorService::new([0.0; 8], 1e-3))
-                    .await
-                    .expect("bind");
+                let server = Server::bind(
+                    cfg,
+                    EmulatorService::new([0.0; 8], tc_module::CycleTime::DEFAULT),
+                )
+                .await
+                .expect("bind");
                 addr_tx
                     .send(server.local_addr().expect("addr"))
                     .expect("send addr");
@@ -384,7 +387,7 @@ fn non_loopback_needs_allow_remote() {
                 listen: "0.0.0.0:0".parse().expect("addr"),
                 ..ServerConfig::default()
             },
-            EmulatorService::new([0.0; 8], 1e-3),
+            EmulatorService::new([0.0; 8], tc_module::CycleTime::DEFAULT),
         ))
         .err()
         .expect("refused");

@@ -32,9 +32,12 @@ fn serve(core: Core) -> (SocketAddr, tokio::sync::oneshot::Sender<()>) {
                 core,
                 ..ServerConfig::default()
             };
-            let server = Server::bind(cfg, EmulatorService::new([0.0; 8], 1e-3))
-                .await
-                .expect("bind");
+            let server = Server::bind(
+                cfg,
+                EmulatorService::new([0.0; 8], tc_module::CycleTime::DEFAULT),
+            )
+            .await
+            .expect("bind");
             addr_tx
                 .send(server.local_addr().expect("addr"))
                 .expect("send");
@@ -68,6 +71,7 @@ fn setup(c: &mut BlockingClient) -> Reply {
         &Request::Setup {
             start: [0.0; 8],
             cycle_s: 1e-3,
+            spool_capacity: 0,
         },
     )
 }
@@ -126,6 +130,7 @@ fn a_refused_setup_leaves_the_connection_where_it_was() {
     let bad = Request::Setup {
         start: [0.0; 8],
         cycle_s: 2.0,
+        spool_capacity: 0,
     };
     assert_eq!(request(&mut c, &bad), Reply::Access(AccessError::Range));
     assert_eq!(call(&mut c, RADIUS), Reply::Value(Value::F64(2.0)));
@@ -156,6 +161,7 @@ fn spool_lines(addr: SocketAddr, session: bool, n: usize) -> Vec<Reply> {
             reqs.push(Request::Setup {
                 start: [0.0; 8],
                 cycle_s: 1e-3,
+                spool_capacity: 0,
             });
             reqs.push(Request::SpoolLog { logging: true });
         }
@@ -164,6 +170,7 @@ fn spool_lines(addr: SocketAddr, session: bool, n: usize) -> Vec<Reply> {
         reqs.push(Request::Setup {
             start: [0.0; 8],
             cycle_s: 1e-3,
+            spool_capacity: 0,
         });
         reqs.push(Request::SpoolLog { logging: true });
         let wire: Vec<_> = reqs.iter().map(Request::to_wire).collect();

@@ -15,11 +15,11 @@
 //!
 //! ```
 //! use otc_ext::OtcExtension;
-//! use tc_module::TcModule;
+//! use tc_module::{CycleTime, TcModule};
 //! use uoi::{AccessError, ObjectServer, Value, ValueType};
 //!
 //! let mut server = ObjectServer::new();
-//! server.register(TcModule::new([0.0; 8], 1e-3, OtcExtension::default())).unwrap();
+//! server.register(TcModule::new([0.0; 8], CycleTime::DEFAULT, OtcExtension::default())).unwrap();
 //! let wear = "1300/3/1/10".parse().unwrap();
 //! assert_eq!(server.read(wear, ValueType::F64), Ok(Value::F64(0.0)));
 //! assert_eq!(server.write(wear, Value::F64(1.0)), Err(AccessError::ReadOnly));

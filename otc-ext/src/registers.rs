@@ -28,7 +28,7 @@ fn dbl(v: Value) -> f64 {
 
 /// `#OTC OFF`: the wear accumulated since ON is booked on the tool and
 /// read back through the V.G. values (otc.md "Switching off"). A booking
-/// the tool entry refuses (a radius or length that would not stay finite)
+/// the tool entry refuses (a radius or length that would leave ±1e9)
 /// changes nothing.
 fn switch_off(g: &mut Access<'_>) -> Result<(), AccessError> {
     let s = g.state();

@@ -3,7 +3,7 @@
 
 use std::fmt;
 
-use tc_module::{ArcDir, AxisPos, AxisWords};
+use tc_module::{ArcDir, AxisPos, AxisWords, CycleTime};
 use tc_request::text::{write_axis_words, write_letters};
 use tc_request::Request;
 use uoi::AccessError;
@@ -87,8 +87,10 @@ pub struct Header {
     pub tol: f64,
     /// `@start`: initial machine position.
     pub start: AxisPos,
-    /// `@cycle` in seconds.
-    pub cycle_s: f64,
+    /// `@cycle`: the interpolation cycle.
+    pub cycle: CycleTime,
+    /// `@spool`: the spooler capacity (default 100,000 elements).
+    pub spool_capacity: usize,
 }
 
 /// A trace parsed as a whole (the replayer of files reads them step by

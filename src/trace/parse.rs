@@ -6,8 +6,8 @@
 
 use std::io::{BufRead, Read};
 
-use tc_module::executor::DEFAULT_CYCLE_S;
-use tc_module::AXES;
+use tc_module::spooler::{check_capacity, DEFAULT_SPOOL_CAPACITY};
+use tc_module::{CycleTime, AXES};
 use tc_request::text::{parse_f64, parse_request, parse_words, Allow, TextResult};
 
 use super::expect::{parse_expect, parse_spool};
@@ -20,7 +20,7 @@ pub const DEFAULT_TOL: f64 = 1e-6;
 /// Longest line read (a guard against a file without line breaks).
 pub const MAX_LINE_BYTES: usize = 1 << 20;
 
-fn parse_cycle(s: &str) -> TextResult<f64> {
+fn parse_cycle(s: &str) -> TextResult<CycleTime> {
     let lower: String = s
         .split_whitespace()
         .collect::<String>()
@@ -33,11 +33,15 @@ fn parse_cycle(s: &str) -> TextResult<f64> {
         return Err(format!("bad cycle `{s}` (want e.g. `1ms` or `500us`)"));
     };
     let v = parse_f64(num)?;
-    if v.is_finite() && v > 0.0 {
-        Ok(v * scale)
-    } else {
-        Err(format!("cycle must be positive, found `{s}`"))
-    }
+    CycleTime::from_secs(v * scale).map_err(|e| format!("bad cycle `{s}`: {e}"))
+}
+
+fn parse_spool_capacity(s: &str) -> TextResult<usize> {
+    let n: u64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("bad spooler capacity `{s}` (want a count of elements)"))?;
+    check_capacity(n).map_err(|e| e.to_string())
 }
 
 fn parse_tol(value: &str) -> TextResult<f64> {
@@ -75,7 +79,8 @@ fn parse_header(header: &str, h: &mut Header) -> TextResult<()> {
         "name" => h.name = Some(value.to_string()),
         "tol" => h.tol = parse_tol(value)?,
         "start" => parse_start(value, &mut h.start)?,
-        "cycle" => h.cycle_s = parse_cycle(value)?,
+        "cycle" => h.cycle = parse_cycle(value)?,
+        "spool" => h.spool_capacity = parse_spool_capacity(value)?,
         other => return Err(format!("unknown header `@{other}`")),
     }
     Ok(())
@@ -131,7 +136,8 @@ impl<R: BufRead> TraceReader<R> {
                 name: None,
                 tol: DEFAULT_TOL,
                 start: [0.0; AXES],
-                cycle_s: DEFAULT_CYCLE_S,
+                cycle: CycleTime::DEFAULT,
+                spool_capacity: DEFAULT_SPOOL_CAPACITY,
             },
             line: 0,
             buf: Vec::new(),
@@ -363,9 +369,17 @@ mod tests {
 
     #[test]
     fn cycles_and_tolerances() {
-        assert_eq!(parse_cycle("250us"), Ok(250e-6));
-        assert_eq!(parse_cycle("2 ms"), Ok(2e-3));
+        let secs = |s| parse_cycle(s).map(CycleTime::secs);
+        assert_eq!(secs("250us"), Ok(250e-6));
+        assert_eq!(secs("2 ms"), Ok(2e-3));
         assert!(parse_cycle("0ms").is_err());
+        // A cycle that would make every step vanish is refused.
+        assert!(parse_cycle("1e-320us").is_err());
+        assert!(parse_cycle("0.5us").is_err());
+        assert!(parse_cycle("1001ms").is_err());
+        assert_eq!(parse_spool_capacity(" 8 "), Ok(8));
+        assert!(parse_spool_capacity("7").is_err());
+        assert!(parse_spool_capacity("lots").is_err());
         assert!(parse_tol("-1").is_err());
     }
 }

@@ -207,7 +207,8 @@ fn check_spool(
 /// A fresh emulator for a trace: its start position and cycle, spool log
 /// on.
 pub fn fresh_emulator(header: &Header) -> Emulator {
-    let mut emu = Emulator::new(header.start, header.cycle_s);
+    let mut emu =
+        Emulator::new(header.start, header.cycle).with_spool_capacity(header.spool_capacity);
     emu.set_spool_log(true);
     emu
 }

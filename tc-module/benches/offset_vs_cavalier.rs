@@ -210,12 +210,7 @@ fn drain(sp: &mut Spooler) {
 /// Ours through the one-profile buffer; returns the spooler for checks.
 fn run_buffer(profiles: &[Profile], spooler: &mut Spooler) {
     let mut buffer = Buffer::default();
-    let mut sink = Sink {
-        spooler,
-        q: [0.0; AXES],
-        plane: XY,
-        len: 0.0,
-    };
+    let mut sink = Sink::new(spooler, [0.0; AXES], XY, 0.0);
     for (i, p) in profiles.iter().enumerate() {
         buffer
             .push(p, RADIUS, TransitionMode::Circular, &mut sink)

@@ -6,9 +6,18 @@
 //! before anything is spooled, so an error never leaves half a corner in
 //! the spooler. Every element it spools carries its origin and its
 //! contour normal (otc.md rules 3 and 4).
+//!
+//! What a profile spools is admitted as a whole or not at all: every end
+//! point and arc centre within the coordinate limit (else `Range`) and
+//! room in the spooler for it and for the profile then held (else
+//! `Full`); a refused profile leaves spooler and buffer as they were.
+//! Plane-null profiles waiting with the held one count toward the
+//! spooler's capacity.
+
+use uoi::AccessError;
 
 use crate::bits::ErrorBits;
-use crate::element::{ContourNormal, NormalRule, Origin, SpoolElement};
+use crate::element::{ContourNormal, NormalRule, Origin, Path, SpoolElement};
 use crate::geometry::full_circle::{keeps_whole_turn, start_shift, whole_turn_end};
 use crate::geometry::tolerance::ZERO_ARC;
 use crate::geometry::{
@@ -16,8 +25,46 @@ use crate::geometry::{
     V2,
 };
 use crate::group::TransitionMode;
+use crate::limits::check_point;
 use crate::plane::{AxisPos, PlaneAxes};
-use crate::spooler::Spooler;
+use crate::spooler::{Mark, Spooler};
+
+/// Most elements a transition spools (three lines).
+const MAX_TRANSITION: usize = 3;
+
+/// Most elements a held profile spools (an approach line and the arc).
+const MAX_HELD: usize = 2;
+
+/// Places plane-null profiles leave free for the corner that will spool
+/// them: its transition and the profile held after it. With them free,
+/// the next profile in the plane is always admitted once the executor has
+/// emptied the spooler.
+pub const CORNER_ROOM: usize = MAX_TRANSITION + MAX_HELD;
+
+/// Storage for waiting plane-null profiles kept when they leave.
+const KEEP_NULLS: usize = 64;
+
+/// Why the buffer did not take a profile.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Refusal {
+    /// A TC-level error while running: the ERROR bit to set; the caller
+    /// faults the group (the access itself is answered ok).
+    Fault(ErrorBits),
+    /// Refused with an access error (`Range`, `Full`); nothing changed.
+    Access(AccessError),
+}
+
+impl From<ErrorBits> for Refusal {
+    fn from(bits: ErrorBits) -> Self {
+        Refusal::Fault(bits)
+    }
+}
+
+impl From<AccessError> for Refusal {
+    fn from(e: AccessError) -> Self {
+        Refusal::Access(e)
+    }
+}
 
 /// A programmed profile as it enters the correction (rotated, machine axes).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -46,6 +93,8 @@ pub struct Sink<'a> {
     pub plane: PlaneAxes,
     /// Tool length added on the third main axis of every end point.
     pub len: f64,
+    /// Where the spooler stood when the profile came in.
+    mark: Mark,
 }
 
 fn rule_of(n: V2) -> NormalRule {
@@ -66,7 +115,50 @@ fn with_plane_point(plane: PlaneAxes, base: &AxisPos, p: V2, third_add: Option<f
     })
 }
 
-impl Sink<'_> {
+impl<'a> Sink<'a> {
+    /// Elements go to `spooler`; the tool stands at `q`; `plane` and tool
+    /// length `len` are the group's.
+    pub fn new(spooler: &'a mut Spooler, q: AxisPos, plane: PlaneAxes, len: f64) -> Self {
+        let mark = spooler.mark();
+        Self {
+            spooler,
+            q,
+            plane,
+            len,
+            mark,
+        }
+    }
+
+    /// A profile comes in: what it spools is admitted or taken back as a
+    /// whole.
+    fn begin(&mut self) {
+        self.mark = self.spooler.mark();
+    }
+
+    /// Admits what was spooled since the profile came in, with `reserve`
+    /// places kept for what the buffer then holds; otherwise takes it back
+    /// and answers why (`Range` for a point beyond the limit, `Full`).
+    fn admit(&mut self, reserve: usize) -> Result<(), AccessError> {
+        let r = self.check(reserve);
+        if r.is_err() {
+            self.spooler.rollback(self.mark);
+        }
+        r
+    }
+
+    fn check(&self, reserve: usize) -> Result<(), AccessError> {
+        for e in self.spooler.since(self.mark) {
+            check_point(&e.end)?;
+            if let Path::Arc(a) = &e.path {
+                check_point(&a.centre)?;
+            }
+        }
+        if self.spooler.len() + reserve > self.spooler.capacity() {
+            return Err(AccessError::Full);
+        }
+        Ok(())
+    }
+
     /// End point: plane point `p`, other axes from `prog` with the tool
     /// length on the third axis.
     fn end_point(&self, p: V2, prog: &AxisPos) -> AxisPos {
@@ -265,49 +357,81 @@ impl Buffer {
         self.last_normal.map(|n| [n.x, n.y])
     }
 
+    /// Plane-null profiles waiting with the held one.
+    pub fn waiting_nulls(&self) -> usize {
+        self.nulls.len()
+    }
+
+    /// Places the buffer will take in the spooler when it is flushed: the
+    /// held profile's elements (at most) and the waiting plane-null ones.
+    pub fn pending(&self) -> usize {
+        self.held.as_ref().map_or(0, Held::reserve) + self.nulls.len()
+    }
+
     /// Drops the held profile without spooling it (ReInit, direct command,
     /// RESET, fault, start).
     pub fn clear(&mut self) {
         self.held = None;
-        self.nulls.clear();
+        self.clear_nulls();
         self.last_normal = None;
     }
 
-    /// A new profile enters with offset `d` (side × radius). On error the
-    /// bit to set is returned and nothing was spooled; the caller faults
-    /// the group.
+    /// Forgets the waiting plane-null profiles, giving back large storage.
+    fn clear_nulls(&mut self) {
+        self.nulls.clear();
+        if self.nulls.capacity() > KEEP_NULLS {
+            self.nulls.shrink_to(KEEP_NULLS);
+        }
+    }
+
+    /// A new profile enters with offset `d` (side × radius). On a
+    /// TC-level error the bit to set is returned and nothing was spooled
+    /// (the caller faults the group); on an access error nothing changed.
     pub fn push(
         &mut self,
         prof: &Profile,
         d: f64,
         mode: TransitionMode,
         sink: &mut Sink,
-    ) -> Result<(), ErrorBits> {
+    ) -> Result<(), Refusal> {
+        sink.begin();
         if prof.contour.is_plane_null() {
-            self.push_plane_null(prof, sink);
-            return Ok(());
+            return self.push_plane_null(prof, sink);
         }
         let off = prof.contour.offset(d).map_err(offset_error)?;
-        // The held profile is read in place (no copy of it).
-        let (approach, from, whole) = match &self.held {
+        // The held profile is read in place (no copy of it); nothing of
+        // the buffer changes before the spooled elements are admitted.
+        let (approach, from, whole, spooled) = match &self.held {
             Some(a) if a.off.d == d => {
                 let join = corner(a, &off, prof.contour.is_full_circle(), mode)?;
-                spool_held(a, join.a_end, &mut self.nulls, &mut self.last_normal, sink);
+                let n = spool_held(a, join.a_end, &self.nulls, sink);
                 if let Some(t) = join.transition {
                     spool_transition(t, a.contour.ends().1, prof, sink);
                 }
                 let whole = whole_turn(&prof.contour, &off, join.b_from, join.continued);
-                (false, Some(join.b_from), whole)
+                (false, Some(join.b_from), whole, Some(n))
             }
             held => {
-                if held.is_some() {
-                    // Radius changed while running: finish as at SSF 2001.
-                    self.flush(sink);
-                }
+                // Radius changed while running: finish as at SSF 2001.
+                let n = held
+                    .as_ref()
+                    .map(|a| spool_held(a, a.off.end, &self.nulls, sink));
                 let from = matches!(prof.contour, Contour::Arc { .. }).then_some(off.start);
-                (true, from, prof.contour.is_full_circle())
+                (true, from, prof.contour.is_full_circle(), n)
             }
         };
+        let arc_approach = approach && from.is_some();
+        let reserve = if arc_approach { MAX_HELD } else { 1 };
+        let admitted =
+            check_held(prof, &off, arc_approach, sink).and_then(|()| sink.admit(reserve));
+        if let Err(e) = admitted {
+            sink.spooler.rollback(sink.mark);
+            return Err(e.into());
+        }
+        if let Some(n) = spooled {
+            self.clear_nulls();
+            self.last_normal = Some(n);
+        }
         self.hold(prof, off, approach, from, whole);
         Ok(())
     }
@@ -337,42 +461,74 @@ impl Buffer {
     }
 
     /// A plane-null profile waits with the held one, or is spooled at once
-    /// at the current tool position when nothing is held.
-    fn push_plane_null(&mut self, prof: &Profile, sink: &mut Sink) {
+    /// at the current tool position when nothing is held. Waiting, it
+    /// takes a place of the spooler's capacity and leaves
+    /// [`CORNER_ROOM`] free for the corner that will spool it.
+    fn push_plane_null(&mut self, prof: &Profile, sink: &mut Sink) -> Result<(), Refusal> {
         let null = NullMove {
             end: prof.end,
             feed: prof.feed,
             rapid: prof.rapid,
         };
-        if self.held.is_some() {
-            self.nulls.push(null);
-        } else {
+        if self.held.is_none() {
             spool_null(&null, self.last_normal, sink);
+            return Ok(sink.admit(0)?);
         }
+        check_point(&sink.end_point(sink.here(), &prof.end))?;
+        let pending = self.pending() + 1;
+        let cap = sink.spooler.capacity();
+        if sink.spooler.len() + pending > cap || pending + CORNER_ROOM > cap {
+            return Err(AccessError::Full.into());
+        }
+        self.nulls.push(null);
+        Ok(())
     }
 
     /// Spools the held profile with its own offset end, then the plane-null
     /// profiles waiting with it (STATUS=0, SSF 2001). The buffer is empty
-    /// afterwards: the next profile is an approach.
+    /// afterwards: the next profile is an approach. Its places were kept,
+    /// its points checked as it came in.
     pub fn flush(&mut self, sink: &mut Sink) {
         if let Some(a) = &self.held {
-            spool_held(a, a.off.end, &mut self.nulls, &mut self.last_normal, sink);
+            self.last_normal = Some(spool_held(a, a.off.end, &self.nulls, sink));
         }
         self.held = None;
-        self.nulls.clear();
+        self.clear_nulls();
     }
 }
 
+impl Held {
+    /// Places its elements take at most: an approach arc spools a line
+    /// and the arc.
+    fn reserve(&self) -> usize {
+        if self.approach && self.from.is_some() {
+            MAX_HELD
+        } else {
+            1
+        }
+    }
+}
+
+/// `Range` unless the held profile's corrected end (and, for an approach
+/// arc, its corrected start), tool length included, are within the limit.
+fn check_held(
+    prof: &Profile,
+    off: &Offset,
+    arc_approach: bool,
+    sink: &Sink,
+) -> Result<(), AccessError> {
+    check_point(&sink.end_point(off.end, &prof.end))?;
+    if arc_approach {
+        check_point(&sink.end_point(off.start, &prof.start))?;
+    }
+    Ok(())
+}
+
 /// Spools the held profile's corrected element(s) up to `x`, then the
-/// plane-null profiles waiting with it; `last_normal` becomes the contour
-/// normal where it ends.
-fn spool_held(
-    a: &Held,
-    x: V2,
-    nulls: &mut Vec<NullMove>,
-    last_normal: &mut Option<V2>,
-    sink: &mut Sink,
-) {
+/// plane-null profiles waiting with it; returns the contour normal where
+/// it ends (the caller forgets the plane-null profiles once all is
+/// admitted).
+fn spool_held(a: &Held, x: V2, nulls: &[NullMove], sink: &mut Sink) -> V2 {
     let x = match a.contour {
         Contour::Line { .. } => {
             let origin = if a.approach {
@@ -388,10 +544,10 @@ fn spool_held(
         Contour::Arc { centre, sigma, .. } => spool_held_arc(a, centre, sigma, x, sink),
     };
     let n_end = a.off.normal_at(x);
-    *last_normal = Some(n_end);
-    for n in nulls.drain(..) {
-        spool_null(&n, Some(n_end), sink);
+    for n in nulls {
+        spool_null(n, Some(n_end), sink);
     }
+    n_end
 }
 
 /// Spools the held arc (after its approach line, for an approach) up to

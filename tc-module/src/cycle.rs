@@ -127,6 +127,15 @@ pub trait CycleModel {
 
     /// One cycle: returns the offset to add to the nominal position.
     fn cycle(&mut self, cycle: &Cycle<'_>) -> AxisPos;
+
+    /// Whether the model is at rest: a cycle in which nothing moves would
+    /// change neither its state nor its offset. Asked after a stepped
+    /// cycle while the executor stands still; when it is, the remaining
+    /// idle cycles of an `EXEC n` are counted, not stepped. The
+    /// conservative default says no.
+    fn at_rest(&mut self) -> bool {
+        false
+    }
 }
 
 /// No model: the executed position is the nominal one.

@@ -5,11 +5,11 @@
 
 use crate::cycle::{Cycle, CycleModel, PathPart, PathParts};
 use crate::element::SpoolElement;
+use crate::limits::CycleTime;
 use crate::plane::{AxisPos, AXES};
 use crate::spooler::Spooler;
 
-/// Default interpolation cycle: 1 ms.
-pub const DEFAULT_CYCLE_S: f64 = 1e-3;
+pub use crate::limits::DEFAULT_CYCLE_S;
 
 /// Where a cycle ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -42,18 +42,18 @@ pub struct Executor {
 
 impl Default for Executor {
     fn default() -> Self {
-        Self::new([0.0; AXES], DEFAULT_CYCLE_S)
+        Self::new([0.0; AXES], CycleTime::DEFAULT)
     }
 }
 
 impl Executor {
-    /// An executor standing at `pos` with a cycle of `cycle_s` seconds.
-    pub fn new(pos: AxisPos, cycle_s: f64) -> Self {
+    /// An executor standing at `pos` with interpolation cycle `cycle`.
+    pub fn new(pos: AxisPos, cycle: CycleTime) -> Self {
         Self {
             nominal: pos,
             offset: None,
             done: 0.0,
-            cycle_min: cycle_s / 60.0,
+            cycle_min: cycle.minutes(),
             cycles: 0,
             ended: None,
             parts: PathParts::default(),
@@ -113,7 +113,7 @@ impl Executor {
         let Some(front) = spooler.front() else {
             return Stand::OnEnded;
         };
-        let mut budget = front.feed * self.cycle_min;
+        let mut budget = self.step_at(front.feed);
         while let Some(e) = spooler.front() {
             let left = e.length - self.done;
             if budget < left {
@@ -142,7 +142,7 @@ impl Executor {
     /// offset applies from this cycle on (an inactive one has none).
     /// Allocation-free.
     pub fn step<M: CycleModel>(&mut self, spooler: &mut Spooler, model: &mut M) {
-        self.cycles += 1;
+        self.cycles = self.cycles.saturating_add(1);
         let active = model.active();
         let stand = self.advance(spooler, active);
         if !active {
@@ -161,43 +161,101 @@ impl Executor {
         }));
     }
 
-    /// Runs `n` cycles. An active model sees every one; without one, idle
-    /// cycles and cycles inside one long element are counted rather than
-    /// stepped, so a huge count or a huge move costs no more than a short
-    /// one.
+    /// The path step per cycle at `feed` (units/min).
+    pub fn step_at(&self, feed: f64) -> f64 {
+        feed * self.cycle_min
+    }
+
+    /// Whether the executor cannot move on element `e`: its step per
+    /// cycle is zero or too small to change the distance run (a feed the
+    /// module refuses; elements built by hand may have one).
+    fn stuck_on(&self, e: &SpoolElement) -> bool {
+        let step = self.step_at(e.feed);
+        e.length > self.done && self.done + step <= self.done
+    }
+
+    /// Whether a cycle would move nothing: the spooler is empty or the
+    /// executor is stuck on its front element.
+    fn stands_still(&self, spooler: &Spooler) -> bool {
+        spooler.front().is_none_or(|e| self.stuck_on(e))
+    }
+
+    /// Runs `n` cycles. An active model sees every one (but idle cycles
+    /// once it is at rest); without one, idle cycles and cycles inside one
+    /// long element are counted rather than stepped, so a huge count or a
+    /// huge move costs no more than a short one.
     pub fn run<M: CycleModel>(&mut self, spooler: &mut Spooler, n: u64, model: &mut M) {
+        self.run_for(spooler, n, model, u64::MAX);
+    }
+
+    /// Runs up to `n` cycles, stepping at most `budget` of them for an
+    /// active model; returns the cycles left to run (0 when all ran). An
+    /// active model at rest on a standing executor has its idle cycles
+    /// counted after one stepped cycle. Without an active model the work
+    /// is bounded by the elements passed, whatever `n`, and all cycles run.
+    pub fn run_for<M: CycleModel>(
+        &mut self,
+        spooler: &mut Spooler,
+        n: u64,
+        model: &mut M,
+        budget: u64,
+    ) -> u64 {
         if model.active() {
-            for _ in 0..n {
-                self.step(spooler, model);
-            }
-            return;
+            return self.run_stepped(spooler, n, model, budget);
         }
         self.offset = None;
         let mut n = n;
         while n > 0 {
-            let Some(e) = spooler.front() else {
+            let Some(e) = spooler.front().filter(|e| !self.stuck_on(e)) else {
                 self.cycles = self.cycles.saturating_add(n);
-                return;
+                return 0;
             };
             // Jump all but one of the whole cycles that stay inside; the
             // last is stepped.
             let k = self.whole_cycles_inside(e).min(n).saturating_sub(1);
             if k > 0 {
-                self.done += e.feed * self.cycle_min * k as f64;
+                self.done += self.step_at(e.feed) * k as f64;
                 self.nominal = e.point_at(self.done);
-                self.cycles += k;
+                self.cycles = self.cycles.saturating_add(k);
                 n -= k;
                 continue;
             }
             self.step(spooler, model);
             n -= 1;
         }
+        0
+    }
+
+    /// Steps up to `n` cycles of an active model, at most `budget`; idle
+    /// cycles at rest are counted. Returns the cycles left.
+    fn run_stepped<M: CycleModel>(
+        &mut self,
+        spooler: &mut Spooler,
+        n: u64,
+        model: &mut M,
+        budget: u64,
+    ) -> u64 {
+        let mut left = n;
+        let mut stepped = 0u64;
+        while left > 0 {
+            if stepped > 0 && self.stands_still(spooler) && model.at_rest() {
+                self.cycles = self.cycles.saturating_add(left);
+                return 0;
+            }
+            if stepped == budget {
+                return left;
+            }
+            self.step(spooler, model);
+            stepped += 1;
+            left -= 1;
+        }
+        0
     }
 
     /// Whole cycles that stay strictly inside element `e` from where the
     /// executor stands (0 when fewer than two).
     fn whole_cycles_inside(&self, e: &SpoolElement) -> u64 {
-        let budget = e.feed * self.cycle_min;
+        let budget = self.step_at(e.feed);
         let left = e.length - self.done;
         let inside = if budget > 0.0 {
             (left / budget).ceil() - 1.0
@@ -217,17 +275,34 @@ impl Executor {
     /// elements are jumped over and the cycle count advanced as stepping
     /// would have (up to the carry of the last partial cycle).
     pub fn run_until_empty<M: CycleModel>(&mut self, spooler: &mut Spooler, model: &mut M) {
+        while !self.run_until_empty_for(spooler, model, u64::MAX) {}
+    }
+
+    /// As [`Executor::run_until_empty`], stepping at most `budget` cycles
+    /// of an active model; `true` when the spooler is empty. Without an
+    /// active model the work is bounded by the elements passed.
+    pub fn run_until_empty_for<M: CycleModel>(
+        &mut self,
+        spooler: &mut Spooler,
+        model: &mut M,
+        budget: u64,
+    ) -> bool {
         if model.active() {
+            let mut stepped = 0u64;
             while !spooler.is_empty() {
+                if stepped == budget {
+                    return false;
+                }
                 self.step(spooler, model);
+                stepped += 1;
             }
-            return;
+            return true;
         }
         self.offset = None;
         let mut time = 0.0;
         while let Some(e) = spooler.pop_front() {
             if e.feed > 0.0 {
-                time += (e.length - self.done).max(0.0) / (e.feed * self.cycle_min);
+                time += (e.length - self.done).max(0.0) / self.step_at(e.feed);
             }
             self.nominal = e.end;
             self.done = 0.0;
@@ -236,6 +311,7 @@ impl Executor {
         if time.is_finite() {
             self.cycles = self.cycles.saturating_add(time.ceil() as u64);
         }
+        true
     }
 }
 
@@ -286,5 +362,26 @@ mod tests {
         ex.run_until_empty(&mut sp, &mut NoModel);
         assert_eq!(ex.position()[0], 1e12);
         assert!(sp.is_empty());
+    }
+
+    #[test]
+    fn a_stuck_element_costs_nothing_per_cycle() {
+        // Hand-built elements the module would refuse: no feed, and a step
+        // that vanishes against the distance already run.
+        for feed in [0.0, 5e-324] {
+            let mut sp = Spooler::default();
+            sp.push(SpoolElement::line(
+                pos(0.0),
+                pos(1.0),
+                feed,
+                false,
+                Origin::Uncorrected,
+            ));
+            let mut ex = Executor::default();
+            ex.run(&mut sp, u64::MAX - 1, &mut NoModel);
+            assert_eq!(ex.cycles(), u64::MAX - 1);
+            assert_eq!(sp.len(), 1);
+            assert_eq!(ex.position()[0], 0.0);
+        }
     }
 }

@@ -80,8 +80,8 @@ impl<'a, E: TcExtension> GroupAccess<'a, E> {
     }
 
     /// Reduces the radius of the entry at WKZINDEX by `w` (wear booked on
-    /// the tool). `Range`, and nothing changes, when the radius would not
-    /// stay finite, as a RADIUS write would be refused. On a running group
+    /// the tool). `Range`, and nothing changes, when the radius would
+    /// leave its range (±`MAX_COORD`), as a RADIUS write would be refused. On a running group
     /// the new radius acts from the next profile like a RADIUS write
     /// (decision 21: the buffered profile is finished, the next is an
     /// approach).
@@ -92,7 +92,8 @@ impl<'a, E: TcExtension> GroupAccess<'a, E> {
     }
 
     /// Reduces the length of the entry at WKZINDEX by `w`; `Range`, and
-    /// nothing changes, when the length would not stay finite.
+    /// nothing changes, when the length would leave its range
+    /// (±`MAX_COORD`).
     pub fn reduce_length(&mut self, w: f64) -> Result<(), AccessError> {
         let entry = self.group.tool_mut();
         entry.length = reduced(entry.length, w)?;
@@ -100,10 +101,10 @@ impl<'a, E: TcExtension> GroupAccess<'a, E> {
     }
 }
 
-/// `value - w`, if finite.
+/// `value - w`, if within the range of RADIUS and WkzLen (±`MAX_COORD`).
 fn reduced(value: f64, w: f64) -> Result<f64, AccessError> {
     let v = value - w;
-    if v.is_finite() {
+    if crate::limits::within_limit(v) {
         Ok(v)
     } else {
         Err(AccessError::Range)
@@ -243,6 +244,13 @@ pub trait TcExtension: Debug + Send + Sized + 'static {
     /// offset to add to the nominal position.
     fn cycle(&mut self, _cycle: &Cycle<'_>, _groups: Groups<'_, Self>) -> AxisPos {
         [0.0; AXES]
+    }
+
+    /// Whether the per-cycle model is at rest (see
+    /// [`CycleModel::at_rest`](crate::cycle::CycleModel::at_rest)): a
+    /// cycle in which nothing moves would change nothing. Default: no.
+    fn cycle_at_rest(&mut self, _groups: Groups<'_, Self>) -> bool {
+        false
     }
 }
 

@@ -52,9 +52,9 @@ pub enum TcObject {
     Reset,
     /// 0/20/0 RotAngle in degrees (rw, finite).
     RotAngle,
-    /// 0/21/0 RotCenterX (rw, finite).
+    /// 0/21/0 RotCenterX (rw, ±1e9).
     RotCenterX,
-    /// 0/22/0 RotCenterY (rw, finite).
+    /// 0/22/0 RotCenterY (rw, ±1e9).
     RotCenterY,
     /// 1/g/1 ERROR (rw): read bits, write clears.
     Error,
@@ -66,7 +66,7 @@ pub enum TcObject {
     XAxis,
     /// 1/g/5 YAxis (rw, 0..7).
     YAxis,
-    /// 1/g/6 RADIUS of the entry at WKZINDEX (rw, finite).
+    /// 1/g/6 RADIUS of the entry at WKZINDEX (rw, ±1e9).
     Radius,
     /// 1/g/8 WKZINDEX (rw, 0..1023).
     WkzIndex,
@@ -76,7 +76,7 @@ pub enum TcObject {
     Right,
     /// 1/g/11 ZAxis (rw, 0..7).
     ZAxis,
-    /// 1/g/12 WkzLen of the entry at WKZINDEX (rw, finite).
+    /// 1/g/12 WkzLen of the entry at WKZINDEX (rw, ±1e9).
     WkzLen,
     /// 2/g/1 TransitionMode (rw, 0 circular / 1 linear).
     TransitionMode,
@@ -86,6 +86,12 @@ const RW: Access = Access::ReadWrite;
 const W: Access = Access::WriteOnly;
 const ANY: ValueRange = ValueRange::AnyInt;
 const FINITE: ValueRange = ValueRange::AnyFinite;
+/// Rotation centre, RADIUS and WkzLen: within the coordinate limit, so
+/// what they add to a programmed point stays finite.
+pub const COORD: ValueRange = ValueRange::Finite {
+    min: -crate::limits::MAX_COORD,
+    max: crate::limits::MAX_COORD,
+};
 const WKZ: ValueRange = ValueRange::Int {
     min: 0,
     max: TOOL_ENTRIES as i32 - 1,
@@ -102,20 +108,20 @@ pub static TC_OBJECTS: [ObjectDesc<TcObject>; 20] = [
     ObjectDesc::int(O::ReInit, "ReInit", 0, 11..=11, 0, W, ANY),
     ObjectDesc::int(O::Reset, "Reset", 0, 12..=12, 0, W, ANY),
     ObjectDesc::double(O::RotAngle, "RotAngle", 0, 20..=20, 0, RW, FINITE),
-    ObjectDesc::double(O::RotCenterX, "RotCenterX", 0, 21..=21, 0, RW, FINITE),
-    ObjectDesc::double(O::RotCenterY, "RotCenterY", 0, 22..=22, 0, RW, FINITE),
+    ObjectDesc::double(O::RotCenterX, "RotCenterX", 0, 21..=21, 0, RW, COORD),
+    ObjectDesc::double(O::RotCenterY, "RotCenterY", 0, 22..=22, 0, RW, COORD),
     // Device 1: compensation groups and their tool tables
     ObjectDesc::int(O::Error, "ERROR", 1, GROUPS, 1, RW, ANY),
     ObjectDesc::int(O::GroupReset, "RESET", 1, GROUPS, 2, W, ANY),
     ObjectDesc::int(O::Status, "STATUS", 1, GROUPS, 3, RW, BOOL),
     ObjectDesc::int(O::XAxis, "XAxis", 1, GROUPS, 4, RW, AXIS),
     ObjectDesc::int(O::YAxis, "YAxis", 1, GROUPS, 5, RW, AXIS),
-    ObjectDesc::double(O::Radius, "RADIUS", 1, GROUPS, 6, RW, FINITE),
+    ObjectDesc::double(O::Radius, "RADIUS", 1, GROUPS, 6, RW, COORD),
     ObjectDesc::int(O::WkzIndex, "WKZINDEX", 1, GROUPS, 8, RW, WKZ),
     ObjectDesc::int(O::Left, "Left", 1, GROUPS, 9, W, ANY),
     ObjectDesc::int(O::Right, "Right", 1, GROUPS, 10, W, ANY),
     ObjectDesc::int(O::ZAxis, "ZAxis", 1, GROUPS, 11, RW, AXIS),
-    ObjectDesc::double(O::WkzLen, "WkzLen", 1, GROUPS, 12, RW, FINITE),
+    ObjectDesc::double(O::WkzLen, "WkzLen", 1, GROUPS, 12, RW, COORD),
     // Device 2: TC extensions
     ObjectDesc::int(O::TransitionMode, "TransitionMode", 2, GROUPS, 1, RW, BOOL),
 ];

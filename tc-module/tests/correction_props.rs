@@ -93,7 +93,7 @@ fn check(
     let mut pos = [0.0; AXES];
     pos[0] = start[0];
     pos[1] = start[1];
-    let mut tc = TcModule::new(pos, 1e-3, NoExtension);
+    let mut tc = TcModule::new(pos, tc_module::CycleTime::DEFAULT, NoExtension);
     tc.spooler_mut().set_logging(true);
     write(&mut tc, "1300/1/1/8", Value::I32(1));
     write(&mut tc, "1300/1/1/6", Value::F64(radius));

@@ -8,7 +8,9 @@
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use tc_module::extension::NoKey;
-use tc_module::{AxisPos, Cycle, Groups, NoExtension, Origin, TcExtension, TcModule, AXES};
+use tc_module::{
+    AxisPos, Cycle, CycleTime, Groups, NoExtension, Origin, TcExtension, TcModule, AXES,
+};
 use tc_request::text::parse_request;
 use tc_request::Request;
 use uoi::{ObjectBus, ObjectDesc};
@@ -109,7 +111,7 @@ const SQUARE: &str = "
 ";
 
 fn with_model() -> TcModule<NormalOffset> {
-    TcModule::new([0.0; AXES], 1e-3, NormalOffset::default())
+    TcModule::new([0.0; AXES], CycleTime::DEFAULT, NormalOffset::default())
 }
 
 #[test]
@@ -129,7 +131,7 @@ fn called_once_per_cycle_idle_or_moving() {
 #[test]
 fn offset_shows_in_pos_and_not_in_the_spool_log() {
     let mut tc = with_model();
-    let mut plain = TcModule::new([0.0; AXES], 1e-3, NoExtension);
+    let mut plain = TcModule::new([0.0; AXES], CycleTime::DEFAULT, NoExtension);
     tc.spooler_mut().set_logging(true);
     plain.spooler_mut().set_logging(true);
     run(&mut tc, SQUARE);
@@ -269,7 +271,7 @@ fn many_tiny_elements_merge_by_tag_and_keep_the_distance() {
 #[test]
 fn approach_and_departure_carry_the_normals_they_lead_onto_and_leave() {
     let mut tc = with_model();
-    let mut plain = TcModule::new([0.0; AXES], 1e-3, NoExtension);
+    let mut plain = TcModule::new([0.0; AXES], CycleTime::DEFAULT, NoExtension);
     run(&mut tc, SQUARE);
     run(&mut plain, SQUARE);
     let offset = |tc: &TcModule<NormalOffset>, plain: &TcModule<NoExtension>| {
@@ -364,7 +366,7 @@ fn an_exact_end_point_is_stepped_alike_with_and_without_a_model() {
     // line follows it.
     let program = "LIN X0.01 F600\nLIN X0.01\nLIN X1";
     let mut with = with_model();
-    let mut without = TcModule::new([0.0; AXES], 1e-3, NoExtension);
+    let mut without = TcModule::new([0.0; AXES], CycleTime::DEFAULT, NoExtension);
     run(&mut with, program);
     run(&mut without, program);
     with.exec(Some(1));
@@ -377,8 +379,8 @@ fn an_exact_end_point_is_stepped_alike_with_and_without_a_model() {
 
 #[test]
 fn without_a_model_the_fast_paths_match_stepping() {
-    let mut fast = TcModule::new([0.0; AXES], 1e-3, NoExtension);
-    let mut stepped = TcModule::new([0.0; AXES], 1e-3, NoExtension);
+    let mut fast = TcModule::new([0.0; AXES], CycleTime::DEFAULT, NoExtension);
+    let mut stepped = TcModule::new([0.0; AXES], CycleTime::DEFAULT, NoExtension);
     run(&mut fast, SQUARE);
     run(&mut stepped, SQUARE);
     // EXEC n jumps whole cycles inside an element: the same position as

@@ -250,7 +250,7 @@ fn run(c: &Case) -> (i32, Vec<SpoolElement>) {
     let (from, prog) = program(c);
     let mut pos = [0.0; AXES];
     pos[..2].copy_from_slice(&from);
-    let mut tc = TcModule::new(pos, 1e-3, NoExtension);
+    let mut tc = TcModule::new(pos, tc_module::CycleTime::DEFAULT, NoExtension);
     tc.spooler_mut().set_logging(true);
     write(&mut tc, "1300/1/1/8", Value::I32(1));
     write(&mut tc, "1300/1/1/6", Value::F64(c.tool));

@@ -23,7 +23,8 @@ pub enum Request {
     Exec(Option<u64>),
     /// `POS`: the executed position.
     Pos,
-    /// `QUEUE`: elements waiting in the spooler.
+    /// `QUEUE`: motion waiting: elements in the spooler and plane-null
+    /// profiles waiting with the held profile.
     Queue,
     /// Conformance replay: a fresh emulator in place of the one served.
     Setup {
@@ -31,6 +32,8 @@ pub enum Request {
         start: AxisPos,
         /// Interpolation cycle in seconds.
         cycle_s: f64,
+        /// Spooler capacity in elements; 0: the server's configured one.
+        spool_capacity: u64,
     },
     /// Conformance replay: take the logged spool elements; log from now on
     /// or not.

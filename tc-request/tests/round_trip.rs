@@ -71,8 +71,13 @@ fn trace_request() -> BoxedStrategy<Request> {
 fn any_request() -> BoxedStrategy<Request> {
     prop_oneof![
         trace_request(),
-        (prop::array::uniform8(num()), 1e-6..1.0f64)
-            .prop_map(|(start, cycle_s)| Request::Setup { start, cycle_s }),
+        (prop::array::uniform8(num()), 1e-6..1.0f64, any::<u64>()).prop_map(
+            |(start, cycle_s, spool_capacity)| Request::Setup {
+                start,
+                cycle_s,
+                spool_capacity
+            }
+        ),
         any::<bool>().prop_map(|logging| Request::SpoolLog { logging }),
     ]
     .boxed()
@@ -171,6 +176,7 @@ fn seeds() -> Vec<Vec<u8>> {
         Request::Setup {
             start: [0.0; AXES],
             cycle_s: 1e-3,
+            spool_capacity: 0,
         },
         Request::SpoolLog { logging: true },
     ]

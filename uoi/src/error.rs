@@ -103,6 +103,9 @@ code_enum! {
         Range = 0x0609_0030 => "value outside the object's range",
         /// Refused in the current state of the module.
         State = 0x0800_0022 => "refused in the current state",
+        /// No room to store it (the spooler is full): try again after the
+        /// executor has run.
+        Full = 0x0504_0005 => "no room: the spooler is full, or every conformance session is taken",
     }
 }
 
@@ -117,7 +120,8 @@ mod tests {
             assert_eq!(AccessError::from_name(e.name()), Some(e));
             assert_eq!(AccessError::from_name(&e.name().to_lowercase()), Some(e));
         }
-        assert_eq!(AccessError::ALL.len(), 7);
+        assert_eq!(AccessError::ALL.len(), 8);
+        assert_eq!(AccessError::Full.code(), 0x0504_0005);
         assert_eq!(AccessError::Range.code(), 0x06090030);
         assert_eq!(AccessError::State.name(), "State");
         assert_eq!(AccessError::from_code(0), None);

@@ -7,7 +7,7 @@ use uoi::AccessError;
 use super::intake::{check_words, Intake};
 use super::{Departure, TcModule};
 use crate::bits::ErrorBits;
-use crate::correction::{Profile, Sink};
+use crate::correction::{Profile, Refusal, Sink};
 use crate::element::{ContourNormal, NormalRule, Origin, SpoolElement};
 use crate::extension::{Groups, TcExtension};
 use crate::geometry::tolerance::MIN_RADIUS;
@@ -110,12 +110,7 @@ impl<E: TcExtension> TcModule<E> {
         let Some(g) = self.groups[slot].as_mut() else {
             return;
         };
-        let mut sink = Sink {
-            spooler: &mut self.spooler,
-            q,
-            plane: g.plane_axes(plane),
-            len: g.tool().length,
-        };
+        let mut sink = Sink::new(&mut self.spooler, q, g.plane_axes(plane), g.tool().length);
         g.buffer.flush(&mut sink);
     }
 
@@ -138,7 +133,9 @@ impl<E: TcExtension> TcModule<E> {
 
     /// `LIN`/`RAP`/`CIR`: refused while a group is faulted; checked and
     /// rotated as it enters; then corrected by the running group or
-    /// spooled as it is.
+    /// spooled as it is. Refused with `Range` when something it spools
+    /// would lie beyond the limit, with `Full` when the spooler has no
+    /// room for it; refused, it changes nothing.
     fn interpolate(
         &mut self,
         words: &AxisWords,
@@ -150,18 +147,20 @@ impl<E: TcExtension> TcModule<E> {
             return Err(AccessError::State);
         }
         let cmd = self.intake(words, arc, feed, rapid)?;
-        match self.running {
-            None => self.spool_uncorrected(&cmd),
-            Some(slot) => {
-                // Accepted: geometry problems from here on are TC-level
-                // errors (ERROR bits), answered ok (decisions.md 12).
+        let Some(slot) = self.running else {
+            return self.spool_uncorrected(&cmd);
+        };
+        match self.correct(slot, &cmd) {
+            Ok(()) => self.accept(&cmd),
+            // Accepted: geometry problems are TC-level errors (ERROR
+            // bits), answered ok.
+            Err(Refusal::Fault(bits)) => {
                 self.accept(&cmd);
-                if let Err(bits) = self.correct(slot, &cmd) {
-                    self.fault(slot, bits);
-                }
-                Ok(())
+                self.fault(slot, bits);
             }
+            Err(Refusal::Access(e)) => return Err(e),
         }
+        Ok(())
     }
 
     /// No group runs: one element from the tool position to the target.
@@ -180,14 +179,18 @@ impl<E: TcExtension> TcModule<E> {
                 SpoolElement::arc(q, cmd.target, main, c, ccw, cmd.feed, Origin::Uncorrected)
             }
         };
+        if self.spooler.free() == 0 {
+            return Err(AccessError::Full);
+        }
         self.accept(cmd);
         let element = self.uncorrected(element);
         self.spooler.push(element);
         Ok(())
     }
 
-    /// The running group corrects the profile: the ERROR bit on failure.
-    fn correct(&mut self, slot: usize, cmd: &Intake) -> Result<(), ErrorBits> {
+    /// The running group corrects the profile: the ERROR bit on a
+    /// geometry failure, an access error when it is refused.
+    fn correct(&mut self, slot: usize, cmd: &Intake) -> Result<(), Refusal> {
         let plane = self.plane;
         let main = self.main_plane();
         let q = self.tool_position();
@@ -196,7 +199,7 @@ impl<E: TcExtension> TcModule<E> {
         };
         let gp = g.plane_axes(plane);
         if cmd.arc.is_some() && !gp.same_plane(main) {
-            return Err(ErrorBits::PLANE_ERROR);
+            return Err(ErrorBits::PLANE_ERROR.into());
         }
         let (from, to) = (v2(gp.point(&cmd.start)), v2(gp.point(&cmd.target)));
         let contour = match cmd.arc {
@@ -215,12 +218,7 @@ impl<E: TcExtension> TcModule<E> {
             feed: cmd.feed,
             rapid: cmd.rapid,
         };
-        let mut sink = Sink {
-            spooler: &mut self.spooler,
-            q,
-            plane: gp,
-            len: g.tool().length,
-        };
+        let mut sink = Sink::new(&mut self.spooler, q, gp, g.tool().length);
         let (d, mode) = (g.offset(), g.transition);
         g.buffer.push(&prof, d, mode, &mut sink)
     }

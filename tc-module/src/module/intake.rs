@@ -6,6 +6,7 @@ use uoi::AccessError;
 
 use super::TcModule;
 use crate::extension::TcExtension;
+use crate::limits::{check_point, within_limit, MIN_STEP};
 use crate::motion::ArcDir;
 use crate::plane::AxisWords;
 use crate::plane::{AxisPos, TcPlane};
@@ -17,17 +18,10 @@ pub const DEFAULT_FEED: f64 = 1000.0;
 /// Default rapid feed in units/min (same section).
 pub const RAPID_FEED: f64 = 10000.0;
 
-/// Largest coordinate, offset or feed magnitude accepted (interpolation
-/// units): beyond it a command is refused with `Range` (decisions.md).
-pub const MAX_COORD: f64 = 1e9;
-
-/// `Range` unless every given word is finite and within [`MAX_COORD`].
+/// `Range` unless every given word is finite and within
+/// [`MAX_COORD`](crate::limits::MAX_COORD).
 pub fn check_words<const N: usize>(words: &[Option<f64>; N]) -> Result<(), AccessError> {
-    if words
-        .iter()
-        .flatten()
-        .all(|v| v.is_finite() && v.abs() <= MAX_COORD)
-    {
+    if words.iter().flatten().all(|&v| within_limit(v)) {
         Ok(())
     } else {
         Err(AccessError::Range)
@@ -55,8 +49,9 @@ pub struct Intake {
 }
 
 impl<E: TcExtension> TcModule<E> {
-    /// Checks and rotates an interpolation command; `Range` for a word or
-    /// feed out of limits. Nothing changes here.
+    /// Checks and rotates an interpolation command; `Range` for a word,
+    /// feed, rotated end point or arc centre out of limits. Nothing
+    /// changes here.
     pub(super) fn intake(
         &self,
         words: &AxisWords,
@@ -70,22 +65,31 @@ impl<E: TcExtension> TcModule<E> {
         }
         let modal_feed = self.feed_for(feed)?;
         let (target, programmed) = self.target(words);
+        check_point(&target)?;
         let start = self.contour_end;
+        let arc = arc.map(|(dir, ijk)| (dir, self.centre(&start, ijk)));
+        if let Some((_, c)) = arc {
+            check_point(&c)?;
+        }
         Ok(Intake {
             start,
             target,
             programmed,
-            arc: arc.map(|(dir, ijk)| (dir, self.centre(&start, ijk))),
+            arc,
             feed: if rapid { RAPID_FEED } else { modal_feed },
             modal_feed,
             rapid,
         })
     }
 
-    /// The feed a command runs at: its `F` word (checked) or the modal one.
+    /// The feed a command runs at: its `F` word or the modal one. An `F`
+    /// word must be within the limit and step at least
+    /// [`MIN_STEP`](crate::limits::MIN_STEP) per cycle.
     fn feed_for(&self, feed: Option<f64>) -> Result<f64, AccessError> {
         match feed {
-            Some(f) if !(f.is_finite() && f > 0.0 && f <= MAX_COORD) => Err(AccessError::Range),
+            Some(f) if !(within_limit(f) && self.executor.step_at(f) >= MIN_STEP) => {
+                Err(AccessError::Range)
+            }
             Some(f) => Ok(f),
             None => Ok(self.feed),
         }

@@ -15,15 +15,32 @@ mod registers;
 
 use crate::cycle::{Cycle, CycleModel};
 use crate::element::{ContourNormal, Origin, SpoolElement};
-use crate::executor::{Executor, DEFAULT_CYCLE_S};
+use crate::executor::Executor;
 use crate::extension::{Group, Groups, NoExtension, TcExtension};
+use crate::limits::CycleTime;
 use crate::object_map::{object_table, TcKey, GROUP_COUNT};
 use crate::plane::{AxisPos, PlaneAxes, TcPlane, AXES};
 use crate::rotation::Rotation;
-use crate::spooler::Spooler;
+use crate::spooler::{Spooler, MAX_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY};
 use uoi::ObjectDesc;
 
-pub use intake::{DEFAULT_FEED, MAX_COORD, RAPID_FEED};
+pub use crate::limits::MAX_COORD;
+pub use intake::{DEFAULT_FEED, RAPID_FEED};
+
+/// Stepped cycles one slice of an `EXEC` may run while an extension's
+/// per-cycle model is active ([`TcModule::exec_slice`]): a server runs a
+/// long `EXEC` slice by slice and serves other requests in between.
+pub const EXEC_SLICE_CYCLES: u64 = 10_000;
+
+/// What is left of an `EXEC` after a slice.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ExecLeft {
+    /// The request is complete.
+    Done,
+    /// Continue with `EXEC` of this argument: cycles left, or `None`
+    /// until the spooler is empty.
+    Rest(Option<u64>),
+}
 
 /// Default AxisNr X/Y/Z (uoi-map.md device 0 index 2: "default 0,1,2").
 pub const DEFAULT_AXIS_NR: [u8; 3] = [0, 1, 2];
@@ -51,14 +68,14 @@ pub struct TcModule<E: TcExtension = NoExtension> {
 
 impl Default for TcModule<NoExtension> {
     fn default() -> Self {
-        Self::new([0.0; AXES], DEFAULT_CYCLE_S, NoExtension)
+        Self::new([0.0; AXES], CycleTime::DEFAULT, NoExtension)
     }
 }
 
 impl<E: TcExtension> TcModule<E> {
-    /// A module whose machine stands at `start`, with an interpolation
-    /// cycle of `cycle_s` seconds and extension `ext`.
-    pub fn new(start: AxisPos, cycle_s: f64, ext: E) -> Self {
+    /// A module whose machine stands at `start`, with interpolation cycle
+    /// `cycle` and extension `ext`; the spooler has the default capacity.
+    pub fn new(start: AxisPos, cycle: CycleTime, ext: E) -> Self {
         Self {
             axis_nr: DEFAULT_AXIS_NR,
             plane: TcPlane::default(),
@@ -70,10 +87,19 @@ impl<E: TcExtension> TcModule<E> {
             feed: DEFAULT_FEED,
             departure: None,
             spooler: Spooler::default(),
-            executor: Executor::new(start, cycle_s),
+            executor: Executor::new(start, cycle),
             ext,
             table: object_table::<E>(),
         }
+    }
+
+    /// The same module with a spooler of `capacity` elements (checked by
+    /// [`check_capacity`](crate::spooler::check_capacity) where it comes
+    /// from outside; kept within its limits here).
+    pub fn with_spool_capacity(mut self, capacity: usize) -> Self {
+        let capacity = capacity.clamp(MIN_SPOOL_CAPACITY, MAX_SPOOL_CAPACITY);
+        self.spooler = Spooler::with_capacity(capacity);
+        self
     }
 
     /// The extension.
@@ -113,9 +139,23 @@ impl<E: TcExtension> TcModule<E> {
         &mut self.spooler
     }
 
-    /// Elements waiting in the spooler.
+    /// The spooler.
+    pub fn spooler(&self) -> &Spooler {
+        &self.spooler
+    }
+
+    /// Motion waiting (`QUEUE`): the elements in the spooler plus the
+    /// plane-null profiles waiting with the running group's held profile
+    /// (they enter the spooler with it and count toward its capacity).
     pub fn queue_len(&self) -> usize {
-        self.spooler.len()
+        self.spooler.len() + self.waiting_nulls()
+    }
+
+    /// Plane-null profiles waiting in the running group's buffer.
+    fn waiting_nulls(&self) -> usize {
+        self.running
+            .and_then(|slot| self.groups[slot].as_ref())
+            .map_or(0, |g| g.buffer.waiting_nulls())
     }
 
     /// The executed position (nominal path position plus the offset of the
@@ -136,12 +176,33 @@ impl<E: TcExtension> TcModule<E> {
     }
 
     /// Runs the executor for `cycles` cycles, or until the spooler is empty,
-    /// with the extension's per-cycle model.
+    /// with the extension's per-cycle model: slice after slice to the end.
     pub fn exec(&mut self, cycles: Option<u64>) {
+        let mut left = self.exec_slice(cycles);
+        while let ExecLeft::Rest(rest) = left {
+            left = self.exec_slice(rest);
+        }
+    }
+
+    /// One slice of `EXEC cycles`: at most [`EXEC_SLICE_CYCLES`] cycles
+    /// stepped for an active model (without one, the whole request: its
+    /// work is bounded by the elements spooled). Running the slices one
+    /// after the other is the same as running the whole request.
+    pub fn exec_slice(&mut self, cycles: Option<u64>) -> ExecLeft {
         let mut model = ExtModel::new(&mut self.ext, &mut self.groups[..], self.running);
+        let (spooler, budget) = (&mut self.spooler, EXEC_SLICE_CYCLES);
         match cycles {
-            Some(n) => self.executor.run(&mut self.spooler, n, &mut model),
-            None => self.executor.run_until_empty(&mut self.spooler, &mut model),
+            Some(n) => match self.executor.run_for(spooler, n, &mut model, budget) {
+                0 => ExecLeft::Done,
+                left => ExecLeft::Rest(Some(left)),
+            },
+            None if self
+                .executor
+                .run_until_empty_for(spooler, &mut model, budget) =>
+            {
+                ExecLeft::Done
+            }
+            None => ExecLeft::Rest(None),
         }
     }
 
@@ -210,5 +271,9 @@ impl<E: TcExtension> CycleModel for ExtModel<'_, E> {
 
     fn cycle(&mut self, cycle: &Cycle<'_>) -> AxisPos {
         self.ext.cycle(cycle, self.groups.reborrow())
+    }
+
+    fn at_rest(&mut self) -> bool {
+        self.ext.cycle_at_rest(self.groups.reborrow())
     }
 }

@@ -78,7 +78,8 @@ pub struct QueueAns {
     pub count: U64,
 }
 
-/// `SETUP` request payload: a fresh emulator at `start` with cycle `cycle_s`.
+/// `SETUP` request payload (80 bytes): a fresh emulator at `start` with
+/// cycle `cycle_s` and a spooler of `spool_capacity` elements.
 #[derive(
     Debug, Clone, Copy, PartialEq, FromBytes, IntoBytes, KnownLayout, Immutable, Unaligned,
 )]
@@ -88,6 +89,8 @@ pub struct SetupReq {
     pub start: [F64; AXES],
     /// Interpolation cycle in seconds.
     pub cycle_s: F64,
+    /// Spooler capacity in elements; 0: the server's configured one.
+    pub spool_capacity: U64,
 }
 
 /// `SPOOL_LOG` request payload.
@@ -158,7 +161,7 @@ mod tests {
         assert_eq!(std::mem::size_of::<ExecReq>(), 8);
         assert_eq!(std::mem::size_of::<PosAns>(), 64);
         assert_eq!(std::mem::size_of::<QueueAns>(), 8);
-        assert_eq!(std::mem::size_of::<SetupReq>(), 72);
+        assert_eq!(std::mem::size_of::<SetupReq>(), 80);
         assert_eq!(std::mem::size_of::<SpoolLogReq>(), 4);
         assert_eq!(std::mem::size_of::<SpoolLogAns>(), 4);
         assert_eq!(std::mem::size_of::<WireElement>(), 160);

@@ -54,10 +54,15 @@ impl Request {
             }
             Request::Pos => ext(TcOp::Pos, &[]),
             Request::Queue => ext(TcOp::Queue, &[]),
-            Request::Setup { start, cycle_s } => {
+            Request::Setup {
+                start,
+                cycle_s,
+                spool_capacity,
+            } => {
                 let s = SetupReq {
                     start: start.map(Into::into),
                     cycle_s: (*cycle_s).into(),
+                    spool_capacity: (*spool_capacity).into(),
                 };
                 ext(TcOp::Setup, s.as_bytes())
             }
@@ -113,6 +118,7 @@ impl Request {
                 Request::Setup {
                     start: s.start.map(|v| v.get()),
                     cycle_s: s.cycle_s.get(),
+                    spool_capacity: s.spool_capacity.get(),
                 }
             }
             TcOp::SpoolLog => {

@@ -13,4 +13,4 @@ pub use access::{
     is_loopback_peer, AccessPolicy, AccessToken, BadToken, MAX_TOKEN_LEN, MIN_TOKEN_LEN,
 };
 pub use client::{answer_error, BlockingClient, Client, ClientError, ClientOptions, Waited};
-pub use server::{Core, Handler, Served, Server, ServerConfig, Session};
+pub use server::{Core, Handler, Served, Server, ServerConfig, Session, Slice};

@@ -3,9 +3,11 @@
 //! answered in order. Each connection also keeps a [`Session`] of its own,
 //! which may answer its requests before the shared handler sees them.
 
+use std::collections::VecDeque;
 use std::future::Future;
 use std::io;
 use std::net::SocketAddr;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -30,6 +32,24 @@ pub trait Handler: Send + 'static {
     type Session: Session;
     /// Answers one request.
     fn handle(&mut self, req: Request) -> Answer;
+
+    /// Serves one slice of a request: its answer, or the rest of it to
+    /// serve later. The server releases the handler between slices, so
+    /// requests of other connections are served in between and shutdown
+    /// is not held up by a long request. Default: the whole request at
+    /// once.
+    fn handle_slice(&mut self, req: Request) -> Slice {
+        Slice::Done(self.handle(req))
+    }
+}
+
+/// What one slice of a request left.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Slice {
+    /// The request is complete: its answer.
+    Done(Answer),
+    /// The rest of the request, to serve as a further slice.
+    More(Request),
 }
 
 /// The state one connection keeps for itself: made (`Default`) when the
@@ -108,9 +128,44 @@ impl Default for ServerConfig {
 
 type Job = (Request, oneshot::Sender<Answer>);
 
+/// Most times a request with more slices to go yields to requests
+/// waiting for the lock before it takes the next slice.
+const YIELDS_TO_WAITING: usize = 1000;
+
+/// The handler behind a lock, with a count of the requests waiting for it.
+pub(crate) struct Locked<H> {
+    handler: Mutex<H>,
+    /// Requests blocked on the lock right now (a request with more slices
+    /// to go lets them in first; the mutex itself is not fair).
+    waiting: AtomicUsize,
+}
+
+impl<H: Handler> Locked<H> {
+    /// One slice under the lock.
+    fn slice(&self, req: Request) -> Slice {
+        self.waiting.fetch_add(1, Ordering::AcqRel);
+        let mut h = self.handler.lock().unwrap_or_else(|p| p.into_inner());
+        self.waiting.fetch_sub(1, Ordering::AcqRel);
+        h.handle_slice(req)
+    }
+
+    /// Between two slices: lets the requests waiting for the lock in
+    /// (a bounded number of yields, so a steady stream cannot starve the
+    /// long request).
+    async fn let_others_in(&self) {
+        tokio::task::yield_now().await;
+        for _ in 0..YIELDS_TO_WAITING {
+            if self.waiting.load(Ordering::Acquire) == 0 {
+                return;
+            }
+            tokio::task::yield_now().await;
+        }
+    }
+}
+
 /// The shared handler.
 pub(crate) enum Shared<H> {
-    Lock(Arc<Mutex<H>>),
+    Lock(Arc<Locked<H>>),
     Owner(mpsc::Sender<Job>),
 }
 
@@ -124,12 +179,50 @@ impl<H> Clone for Shared<H> {
 }
 
 impl<H: Handler> Shared<H> {
-    /// Answers one request with the shared handler.
+    /// Answers one request with the shared handler, slice by slice; the
+    /// lock is released and other tasks run between slices.
     pub(crate) async fn handle(&self, req: Request) -> Answer {
         match self {
-            // No await on this path: the common case stays a plain call.
-            Shared::Lock(m) => m.lock().unwrap_or_else(|p| p.into_inner()).handle(req),
+            Shared::Lock(m) => {
+                let mut req = req;
+                loop {
+                    // No await while locked: one slice is a plain call.
+                    match m.slice(req) {
+                        Slice::Done(answer) => return answer,
+                        Slice::More(rest) => req = rest,
+                    }
+                    m.let_others_in().await;
+                }
+            }
             Shared::Owner(tx) => ask(tx, req).await,
+        }
+    }
+}
+
+/// The owner task: serves the jobs of every connection; a job with more
+/// slices to go waits behind the jobs that arrived meanwhile.
+async fn own<H: Handler>(mut h: H, mut rx: mpsc::Receiver<Job>) {
+    let mut later: VecDeque<Job> = VecDeque::new();
+    loop {
+        let job = match rx.try_recv() {
+            Ok(job) => job,
+            Err(_) => match later.pop_front() {
+                Some(job) => job,
+                None => match rx.recv().await {
+                    Some(job) => job,
+                    None => return,
+                },
+            },
+        };
+        let (req, answer) = job;
+        match h.handle_slice(req) {
+            Slice::Done(a) => {
+                let _ = answer.send(a);
+            }
+            Slice::More(rest) => {
+                later.push_back((rest, answer));
+                tokio::task::yield_now().await;
+            }
         }
     }
 }
@@ -174,15 +267,13 @@ impl<H: Handler> Server<H> {
         }
         let listener = TcpListener::bind(cfg.listen).await?;
         let shared = match cfg.core {
-            Core::Lock => Shared::Lock(Arc::new(Mutex::new(handler))),
+            Core::Lock => Shared::Lock(Arc::new(Locked {
+                handler: Mutex::new(handler),
+                waiting: AtomicUsize::new(0),
+            })),
             Core::Owner => {
-                let (tx, mut rx) = mpsc::channel::<Job>(1024);
-                let mut h = handler;
-                tokio::spawn(async move {
-                    while let Some((req, answer)) = rx.recv().await {
-                        let _ = answer.send(h.handle(req));
-                    }
-                });
+                let (tx, rx) = mpsc::channel::<Job>(1024);
+                tokio::spawn(own(handler, rx));
                 Shared::Owner(tx)
             }
         };

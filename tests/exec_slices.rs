@@ -1,0 +1,125 @@
+//! A huge `EXEC` with an active per-cycle model does not hold the
+//! emulator for its whole length (issue 8 point 1): the server runs it
+//! slice by slice, and another connection is answered while it is still
+//! under way. No timing: a test model counts its cycles and ends the
+//! `EXEC` only when the test says so.
+
+// Test helpers may stop loudly on a broken setup.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
+use std::net::SocketAddr;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
+
+use addipos::service::EmulatorService;
+use addipos::Emulator;
+use tc_module::extension::NoKey;
+use tc_module::{AxisPos, Cycle, CycleTime, Groups, TcExtension, AXES};
+use tc_request::{Reply, Request};
+use uoi::tcp::{BlockingClient, Core, Server, ServerConfig};
+use uoi::ObjectDesc;
+
+/// The test model: active until `stop`, counting its cycles.
+#[derive(Debug, Default)]
+struct Hook {
+    cycles: Arc<AtomicU64>,
+    stop: Arc<AtomicBool>,
+}
+
+impl TcExtension for Hook {
+    type Key = NoKey;
+    type Group = ();
+    type Tool = ();
+    const GROUP_OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
+    const OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
+
+    fn cycle_active(&mut self, _: Groups<'_, Self>) -> bool {
+        !self.stop.load(Ordering::SeqCst)
+    }
+
+    fn cycle(&mut self, _: &Cycle<'_>, _: Groups<'_, Self>) -> AxisPos {
+        self.cycles.fetch_add(1, Ordering::SeqCst);
+        [0.0; AXES]
+    }
+}
+
+/// Starts a server of an emulator with `hook` on its own thread.
+fn serve(core: Core, hook: Hook) -> SocketAddr {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let rt = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(2)
+            .enable_all()
+            .build()
+            .expect("runtime");
+        rt.block_on(async move {
+            let cfg = ServerConfig {
+                listen: "127.0.0.1:0".parse().expect("addr"),
+                core,
+                ..ServerConfig::default()
+            };
+            let emu = Emulator::with_extension([0.0; AXES], CycleTime::DEFAULT, hook);
+            let server = Server::bind(cfg, EmulatorService::with_emulator(emu))
+                .await
+                .expect("bind");
+            tx.send(server.local_addr().expect("addr")).expect("send");
+            // Runs until the test process ends.
+            let _ = server.run(std::future::pending::<()>()).await;
+        });
+    });
+    rx.recv_timeout(Duration::from_secs(30)).expect("server up")
+}
+
+fn call(client: &mut BlockingClient, req: &Request) -> Reply {
+    let ans = client.call(&req.to_wire()).expect("answer");
+    Reply::from_wire(req.wire_op(), &ans).expect("reply")
+}
+
+fn another_request_is_answered_during_a_huge_exec(core: Core) {
+    let hook = Hook::default();
+    let (cycles, stop) = (Arc::clone(&hook.cycles), Arc::clone(&hook.stop));
+    let addr = serve(core, hook);
+    let exec_done = Arc::new(AtomicBool::new(false));
+    let done = Arc::clone(&exec_done);
+    let long = std::thread::spawn(move || {
+        let mut a = BlockingClient::connect(&addr.to_string()).expect("connect");
+        let reply = call(&mut a, &Request::Exec(Some(u64::MAX - 1)));
+        done.store(true, Ordering::SeqCst);
+        reply
+    });
+    // Hang guard only: wait until the EXEC has stepped cycles.
+    for _ in 0..30_000 {
+        if cycles.load(Ordering::SeqCst) > 0 {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    assert!(cycles.load(Ordering::SeqCst) > 0, "the EXEC never started");
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let mut b = BlockingClient::connect(&addr.to_string()).expect("connect");
+        let _ = tx.send((call(&mut b, &Request::Queue), call(&mut b, &Request::Pos)));
+    });
+    // Hang guard only, far above any real wait.
+    let answers = rx.recv_timeout(Duration::from_secs(120));
+    let (queue, pos) = answers.expect("another connection was not served during the EXEC");
+    assert_eq!(queue, Reply::Queue(0));
+    assert_eq!(pos, Reply::Pos([0.0; AXES]));
+    // Answered while the EXEC is still under way: it cannot end before
+    // the model stops.
+    assert!(!exec_done.load(Ordering::SeqCst));
+    stop.store(true, Ordering::SeqCst);
+    assert_eq!(long.join().expect("exec thread"), Reply::Ok);
+    assert!(exec_done.load(Ordering::SeqCst));
+}
+
+#[test]
+fn lock_core_serves_others_between_exec_slices() {
+    another_request_is_answered_during_a_huge_exec(Core::Lock);
+}
+
+#[test]
+fn owner_core_serves_others_between_exec_slices() {
+    another_request_is_answered_during_a_huge_exec(Core::Owner);
+}
