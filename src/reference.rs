@@ -7,7 +7,9 @@ use std::fmt::Write as _;
 
 use bitflags::Flags;
 use otc_ext::{OtcErrorBits, OtcExtension};
+use tc_module::limits::{DEFAULT_CYCLE_S, MAX_COORD, MAX_CYCLE_S, MIN_CYCLE_S, MIN_STEP};
 use tc_module::object_map::object_table;
+use tc_module::spooler::{DEFAULT_SPOOL_CAPACITY, MAX_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY};
 use tc_module::{ErrorBits, StatusBits, TC_BUS};
 use uoi::{AccessError, Meaning, ObjectDesc};
 
@@ -30,6 +32,7 @@ pub fn object_reference() -> String {
         let rows: Vec<_> = table.iter().filter(|r| r.device == device).collect();
         device_section(&mut out, title, index, &rows);
     }
+    limits(&mut out);
     access_errors(&mut out);
     bits::<ErrorBits>(&mut out, "ERROR bits (1/g/1)");
     bits::<StatusBits>(&mut out, "STATUS bits (1/g/3, read)");
@@ -96,6 +99,29 @@ fn span(first: &u16, last: &u16) -> String {
     } else {
         format!("{first}..{last}")
     }
+}
+
+fn limits(out: &mut String) {
+    let _ = write!(
+        out,
+        "\n## Limits of motion commands\n\n\
+         * Every coordinate, `I J K` and `F` word lies within ±{MAX_COORD:e}; so does every \
+         point that enters the spooler: the end point and arc centre after the coordinate \
+         rotation, and each end point and centre the correction spools (tool length \
+         included). Beyond it the command is refused with `Range` and changes nothing.\n\
+         * A feed must move at least {MIN_STEP:e} units per interpolation cycle \
+         (`F · cycle / 60`, F in units per minute): {min_feed:.1} units/min at the default \
+         cycle of {default_ms} ms. A slower feed is refused with `Range`.\n\
+         * The interpolation cycle lies in {min_cycle_us} µs ..= {max_cycle_ms} ms.\n\
+         * The spooler holds at most `spool_capacity` elements (setting; default \
+         {DEFAULT_SPOOL_CAPACITY}, {MIN_SPOOL_CAPACITY} ..= {MAX_SPOOL_CAPACITY}); plane-null \
+         profiles waiting in the correction buffer count too. A command that finds no room \
+         is refused with `Full` and changes nothing: run `EXEC` and send it again.\n",
+        min_feed = MIN_STEP * 60.0 / DEFAULT_CYCLE_S,
+        default_ms = DEFAULT_CYCLE_S * 1e3,
+        min_cycle_us = MIN_CYCLE_S * 1e6,
+        max_cycle_ms = MAX_CYCLE_S * 1e3,
+    );
 }
 
 fn access_errors(out: &mut String) {
