@@ -212,7 +212,7 @@ fn flood(addr: &str, in_session: bool, stop: &AtomicBool) {
             ok_or_refused(&a);
         }
         round += 1;
-        if round % 8 == 0 {
+        if round.is_multiple_of(8) {
             let exec = Request::Exec(Some(u64::MAX - 1)).to_wire();
             ok_or_refused(&c.call(&exec).expect("huge EXEC answered"));
         }
