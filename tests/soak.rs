@@ -238,6 +238,9 @@ fn huge_exec(addr: &str, stop: &AtomicBool) {
     }
 }
 
+/// What one client thread does, given the address and the stop flag.
+type Role = Box<dyn FnOnce(&str, &AtomicBool) + Send>;
+
 /// Peak resident memory of `pid` in KiB.
 fn peak_rss_kb(pid: u32) -> u64 {
     let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
@@ -255,7 +258,7 @@ fn sixty_four_clients_of_every_kind_cannot_hurt_the_server() {
     let server = start_server(&dir);
     let stop = Arc::new(AtomicBool::new(false));
     let addr = server.addr.clone();
-    let spawn = |f: Box<dyn FnOnce(&str, &AtomicBool) + Send>| {
+    let spawn = |f: Role| {
         let (addr, stop) = (addr.clone(), Arc::clone(&stop));
         thread::spawn(move || f(&addr, &stop))
     };
