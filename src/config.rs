@@ -18,6 +18,10 @@ use crate::service::EmulatorService;
 /// 64 KiB buffers).
 pub const MAX_CONNECTIONS: usize = 65_536;
 
+/// Longest eviction grace `evict_after_ms` may set: a new connection
+/// finding the server full may wait one and a half times it.
+pub const MAX_EVICT_AFTER_MS: u64 = 60_000;
+
 /// The built-in settings.
 pub const DEFAULT_CONFIG: &str = include_str!("../config/default.toml");
 
@@ -37,8 +41,12 @@ pub struct Config {
     pub data_dir: PathBuf,
     /// Connections served at once.
     pub max_connections: usize,
-    /// Connections served at once from one peer address.
+    /// Connections served at once from one peer address on another
+    /// machine (programs on this one count against `max_connections`).
     pub max_connections_per_peer: usize,
+    /// When the server is full, milliseconds without progress after which
+    /// a connection may be closed to make room for a new one; 0: never.
+    pub evict_after_ms: u64,
     /// Idle timeout in seconds.
     pub idle_timeout_s: u64,
     /// Seconds the answers waiting for a client that does not read them
@@ -63,6 +71,7 @@ impl Default for Config {
             data_dir: PathBuf::from("addipos-data"),
             max_connections: 256,
             max_connections_per_peer: 16,
+            evict_after_ms: 1000,
             idle_timeout_s: 300,
             write_timeout_s: 30,
             core: "lock".into(),
@@ -117,6 +126,12 @@ impl Config {
                 self.max_connections_per_peer
             )));
         }
+        if self.evict_after_ms > MAX_EVICT_AFTER_MS {
+            return Err(ConfigError(format!(
+                "evict_after_ms = {} must lie in 0..={MAX_EVICT_AFTER_MS} (0: no eviction)",
+                self.evict_after_ms
+            )));
+        }
         if self.idle_timeout_s == 0 {
             return Err(ConfigError("idle_timeout_s must be at least 1".into()));
         }
@@ -128,6 +143,9 @@ impl Config {
             allow_remote: self.allow_remote,
             max_connections: self.max_connections,
             max_connections_per_peer: self.max_connections_per_peer,
+            per_peer_limit_on_loopback: false,
+            evict_after: (self.evict_after_ms > 0)
+                .then(|| Duration::from_millis(self.evict_after_ms)),
             idle_timeout: Duration::from_secs(self.idle_timeout_s),
             write_timeout: Duration::from_secs(self.write_timeout_s),
             access: AccessPolicy {
@@ -167,6 +185,8 @@ mod tests {
         assert_eq!(s.listen.to_string(), "127.0.0.1:1300");
         assert_eq!(s.max_connections, 256);
         assert_eq!(s.max_connections_per_peer, 16);
+        assert!(!s.per_peer_limit_on_loopback);
+        assert_eq!(s.evict_after, Some(Duration::from_secs(1)));
         assert_eq!(s.write_timeout, Duration::from_secs(30));
         assert!(!c.wants_token());
     }
@@ -205,5 +225,9 @@ mod tests {
             .contains("max_connections_per_peer"));
         let c = Config::parse("write_timeout_s = 0").unwrap();
         assert!(c.server().unwrap_err().0.contains("write_timeout_s"));
+        let c = Config::parse("evict_after_ms = 60001").unwrap();
+        assert!(c.server().unwrap_err().0.contains("evict_after_ms"));
+        let c = Config::parse("evict_after_ms = 0").unwrap();
+        assert_eq!(c.server().unwrap().evict_after, None);
     }
 }

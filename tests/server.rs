@@ -335,6 +335,8 @@ fn connection_limit_answers_busy() {
     let server = TestServer::start(ServerConfig {
         listen: "127.0.0.1:0".parse().expect("addr"),
         max_connections: 2,
+        // Without eviction: the idle clients keep their places.
+        evict_after: None,
         ..ServerConfig::default()
     });
     let mut a = BlockingClient::connect(&server.addr.to_string()).expect("a");

@@ -155,6 +155,8 @@ fn a_client_that_never_reads_is_closed_when_idle_and_frees_its_place() {
     let (addr, _stop) = serve(ServerConfig {
         idle_timeout: Duration::from_millis(300),
         max_connections: 1,
+        // Only the idle timeout may free the place.
+        evict_after: None,
         ..local()
     });
     // Pipeline requests and never read an answer: the server's writes
@@ -255,6 +257,7 @@ fn a_client_that_takes_its_answers_a_trickle_at_a_time_loses_its_place() {
         idle_timeout: Duration::from_secs(3600),
         write_timeout: Duration::from_millis(500),
         max_connections: 1,
+        evict_after: None,
         ..local()
     });
     let mut hog = connect(addr);
@@ -293,12 +296,15 @@ fn a_client_that_takes_its_answers_a_trickle_at_a_time_loses_its_place() {
 
 /// Issue 8, point 6: clients from one address that hold connections
 /// without using them cannot lock out another host. 127.0.0.1 plays the
-/// greedy host, 127.0.0.2 the other one.
+/// greedy host, 127.0.0.2 the other one (loopback counted per address as
+/// a remote host would be; eviction off, so the limit alone acts).
 #[test]
 fn one_peer_address_cannot_take_every_place() {
     let (addr, _stop) = serve(ServerConfig {
         max_connections: 6,
         max_connections_per_peer: 3,
+        per_peer_limit_on_loopback: true,
+        evict_after: None,
         ..local()
     });
     // Accepted in order: the first three are served, the rest refused.

@@ -2,7 +2,8 @@
 //! written in batches; the connection ends when the peer closes, on a
 //! frame over the size limit, on a request from a peer that has not
 //! presented the access token, or when the watchdog closes it (idle,
-//! answers not taken, or the server stopping).
+//! answers not taken, evicted to make room for a new connection when the
+//! server is full, or the server stopping).
 
 use std::net::SocketAddr;
 use std::sync::Arc;
@@ -150,6 +151,9 @@ impl<H: Handler> Connection<H> {
                 match self.activity.closed() {
                     Some(Closed::Idle) => debug!("idle timeout"),
                     Some(Closed::Write) => debug!("answers not taken: write timeout"),
+                    Some(Closed::Evicted) => {
+                        debug!("closed to make room for a new connection: quiet longest")
+                    }
                     _ => {}
                 }
                 None

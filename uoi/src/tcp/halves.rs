@@ -1,9 +1,9 @@
 //! The socket halves as a connection's codecs see them.
 //!
 //! * [`ClosableRead`] ends, as at end of stream, once the watchdog has
-//!   closed its connection (idle, or the server stopping): nothing more is
-//!   read from the socket, though frames already in the connection's read
-//!   buffer are still taken and answered. The close is a flag looked at
+//!   closed its connection (idle, evicted, or the server stopping):
+//!   nothing more is read from the socket, though frames already in the
+//!   connection's read buffer are still taken and answered. The close is a flag looked at
 //!   before a read and a waker woken by the close, so the connection needs
 //!   no second future raced against each read.
 //! * [`ClosableWrite`] writes with `write`, not `writev` (the answers wait
@@ -137,9 +137,9 @@ mod tests {
     const HOUR: std::time::Duration = std::time::Duration::from_secs(3600);
 
     fn activity() -> Arc<Activity> {
-        super::super::idle::Watchdog::start(HOUR, HOUR, 4)
+        super::super::idle::Watchdog::start(HOUR, HOUR, HOUR, 4)
             .expect("thread")
-            .watch()
+            .watch(crate::tcp::places::test_seat([127, 0, 0, 1].into()))
     }
 
     #[tokio::test]
@@ -189,12 +189,16 @@ mod write_tests {
     use crate::tcp::idle::{Closed, Watchdog};
     use tokio::io::AsyncWriteExt;
 
+    fn seat() -> crate::tcp::places::Seat {
+        crate::tcp::places::test_seat([127, 0, 0, 1].into())
+    }
+
     const HOUR: std::time::Duration = std::time::Duration::from_secs(3600);
 
     #[tokio::test]
     async fn a_blocked_write_ends_when_closed() {
-        let dog = Watchdog::start(HOUR, HOUR, 4).expect("thread");
-        let act = dog.watch();
+        let dog = Watchdog::start(HOUR, HOUR, HOUR, 4).expect("thread");
+        let act = dog.watch(seat());
         // A peer that never reads: 16 bytes of room.
         let (tx, _rx) = tokio::io::duplex(16);
         let mut w = ClosableWrite::new(tx, Arc::clone(&act));
@@ -215,8 +219,8 @@ mod write_tests {
     #[tokio::test]
     async fn only_a_batch_written_out_in_full_counts_as_progress() {
         use tokio::io::AsyncReadExt;
-        let dog = Watchdog::start(HOUR, HOUR, 4).expect("thread");
-        let act = dog.watch();
+        let dog = Watchdog::start(HOUR, HOUR, HOUR, 4).expect("thread");
+        let act = dog.watch(seat());
         let (tx, mut rx) = tokio::io::duplex(4);
         let mut w = ClosableWrite::new(tx, Arc::clone(&act));
         let reader = tokio::spawn(async move {

@@ -1,12 +1,19 @@
 //! The connection watchdog: one thread per server looks at every
-//! connection [`TICKS`] times per timeout (the shorter of the idle and the
-//! write timeout) and closes each one that has made no progress for the
-//! idle timeout, or whose answers have been stuck on a full socket for the
-//! write timeout; on shutdown it closes them all.
+//! connection [`TICKS`] times per timeout (the shortest of the idle
+//! timeout, the write timeout and the eviction grace) and closes each one
+//! that has made no progress for the idle timeout, or whose answers have
+//! been stuck on a full socket for the write timeout; on shutdown it closes
+//! them all. When the server is full, it names the connection quiet
+//! longest, and closes it to make room ([`Watchdog::evict`]).
 //!
 //! Progress is a complete request read, or a batch of answers written out
 //! in full. A client that takes its answers a few bytes at a time does not
 //! hold its place: its batch must leave within the write timeout.
+//!
+//! A connection holds its place ([`Seat`]) until it is closed: a close
+//! gives the place back at once, while the connection's task finishes (the
+//! close wakes its blocked read or write) and drops the socket a moment
+//! later.
 //!
 //! Why a thread and not a tokio timer per connection: a timer armed in the
 //! serving runtime makes every park of that runtime dearer (the time
@@ -18,13 +25,16 @@
 //! not from a second future raced against every read.
 
 use std::io;
+use std::net::IpAddr;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicU8, Ordering};
 use std::sync::mpsc::{self, RecvTimeoutError};
 use std::sync::{Arc, Mutex, Weak};
 use std::task::{Context, Poll};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use futures_util::task::AtomicWaker;
+
+use super::places::Seat;
 
 /// Looks per timeout. A connection is closed after between the timeout
 /// and `timeout * (1 + 1 / TICKS)`, never before the timeout.
@@ -43,6 +53,9 @@ pub(crate) enum Closed {
     Write = 2,
     /// The server is stopping.
     Stop = 3,
+    /// Closed to make room for a new connection: the server was full and
+    /// this one had been quiet longest.
+    Evicted = 4,
 }
 
 /// The state of a connection not closed.
@@ -61,15 +74,19 @@ pub(crate) struct Activity {
     state: AtomicU8,
     /// The connection's task while it waits for input.
     waker: AtomicWaker,
+    /// Its place among the server's, given back when it is closed (or,
+    /// closed by its peer, when it ends).
+    seat: Mutex<Option<Seat>>,
 }
 
 impl Activity {
-    fn new() -> Self {
+    fn new(seat: Option<Seat>) -> Self {
         Self {
             progress: AtomicU64::new(0),
             stuck: AtomicBool::new(false),
             state: AtomicU8::new(OPEN),
             waker: AtomicWaker::new(),
+            seat: Mutex::new(seat),
         }
     }
 
@@ -95,11 +112,13 @@ impl Activity {
         self.progress.load(Ordering::Relaxed)
     }
 
-    /// Closes the connection (the first reason given stays) and wakes it.
+    /// Closes the connection (the first reason given stays), gives its
+    /// place back and wakes it.
     pub(crate) fn close(&self, why: Closed) {
         let _ = self
             .state
             .compare_exchange(OPEN, why as u8, Ordering::AcqRel, Ordering::Acquire);
+        drop(self.seat.lock().unwrap_or_else(|p| p.into_inner()).take());
         self.waker.wake();
     }
 
@@ -109,6 +128,7 @@ impl Activity {
             OPEN => None,
             s if s == Closed::Idle as u8 => Some(Closed::Idle),
             s if s == Closed::Write as u8 => Some(Closed::Write),
+            s if s == Closed::Evicted as u8 => Some(Closed::Evicted),
             _ => Some(Closed::Stop),
         }
     }
@@ -136,8 +156,10 @@ struct Limits {
 
 impl Limits {
     /// The time between looks, and the timeouts counted in looks of it.
-    fn new(idle: Duration, write: Duration) -> (Duration, Self) {
-        let tick = (idle.min(write) / TICKS).max(MIN_TICK);
+    /// The eviction `grace` shortens the tick too: how long a connection
+    /// has been quiet is known to a tick.
+    fn new(idle: Duration, write: Duration, grace: Duration) -> (Duration, Self) {
+        let tick = (idle.min(write).min(grace) / TICKS).max(MIN_TICK);
         let looks = |t: Duration| {
             let n = t.as_nanos().div_ceil(tick.as_nanos());
             u32::try_from(n).unwrap_or(u32::MAX)
@@ -154,6 +176,8 @@ impl Limits {
 #[derive(Debug)]
 struct Entry {
     conn: Weak<Activity>,
+    /// The peer address whose place it holds.
+    peer: IpAddr,
     /// The progress count at the last look (`None` before the first look:
     /// the connection may have opened just before it).
     seen: Option<u64>,
@@ -163,27 +187,51 @@ struct Entry {
     /// with no progress (`None` while they are not: the first look that
     /// finds them stuck only notes it, they may have just got stuck).
     stuck: Option<u32>,
+    /// Quiet since: when it opened, or the first look that saw its last
+    /// progress (which came at most a tick before).
+    quiet_since: Instant,
 }
 
 impl Entry {
-    fn new(conn: &Arc<Activity>) -> Self {
+    fn new(conn: &Arc<Activity>, peer: IpAddr, now: Instant) -> Self {
         Self {
             conn: Arc::downgrade(conn),
+            peer,
             seen: None,
             quiet: 0,
             stuck: None,
+            quiet_since: now,
         }
     }
 
-    /// One look. Returns whether to keep watching the connection: not
-    /// when it is gone, or has just been closed.
-    fn look(&mut self, limits: Limits) -> bool {
+    /// Whether `conn` has made progress since the last look (or since it
+    /// opened, before the first look).
+    fn moved(&self, conn: &Activity) -> bool {
+        let progress = conn.progress.load(Ordering::Relaxed);
+        self.seen.unwrap_or(0) != progress
+    }
+
+    /// How long `conn` has been quiet at least, at `now`; `None` if it has
+    /// made progress since the last look.
+    fn quiet_for(&self, conn: &Activity, now: Instant) -> Option<Duration> {
+        (!self.moved(conn)).then(|| now.saturating_duration_since(self.quiet_since))
+    }
+
+    /// One look at `now`. Returns whether to keep watching the connection:
+    /// not when it is gone, or closed.
+    fn look(&mut self, limits: Limits, now: Instant) -> bool {
         let Some(conn) = self.conn.upgrade() else {
             return false;
         };
+        if conn.closed().is_some() {
+            return false;
+        }
         let progress = conn.progress.load(Ordering::Relaxed);
         let stuck = conn.stuck.load(Ordering::Relaxed);
         if self.seen != Some(progress) {
+            if self.moved(&conn) {
+                self.quiet_since = now;
+            }
             self.seen = Some(progress);
             self.quiet = 0;
             self.stuck = stuck.then_some(0);
@@ -215,7 +263,31 @@ impl Entries {
 
     /// One look at every connection.
     fn sweep(&self, limits: Limits) {
-        self.lock().retain_mut(|e| e.look(limits));
+        let now = Instant::now();
+        self.lock().retain_mut(|e| e.look(limits, now));
+    }
+
+    /// Closes the open connection quiet longest, if for `grace` at least,
+    /// among those from `within` (all when `None`); of those quiet equally
+    /// long (as far as the looks tell), the oldest.
+    fn evict(&self, within: Option<IpAddr>, grace: Duration, now: Instant) -> Option<Evicted> {
+        let entries = self.lock();
+        // Oldest first; `max_by_key` keeps the last of equals.
+        let (conn, peer, quiet) = entries
+            .iter()
+            .rev()
+            .filter(|e| within.is_none_or(|ip| e.peer == ip))
+            .filter_map(|e| {
+                let conn = e.conn.upgrade()?;
+                if conn.closed().is_some() {
+                    return None;
+                }
+                let quiet = e.quiet_for(&conn, now)?;
+                (quiet >= grace).then_some((conn, e.peer, quiet))
+            })
+            .max_by_key(|(_, _, quiet)| *quiet)?;
+        conn.close(Closed::Evicted);
+        Some(Evicted { peer, quiet })
     }
 
     /// Closes every connection.
@@ -226,6 +298,15 @@ impl Entries {
             }
         }
     }
+}
+
+/// A connection closed to make room.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Evicted {
+    /// Its peer address.
+    pub(crate) peer: IpAddr,
+    /// How long it had been quiet at least.
+    pub(crate) quiet: Duration,
 }
 
 /// The watchdog of one server; its thread ends when this is dropped.
@@ -240,16 +321,18 @@ pub(crate) struct Watchdog {
 
 impl Watchdog {
     /// Starts the thread for connections idle after `idle`, or with
-    /// answers stuck for `write`; `max_connections` bounds the entries kept
-    /// between looks.
+    /// answers stuck for `write`, and evicted after `grace` of quiet at
+    /// the earliest; `max_connections` bounds the entries kept between
+    /// looks.
     pub(crate) fn start(
         idle: Duration,
         write: Duration,
+        grace: Duration,
         max_connections: usize,
     ) -> io::Result<Self> {
         let entries = Arc::new(Entries::default());
         let (stop, stopped) = mpsc::channel::<()>();
-        let (tick, limits) = Limits::new(idle, write);
+        let (tick, limits) = Limits::new(idle, write, grace);
         let watched = Arc::clone(&entries);
         std::thread::Builder::new()
             .name("uoi-idle".into())
@@ -265,15 +348,23 @@ impl Watchdog {
         })
     }
 
-    /// Watches a new connection.
-    pub(crate) fn watch(&self) -> Arc<Activity> {
-        let conn = Arc::new(Activity::new());
+    /// Watches a new connection, holding `seat`.
+    pub(crate) fn watch(&self, seat: Seat) -> Arc<Activity> {
+        let peer = seat.ip();
+        let conn = Arc::new(Activity::new(Some(seat)));
         let mut entries = self.entries.lock();
         if entries.len() >= self.prune_at {
-            entries.retain(|e| e.conn.strong_count() > 0);
+            entries.retain(|e| e.conn.upgrade().is_some_and(|c| c.closed().is_none()));
         }
-        entries.push(Entry::new(&conn));
+        entries.push(Entry::new(&conn, peer, Instant::now()));
         conn
+    }
+
+    /// Makes room for a new connection: closes the open connection quiet
+    /// longest, if it has been quiet for the grace `grace` at least, among
+    /// those from `within` (all when `None`). Its place is free on return.
+    pub(crate) fn evict(&self, within: Option<IpAddr>, grace: Duration) -> Option<Evicted> {
+        self.entries.evict(within, grace, Instant::now())
     }
 
     /// Closes every connection watched (the server is stopping).
@@ -292,16 +383,23 @@ mod tests {
         write: 3,
     };
 
+    const LOCAL: IpAddr = IpAddr::V4(std::net::Ipv4Addr::LOCALHOST);
+    const HOUR: Duration = Duration::from_secs(3600);
+
+    fn seat() -> Seat {
+        crate::tcp::places::test_seat(LOCAL)
+    }
+
     fn watched() -> (Arc<Activity>, Entry) {
-        let conn = Arc::new(Activity::new());
-        let entry = Entry::new(&conn);
+        let conn = Arc::new(Activity::new(None));
+        let entry = Entry::new(&conn, LOCAL, Instant::now());
         (conn, entry)
     }
 
     /// `n` looks that keep watching and leave the connection open.
     fn looks(n: u32, conn: &Activity, e: &mut Entry) {
         for _ in 0..n {
-            assert!(e.look(LIMITS));
+            assert!(e.look(LIMITS, Instant::now()));
             assert_eq!(conn.closed(), None);
         }
     }
@@ -313,12 +411,26 @@ mod tests {
 
     #[test]
     fn timeouts_in_looks_round_up_and_the_tick_follows_the_shorter() {
-        let (tick, l) = Limits::new(Duration::from_secs(300), Duration::from_secs(30));
+        let (tick, l) = Limits::new(Duration::from_secs(300), Duration::from_secs(30), HOUR);
         assert_eq!(tick, Duration::from_millis(3750));
         assert_eq!(l, Limits { idle: 80, write: 8 });
-        let (tick, l) = Limits::new(Duration::from_secs(1), Duration::from_millis(1500));
+        let (tick, l) = Limits::new(Duration::from_secs(1), Duration::from_millis(1500), HOUR);
         assert_eq!(tick, Duration::from_millis(125));
         assert_eq!(l, Limits { idle: 8, write: 12 });
+        // The grace of eviction, when shorter, sets the tick.
+        let (tick, l) = Limits::new(
+            Duration::from_secs(300),
+            Duration::from_secs(30),
+            Duration::from_secs(1),
+        );
+        assert_eq!(tick, Duration::from_millis(125));
+        assert_eq!(
+            l,
+            Limits {
+                idle: 2400,
+                write: 240
+            }
+        );
     }
 
     #[test]
@@ -329,7 +441,7 @@ mod tests {
         conn.write_stuck();
         // The look that first sees them stuck only notes it.
         looks(LIMITS.write, &conn, &mut e);
-        assert!(!e.look(LIMITS));
+        assert!(!e.look(LIMITS, Instant::now()));
         assert_eq!(conn.closed(), Some(Closed::Write));
     }
 
@@ -344,7 +456,7 @@ mod tests {
         looks(LIMITS.write, &conn, &mut e);
         conn.write_stuck();
         looks(LIMITS.write, &conn, &mut e);
-        assert!(!e.look(LIMITS));
+        assert!(!e.look(LIMITS, Instant::now()));
         assert_eq!(conn.closed(), Some(Closed::Write));
     }
 
@@ -353,7 +465,7 @@ mod tests {
         let (conn, mut e) = watched();
         // The first look only notes the count: the connection may be new.
         a_timeout_of_looks(&conn, &mut e);
-        assert!(!e.look(LIMITS));
+        assert!(!e.look(LIMITS, Instant::now()));
         assert_eq!(conn.closed(), Some(Closed::Idle));
     }
 
@@ -363,7 +475,7 @@ mod tests {
         a_timeout_of_looks(&conn, &mut e);
         conn.progress();
         a_timeout_of_looks(&conn, &mut e);
-        assert!(!e.look(LIMITS));
+        assert!(!e.look(LIMITS, Instant::now()));
         assert_eq!(conn.closed(), Some(Closed::Idle));
     }
 
@@ -371,16 +483,15 @@ mod tests {
     fn closed_connections_are_dropped_from_the_watch() {
         let (conn, mut e) = watched();
         drop(conn);
-        assert!(!e.look(LIMITS));
+        assert!(!e.look(LIMITS, Instant::now()));
     }
 
     #[test]
     fn entries_of_closed_connections_are_pruned() {
-        let dog = Watchdog::start(Duration::from_secs(3600), Duration::from_secs(3600), 2)
-            .expect("thread");
+        let dog = Watchdog::start(HOUR, HOUR, HOUR, 2).expect("thread");
         let mut open = Vec::new();
         for k in 0..100 {
-            let conn = dog.watch();
+            let conn = dog.watch(seat());
             if k % 10 == 0 {
                 open.push(conn);
             }
@@ -406,18 +517,97 @@ mod tests {
 
     #[test]
     fn close_all_closes_the_open_and_keeps_the_first_reason() {
-        let dog = Watchdog::start(Duration::from_secs(3600), Duration::from_secs(3600), 8)
-            .expect("thread");
-        let (a, b) = (dog.watch(), dog.watch());
+        let dog = Watchdog::start(HOUR, HOUR, HOUR, 8).expect("thread");
+        let (a, b) = (dog.watch(seat()), dog.watch(seat()));
         a.close(Closed::Idle);
         dog.close_all();
         assert_eq!(a.closed(), Some(Closed::Idle));
         assert_eq!(b.closed(), Some(Closed::Stop));
     }
 
+    /// Three connections: `old` quiet since `t0`, `mid` since `t0 + 1 s`,
+    /// `new` opened at `t0 + 2 s`; `other` from another address, oldest.
+    fn three_and_another(t0: Instant) -> (Entries, [Arc<Activity>; 4]) {
+        let entries = Entries::default();
+        let other_ip = IpAddr::from([10, 0, 0, 9]);
+        let at = |s| t0 + Duration::from_secs(s);
+        let mk = |ip, when| {
+            let conn = Arc::new(Activity::new(Some(crate::tcp::places::test_seat(ip))));
+            let e = Entry::new(&conn, ip, when);
+            (conn, e)
+        };
+        let (other, e0) = mk(other_ip, t0);
+        let (old, e1) = mk(LOCAL, at(0));
+        let (mid, e2) = mk(LOCAL, at(1));
+        let (new, e3) = mk(LOCAL, at(2));
+        entries.lock().extend([e0, e1, e2, e3]);
+        (entries, [other, old, mid, new])
+    }
+
+    #[test]
+    fn eviction_closes_the_connection_quiet_longest_past_the_grace() {
+        let t0 = Instant::now();
+        let (entries, [other, old, mid, new]) = three_and_another(t0);
+        let at = |ms| t0 + Duration::from_millis(ms);
+        let grace = Duration::from_millis(1500);
+        // Among those from 127.0.0.1, `old` has been quiet longest.
+        let got = entries.evict(Some(LOCAL), grace, at(3000));
+        assert_eq!(
+            got,
+            Some(Evicted {
+                peer: LOCAL,
+                quiet: Duration::from_secs(3)
+            })
+        );
+        assert_eq!(old.closed(), Some(Closed::Evicted));
+        assert!(old.seat.lock().expect("seat").is_none(), "place given back");
+        // `mid` has made progress since the last look: it is not quiet.
+        mid.progress();
+        // `new` has been quiet 1 s, less than the grace.
+        assert_eq!(entries.evict(Some(LOCAL), grace, at(3000)), None);
+        assert_eq!((mid.closed(), new.closed()), (None, None));
+        // With every address, the other host's connection is the one.
+        let got = entries.evict(None, grace, at(3000)).expect("evicted");
+        assert_eq!(got.peer, IpAddr::from([10, 0, 0, 9]));
+        assert_eq!(other.closed(), Some(Closed::Evicted));
+    }
+
+    #[test]
+    fn of_connections_quiet_equally_long_the_oldest_goes() {
+        let entries = Entries::default();
+        let t0 = Instant::now();
+        let conns: Vec<Arc<Activity>> = (0..3)
+            .map(|_| Arc::new(Activity::new(Some(seat()))))
+            .collect();
+        entries
+            .lock()
+            .extend(conns.iter().map(|c| Entry::new(c, LOCAL, t0)));
+        let later = t0 + Duration::from_secs(2);
+        assert!(entries.evict(None, Duration::from_secs(1), later).is_some());
+        let closed: Vec<bool> = conns.iter().map(|c| c.closed().is_some()).collect();
+        assert_eq!(closed, [true, false, false]);
+    }
+
+    #[test]
+    fn a_look_that_sees_progress_starts_the_quiet_again() {
+        let t0 = Instant::now();
+        let (entries, [_other, old, _mid, _new]) = three_and_another(t0);
+        old.progress();
+        let at = |s| t0 + Duration::from_secs(s);
+        entries.lock().iter_mut().for_each(|e| {
+            e.look(LIMITS, at(5));
+        });
+        // Quiet since the look at 5 s: 0.5 s at 5.5 s, under a 1 s grace;
+        // the others, quiet 3.5 s or more, go first.
+        let grace = Duration::from_secs(1);
+        let first = entries.evict(Some(LOCAL), grace, at(5) + grace / 2);
+        assert!(first.is_some_and(|e| e.quiet >= Duration::from_millis(3500)));
+        assert_eq!(old.closed(), None);
+    }
+
     #[test]
     fn a_close_wakes_the_waiting_reader() {
-        let conn = Activity::new();
+        let conn = Activity::new(None);
         let woken = Arc::new(Flag::default());
         let waker = std::task::Waker::from(Arc::clone(&woken));
         let mut cx = Context::from_waker(&waker);

@@ -4,9 +4,10 @@
 mod access;
 mod client;
 mod connection;
+mod gate;
 mod halves;
 mod idle;
-mod peers;
+mod places;
 mod server;
 
 pub use access::{

@@ -11,19 +11,14 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use futures_util::SinkExt;
-use tokio::io::AsyncWriteExt;
-use tokio::net::{TcpListener, TcpStream};
-use tokio::sync::{mpsc, oneshot, Semaphore};
-use tokio::task::JoinSet;
-use tokio_util::codec::FramedWrite;
-use tracing::{debug, info, warn};
+use tokio::net::TcpListener;
+use tokio::sync::{mpsc, oneshot};
+use tokio::time::MissedTickBehavior;
+use tracing::{info, warn};
 
 use super::access::AccessPolicy;
-use super::connection::{reply, serve_connection, Gatekeeper};
-use super::idle::Watchdog;
-use super::peers::Peers;
-use crate::wire::{Answer, ProtocolError, Request, ServerCodec};
+use super::gate::Gate;
+use crate::wire::{Answer, ProtocolError, Request};
 
 /// What serves the requests: the emulator, in `addipos`. HELLO frames
 /// are answered by the connection itself and never reach it.
@@ -94,11 +89,23 @@ pub struct ServerConfig {
     pub listen: SocketAddr,
     /// Allow a non-loopback listen address (it also needs an access token).
     pub allow_remote: bool,
-    /// Connections served at once; more are answered `Busy` and closed.
-    pub max_connections: usize,
-    /// Connections served at once from one peer address; more from it are
+    /// Connections served at once. A further one takes the place of the
+    /// connection quiet longest (for `evict_after` at least), or else is
     /// answered `Busy` and closed.
+    pub max_connections: usize,
+    /// Connections served at once from one peer address on another
+    /// machine. A further one from it takes the place of its connection
+    /// quiet longest, or else is answered `Busy` and closed.
     pub max_connections_per_peer: usize,
+    /// Count loopback peers (every program on this machine shares one
+    /// address) against `max_connections_per_peer` too; off, they count
+    /// against `max_connections` only.
+    pub per_peer_limit_on_loopback: bool,
+    /// When the server is full, a connection without progress for this
+    /// long may be closed to make room for a new one, which waits at most
+    /// one and a half times this for a place. `None`: no eviction, a new
+    /// connection finding the server full is refused at once.
+    pub evict_after: Option<Duration>,
     /// A connection with no complete request read and no batch of answers
     /// written for this long is closed.
     pub idle_timeout: Duration,
@@ -118,6 +125,8 @@ impl Default for ServerConfig {
             allow_remote: false,
             max_connections: 256,
             max_connections_per_peer: 16,
+            per_peer_limit_on_loopback: false,
+            evict_after: Some(Duration::from_secs(1)),
             idle_timeout: Duration::from_secs(300),
             write_timeout: Duration::from_secs(30),
             access: AccessPolicy::default(),
@@ -301,35 +310,40 @@ impl<H: Handler> Server<H> {
             listen = %listener.local_addr()?,
             max_connections = cfg.max_connections,
             max_connections_per_peer = cfg.max_connections_per_peer,
+            per_peer_limit_on_loopback = cfg.per_peer_limit_on_loopback,
+            evict_after_ms = cfg
+                .evict_after
+                .map(|d| u64::try_from(d.as_millis()).unwrap_or(u64::MAX)),
             token_from_remote = cfg.access.token.is_some(),
             token_from_loopback = cfg.access.token.is_some() && cfg.access.on_loopback,
             core = ?cfg.core,
             "serving UOI"
         );
-        let mut gate = Gate {
-            permits: Arc::new(Semaphore::new(cfg.max_connections)),
-            peers: Peers::new(cfg.max_connections_per_peer),
-            watchdog: Watchdog::start(cfg.idle_timeout, cfg.write_timeout, cfg.max_connections)?,
-            access: cfg.access,
-            shared,
-            tasks: JoinSet::new(),
-        };
+        let mut gate = Gate::new(&cfg, shared)?;
+        let mut retry = tokio::time::interval(gate.retry_every());
+        retry.set_missed_tick_behavior(MissedTickBehavior::Delay);
         tokio::pin!(shutdown);
         loop {
             tokio::select! {
                 () = &mut shutdown => break,
                 accepted = listener.accept() => match accepted {
-                    Ok((stream, peer)) => gate.admit(stream, peer),
+                    Ok((stream, peer)) => gate.arrive(stream, peer),
                     Err(e) => {
                         warn!(error = %e, "accept failed");
                         tokio::time::sleep(Duration::from_millis(10)).await;
                     }
                 },
-                Some(_) = gate.tasks.join_next(), if !gate.tasks.is_empty() => {}
+                // A connection ended: its place may serve a waiting one.
+                Some(_) = gate.tasks.join_next(), if !gate.tasks.is_empty() => {
+                    if gate.has_waiting() {
+                        gate.retry_waiting();
+                    }
+                }
+                _ = retry.tick(), if gate.has_waiting() => gate.retry_waiting(),
             }
         }
         info!("shutting down: finishing open connections");
-        gate.watchdog.close_all();
+        gate.close_all();
         let drain = async { while gate.tasks.join_next().await.is_some() {} };
         if tokio::time::timeout(Duration::from_secs(5), drain)
             .await
@@ -339,61 +353,4 @@ impl<H: Handler> Server<H> {
         }
         Ok(())
     }
-}
-
-/// What admits accepted connections and keeps them.
-struct Gate<H> {
-    /// One per connection served at once.
-    permits: Arc<Semaphore>,
-    /// Connections open per peer address.
-    peers: Arc<Peers>,
-    /// Who must present the access token.
-    access: AccessPolicy,
-    /// Closes idle connections, and all of them on shutdown.
-    watchdog: Watchdog,
-    shared: Shared<H>,
-    tasks: JoinSet<()>,
-}
-
-impl<H: Handler> Gate<H> {
-    /// Serves an accepted connection, or answers `Busy` and closes it when
-    /// `max_connections` are open, or `max_connections_per_peer` from its
-    /// address.
-    fn admit(&mut self, stream: TcpStream, peer: SocketAddr) {
-        let _ = stream.set_nodelay(true);
-        let Some(place) = self.peers.take(peer.ip()) else {
-            warn!(%peer, "connection limit per peer address reached, refusing");
-            self.tasks.spawn(refuse(stream));
-            return;
-        };
-        let Ok(permit) = Arc::clone(&self.permits).try_acquire_owned() else {
-            warn!(%peer, "connection limit reached, refusing");
-            self.tasks.spawn(refuse(stream));
-            return;
-        };
-        let shared = self.shared.clone();
-        let activity = self.watchdog.watch();
-        let token = self.access.token.clone();
-        let authorized = !self.access.needs_token(peer.ip());
-        self.tasks.spawn(async move {
-            debug!(%peer, authorized, "connected");
-            serve_connection(
-                stream,
-                shared,
-                activity,
-                Gatekeeper::new(token, authorized, peer),
-            )
-            .await;
-            debug!(%peer, "disconnected");
-            drop((permit, place));
-        });
-    }
-}
-
-async fn refuse(stream: TcpStream) {
-    let mut w = FramedWrite::new(stream, ServerCodec);
-    let _ = w
-        .send(reply(0, 0, Answer::Protocol(ProtocolError::Busy)))
-        .await;
-    let _ = w.into_inner().shutdown().await;
 }

@@ -1,0 +1,297 @@
+//! A full server makes room: a new connection takes the place of the
+//! connection quiet longest (for the eviction grace at least), from its own
+//! address when that address holds its limit; only when every connection
+//! is in use is it answered `Busy`. Clients from one machine (loopback)
+//! count against the total only, by default.
+//!
+//! No timed assertions: every wait is bounded by a hang guard (the 60 s
+//! read timeout of each client).
+
+// Test helpers may stop loudly on a broken setup.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
+use std::io::{Read, Write};
+use std::net::{SocketAddr, TcpStream};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+use bytes::BytesMut;
+use uoi::tcp::{Handler, Server, ServerConfig};
+use uoi::wire::{encode_request, Answer, Request};
+use uoi::{ObjectAddress, Value, ValueType};
+
+const BUSY: u32 = 0xE000_0007;
+const HOUR: Duration = Duration::from_secs(3600);
+
+/// Answers a READ with the object's index.
+struct Index;
+
+impl Handler for Index {
+    type Session = ();
+
+    fn handle(&mut self, req: Request) -> Answer {
+        match req {
+            Request::Read(a, _) => Answer::Value(Value::I32(i32::from(a.index))),
+            _ => Answer::Ok,
+        }
+    }
+}
+
+/// A server on its own thread; stopped when the sender is dropped.
+fn serve(cfg: ServerConfig) -> (SocketAddr, tokio::sync::oneshot::Sender<()>) {
+    let (addr_tx, addr_rx) = std::sync::mpsc::channel();
+    let (stop_tx, stop_rx) = tokio::sync::oneshot::channel::<()>();
+    std::thread::spawn(move || {
+        let rt = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .expect("runtime");
+        rt.block_on(async move {
+            let server = Server::bind(cfg, Index).await.expect("bind");
+            addr_tx
+                .send(server.local_addr().expect("addr"))
+                .expect("send");
+            let _ = server
+                .run(async {
+                    let _ = stop_rx.await;
+                })
+                .await;
+        });
+    });
+    (addr_rx.recv().expect("server started"), stop_tx)
+}
+
+/// `max` places, eviction after `grace_ms` of quiet; the idle and write
+/// timeouts far away, so only eviction frees a place.
+fn full_at(max: usize, grace_ms: u64) -> ServerConfig {
+    ServerConfig {
+        listen: "127.0.0.1:0".parse().expect("addr"),
+        max_connections: max,
+        idle_timeout: HOUR,
+        write_timeout: HOUR,
+        evict_after: Some(Duration::from_millis(grace_ms)),
+        ..ServerConfig::default()
+    }
+}
+
+fn guarded(s: TcpStream) -> TcpStream {
+    // Only a guard against a hung test, far above any real wait.
+    s.set_read_timeout(Some(Duration::from_secs(60)))
+        .expect("timeout");
+    s
+}
+
+fn connect(addr: SocketAddr) -> TcpStream {
+    guarded(TcpStream::connect(addr).expect("connect"))
+}
+
+/// A connection from the local address `from` (any of 127.0.0.0/8 on
+/// Linux): another peer address on the same machine.
+fn connect_from(from: [u8; 4], addr: SocketAddr) -> TcpStream {
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("runtime");
+    let s = rt.block_on(async {
+        let sock = tokio::net::TcpSocket::new_v4().expect("socket");
+        sock.bind(SocketAddr::from((from, 0))).expect("bind");
+        sock.connect(addr).await.expect("connect")
+    });
+    let s = s.into_std().expect("std");
+    s.set_nonblocking(false).expect("blocking");
+    guarded(s)
+}
+
+fn read_frame(index: u16) -> Vec<u8> {
+    let mut f = BytesMut::new();
+    let req = Request::Read(ObjectAddress::new(7, 0, index, 0), ValueType::I32);
+    encode_request(u32::from(index), &req, &mut f);
+    f.to_vec()
+}
+
+/// Reads one answer frame: (id, op, status); `None` if the connection
+/// ends first.
+fn read_head(s: &mut TcpStream) -> Option<(u32, u8, u32)> {
+    let mut pre = [0u8; 4];
+    s.read_exact(&mut pre).ok()?;
+    let mut body = vec![0u8; u32::from_le_bytes(pre) as usize];
+    s.read_exact(&mut body).ok()?;
+    let word = |at: usize| u32::from_le_bytes([body[at], body[at + 1], body[at + 2], body[at + 3]]);
+    Some((word(4), body[3], word(8)))
+}
+
+/// Sends READ `k` and returns the answer's status; `None` if the server
+/// has closed the connection.
+fn ask(s: &mut TcpStream, k: u16) -> Option<u32> {
+    s.write_all(&read_frame(k)).ok()?;
+    let (id, _, status) = read_head(s)?;
+    assert!(status != 0 || id == u32::from(k), "answer {id} to {k}");
+    Some(status)
+}
+
+/// Reads (and drops) whatever is left until the server closes `s`: end
+/// of stream or a reset, not the guard timeout.
+fn closed_by_server(s: &mut TcpStream) -> bool {
+    let mut b = [0u8; 4096];
+    loop {
+        match s.read(&mut b) {
+            Ok(0) => return true,
+            Ok(_) => {}
+            Err(e) => {
+                return !matches!(
+                    e.kind(),
+                    std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+                )
+            }
+        }
+    }
+}
+
+/// Pipelines requests and never reads an answer, until the server's
+/// writes to it block (its socket buffers are full).
+fn flood_until_blocked(s: &mut TcpStream) {
+    s.set_write_timeout(Some(Duration::from_millis(200)))
+        .expect("timeout");
+    let burst: Vec<u8> = (0..4096).flat_map(|i| read_frame(i as u16)).collect();
+    while s.write_all(&burst).is_ok() {}
+}
+
+/// A client in use: asks, reads the answer, asks again, until stopped.
+struct InUse {
+    stop: Arc<AtomicBool>,
+    thread: JoinHandle<Result<usize, String>>,
+}
+
+impl InUse {
+    fn start(mut s: TcpStream) -> Self {
+        let stop = Arc::new(AtomicBool::new(false));
+        let stopped = Arc::clone(&stop);
+        let thread = std::thread::spawn(move || {
+            let mut answered = 0;
+            while !stopped.load(Ordering::Relaxed) {
+                match ask(&mut s, (answered % 1000) as u16) {
+                    Some(0) => answered += 1,
+                    other => return Err(format!("after {answered} answers: {other:?}")),
+                }
+            }
+            Ok(answered)
+        });
+        Self { stop, thread }
+    }
+
+    /// Stops it; how many answers it had, or how it lost its connection.
+    fn stop(self) -> Result<usize, String> {
+        self.stop.store(true, Ordering::Relaxed);
+        self.thread.join().expect("client thread")
+    }
+}
+
+/// Issue 8, point 6: 8 places held by clients that never read their
+/// answers (one flooding until the server's writes block) or stay silent;
+/// fresh clients from the same address are served each in the place of
+/// one of them, and every one of them is closed (the close wakes a
+/// blocked read or write).
+#[test]
+fn clients_that_never_read_or_stay_silent_make_room_for_fresh_ones() {
+    let (addr, _stop) = serve(full_at(8, 200));
+    let mut hogs = Vec::new();
+    let mut flooder = connect(addr);
+    flood_until_blocked(&mut flooder);
+    hogs.push(flooder);
+    for k in 0..4 {
+        let mut s = connect(addr);
+        s.write_all(&read_frame(k)).expect("write");
+        hogs.push(s);
+    }
+    hogs.extend((0..3).map(|_| connect(addr)));
+    let mut fresh = Vec::new();
+    for k in 0..8 {
+        let mut c = connect(addr);
+        assert_eq!(ask(&mut c, 100 + k), Some(0), "fresh client {k}");
+        fresh.push(c);
+    }
+    for (k, hog) in hogs.iter_mut().enumerate() {
+        assert!(closed_by_server(hog), "hog {k} still open");
+    }
+    for (k, c) in fresh.iter_mut().enumerate() {
+        assert_eq!(ask(c, 200 + k as u16), Some(0), "fresh client {k} again");
+    }
+}
+
+/// The connection quiet longest makes room, not one in use.
+#[test]
+fn the_connection_quiet_longest_goes_not_one_in_use() {
+    let (addr, _stop) = serve(full_at(2, 200));
+    let mut silent = connect(addr);
+    let in_use = InUse::start(connect(addr));
+    let mut fresh = connect(addr);
+    assert_eq!(ask(&mut fresh, 7), Some(0));
+    assert!(closed_by_server(&mut silent));
+    let answered = in_use.stop().expect("the client in use kept its place");
+    assert!(answered > 0);
+}
+
+/// When every connection has made progress within the grace, a newcomer
+/// waits a moment and is then answered `Busy`; the others keep going.
+#[test]
+fn a_newcomer_is_refused_while_every_connection_is_in_use() {
+    // A grace of 1 s: a client in use answers thousands of times in it.
+    let (addr, _stop) = serve(full_at(2, 1000));
+    let a = InUse::start(connect(addr));
+    let b = InUse::start(connect(addr));
+    let mut fresh = connect(addr);
+    assert_eq!(read_head(&mut fresh), Some((0, 0, BUSY)));
+    assert!(closed_by_server(&mut fresh));
+    a.stop().expect("a kept its place");
+    b.stop().expect("b kept its place");
+}
+
+/// When an address holds its `max_connections_per_peer`, a newcomer from
+/// it takes the place of that address's connection quiet longest, even
+/// if another host's has been quiet longer; the other host keeps its own.
+#[test]
+fn at_its_own_limit_an_address_makes_room_among_its_own() {
+    let (addr, _stop) = serve(ServerConfig {
+        max_connections_per_peer: 3,
+        per_peer_limit_on_loopback: true,
+        ..full_at(6, 200)
+    });
+    // 127.0.0.2 plays another host; its first connection is the oldest.
+    let mut other = connect_from([127, 0, 0, 2], addr);
+    let mut hogs: Vec<TcpStream> = (0..3).map(|_| connect(addr)).collect();
+    let mut other2 = connect_from([127, 0, 0, 2], addr);
+    assert_eq!(ask(&mut other2, 1), Some(0));
+    let mut fresh = connect(addr);
+    assert_eq!(ask(&mut fresh, 2), Some(0));
+    assert_eq!(ask(&mut other, 3), Some(0), "the other host lost its place");
+    let open = hogs
+        .iter_mut()
+        .enumerate()
+        .map(|(k, h)| ask(h, 10 + k as u16))
+        .filter(Option::is_some)
+        .count();
+    assert_eq!(open, 2, "one of 127.0.0.1's own made room");
+}
+
+/// Issue 8, point 6: with the default limits, 64 clients on this machine
+/// (a load test on loopback) are all served, and keep their places.
+#[test]
+fn sixty_four_local_clients_with_default_limits_are_all_served() {
+    let (addr, _stop) = serve(ServerConfig {
+        listen: "127.0.0.1:0".parse().expect("addr"),
+        ..ServerConfig::default()
+    });
+    let mut clients: Vec<TcpStream> = (0..64).map(|_| connect(addr)).collect();
+    for round in 0..2u16 {
+        for (k, c) in clients.iter_mut().enumerate() {
+            let k = k as u16;
+            assert_eq!(
+                ask(c, 100 * round + k),
+                Some(0),
+                "client {k}, round {round}"
+            );
+        }
+    }
+}
