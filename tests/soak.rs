@@ -53,7 +53,7 @@ fn start_server(dir: &std::path::Path) -> Serve {
         &cfg,
         format!(
             "listen = \"127.0.0.1:0\"\nidle_timeout_s = 2\nwrite_timeout_s = 1\n\
-             max_connections_per_peer = 256\nspool_capacity = {CAPACITY}\n"
+             spool_capacity = {CAPACITY}\n"
         ),
     )
     .unwrap();
