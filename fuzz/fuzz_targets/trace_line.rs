@@ -1,4 +1,5 @@
-//! The trace reader and the request parser on any bytes: the checks are `addipos::fuzz_checks::trace_line` (docs/fuzzing.md).
+//! The trace reader and the request parser on any bytes.
+//! The checks are `addipos::fuzz_checks::trace_line` (docs/fuzzing.md).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
