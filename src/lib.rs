@@ -19,6 +19,7 @@ pub mod access;
 pub mod address;
 pub mod config;
 pub mod emulator;
+pub mod fuzz_checks;
 pub mod reference;
 pub mod remote;
 pub mod service;
