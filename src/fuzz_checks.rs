@@ -16,8 +16,7 @@
 #![allow(clippy::panic)]
 
 use bytes::BytesMut;
-use tc_module::executor::DEFAULT_CYCLE_S;
-use tc_module::{AXES, MAX_COORD};
+use tc_module::{CycleTime, AXES, MAX_COORD};
 use tc_request::text::parse_request;
 use tc_request::wire::SPOOL_BATCH;
 use tc_request::{Reply, Request, SpoolRecord};
@@ -53,7 +52,7 @@ pub const EXEC_BUDGET: u64 = 20_000;
 /// offset and centre a command carries is within [`MAX_COORD`], and a
 /// rotation about a centre, an arc about its centre and the tool radius
 /// and length move a point by a few such amounts at most.
-pub const POS_LIMIT: f64 = 16.0 * MAX_COORD;
+pub const POS_LIMIT: f64 = 2.0 * MAX_COORD;
 
 /// Most elements [`frame_sequence`] allows the spooler to hold per frame
 /// served (a corrected command spools the corrected element, its
@@ -290,7 +289,7 @@ pub fn trace_line(data: &[u8]) {
 /// beyond any limit (an open point of issue 8, being fixed in parallel;
 /// `fuzz/regressions/frame_sequence/open-*`). Set it to `false` once the
 /// engine refuses them, so that the fuzzer checks the engine's own limits.
-pub const HOLD_BACK_HUGE_DOUBLES: bool = true;
+pub const HOLD_BACK_HUGE_DOUBLES: bool = false;
 
 /// One connection as the server serves it, without the socket: its
 /// session sees each request first, else the shared emulator answers.
@@ -309,7 +308,7 @@ pub struct Connection {
 impl Default for Connection {
     fn default() -> Self {
         Self {
-            shared: EmulatorService::new([0.0; AXES], DEFAULT_CYCLE_S),
+            shared: EmulatorService::new([0.0; AXES], CycleTime::DEFAULT),
             session: ConformanceSession::default(),
             hold_back: HOLD_BACK_HUGE_DOUBLES,
             cycles_left: EXEC_BUDGET,
@@ -478,7 +477,9 @@ pub fn trace_requests(trace: &Trace) -> Vec<Request> {
     let mut out = vec![
         Request::Setup {
             start: h.start,
-            cycle_s: h.cycle_s,
+            cycle_s: h.cycle.secs(),
+            // A capacity is at most 1,000,000: it fits u64.
+            spool_capacity: h.spool_capacity as u64,
         },
         Request::SpoolLog { logging: true },
     ];

@@ -71,10 +71,9 @@ fn seed_corpus_and_regressions_pass() {
 /// remove the `ignore`, rename the file without `open-` and set
 /// `HOLD_BACK_HUGE_DOUBLES` to `false`.
 #[test]
-#[ignore = "open engine finding: RADIUS beyond the coordinate limit is taken"]
-fn open_radius_beyond_the_coordinate_limit() {
+fn radius_beyond_the_coordinate_limit() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/regressions/frame_sequence");
-    let bytes = std::fs::read(dir.join("open-radius-beyond-coordinate-limit.bin")).unwrap();
+    let bytes = std::fs::read(dir.join("radius-beyond-coordinate-limit.bin")).unwrap();
     serve_stream(&bytes, &mut Connection::strict());
 }
 
@@ -193,8 +192,16 @@ fn request() -> BoxedStrategy<Request> {
         1 => Just(Request::Exec(None)),
         2 => Just(Request::Pos),
         2 => Just(Request::Queue),
-        1 => (prop::array::uniform8(coord()), prop_oneof![Just(1e-3), -1.0..2.0f64])
-            .prop_map(|(start, cycle_s)| Request::Setup { start, cycle_s }),
+        1 => (
+            prop::array::uniform8(coord()),
+            prop_oneof![Just(1e-3), -1.0..2.0f64],
+            prop_oneof![Just(0u64), 0u64..200_000],
+        )
+            .prop_map(|(start, cycle_s, spool_capacity)| Request::Setup {
+                start,
+                cycle_s,
+                spool_capacity,
+            }),
         1 => any::<bool>().prop_map(|logging| Request::SpoolLog { logging }),
     ]
     .boxed()
@@ -263,6 +270,7 @@ fn running_group() -> BoxedStrategy<Vec<Request>> {
                 Request::Setup {
                     start: [0.0; AXES],
                     cycle_s: 1e-3,
+                    spool_capacity: 0,
                 },
                 Request::SpoolLog { logging: true },
                 w(2, Value::I32(0)),
