@@ -64,12 +64,10 @@ fn seed_corpus_and_regressions_pass() {
     assert!(run_files("trace_line", &["traces"], trace_line) > 0);
 }
 
-/// Found by `frame_sequence` (60 s smoke run): RADIUS -1.68e212 is taken,
-/// and a corrected `LIN X8 Y0` spools an end at Y -1.68e212. Open in the
-/// engine (issue 8: ranges of RADIUS, WkzLen and the rotation centre, and
-/// the limit on what enters the spooler), fixed in parallel: once merged,
-/// remove the `ignore`, rename the file without `open-` and set
-/// `HOLD_BACK_HUGE_DOUBLES` to `false`.
+/// Found by `frame_sequence` (60 s smoke run): RADIUS -1.68e212 was
+/// taken, and a corrected `LIN X8 Y0` spooled an end at Y -1.68e212.
+/// Fixed by the ranges of RADIUS, WkzLen and the rotation centre and the
+/// limit on what enters the spooler (issue 8).
 #[test]
 fn radius_beyond_the_coordinate_limit() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/regressions/frame_sequence");
