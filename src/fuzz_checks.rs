@@ -351,10 +351,13 @@ impl Connection {
                 return Answer::Access(AccessError::Range);
             }
         }
-        let req = self.bounded(req);
-        match self.session.handle(req) {
-            Served::Here(ans) => ans,
-            Served::Shared(req) => self.shared.handle(req),
+        let mut req = self.bounded(req);
+        loop {
+            match self.session.handle(req) {
+                Served::Here(ans) => return ans,
+                Served::Shared(req) => return self.shared.handle(req),
+                Served::More(rest) => req = rest,
+            }
         }
     }
 

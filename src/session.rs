@@ -12,11 +12,11 @@ use tc_module::spooler::{DEFAULT_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY};
 use tc_module::{AxisPos, CycleTime};
 use tc_request::wire::{TcOp, SPOOL_BATCH};
 use tc_request::{Reply, Request, SpoolRecord};
-use uoi::tcp::{Served, Session};
+use uoi::tcp::{Served, Session, Slice};
 use uoi::wire::{Answer, Op, ProtocolError, Request as WireRequest};
 use uoi::AccessError;
 
-use crate::service::{serve, Control};
+use crate::service::{serve_slice, Control};
 use crate::Emulator;
 
 /// Most conformance sessions open at once in one server process: each
@@ -63,13 +63,15 @@ pub struct ConformanceSession {
 }
 
 impl Session for ConformanceSession {
-    /// `SETUP` always; everything else once there is a session.
+    /// `SETUP` always; everything else once there is a session, one slice
+    /// at a time (a long `EXEC` comes back as [`Served::More`], so the
+    /// connection lets others run and stops it if it is closed).
     fn handle(&mut self, req: WireRequest) -> Served {
         if req.op() == Op::Ext(TcOp::Setup.code()) {
             return Served::Here(self.setup(&req));
         }
         match self.own.as_deref_mut() {
-            Some(own) => Served::Here(own.handle(req)),
+            Some(own) => own.handle_slice(req),
             None => Served::Shared(req),
         }
     }
@@ -138,16 +140,19 @@ struct Conformance {
 }
 
 impl Conformance {
-    /// Serves one request on the private emulator.
-    fn handle(&mut self, req: WireRequest) -> Answer {
-        let ans = match serve(&mut self.emu, req) {
-            Ok(ans) => ans,
-            Err(Control::SpoolLog(logging)) => self.log.fetch(&mut self.emu, logging).to_wire(),
+    /// Serves one slice of a request on the private emulator.
+    fn handle_slice(&mut self, req: WireRequest) -> Served {
+        let served = match serve_slice(&mut self.emu, req) {
+            Ok(Slice::Done(ans)) => Served::Here(ans),
+            Ok(Slice::More(rest)) => Served::More(rest),
+            Err(Control::SpoolLog(logging)) => {
+                Served::Here(self.log.fetch(&mut self.emu, logging).to_wire())
+            }
             // The session takes SETUP before its emulator sees it.
-            Err(Control::Setup) => Answer::Access(AccessError::State),
+            Err(Control::Setup) => Served::Here(Answer::Access(AccessError::State)),
         };
         self.log.collect(&mut self.emu);
-        ans
+        served
     }
 }
 

@@ -161,6 +161,26 @@ impl<H: Handler> Connection<H> {
         }
     }
 
+    /// The answer to a request: from the connection's session, slice by
+    /// slice, or else from the shared handler. `None` when the connection
+    /// was closed (idle, evicted, stopping) before the request was done:
+    /// the rest of it is dropped.
+    async fn served(&mut self, req: Request) -> Option<Answer> {
+        let mut req = req;
+        loop {
+            match self.session.handle(req) {
+                Served::Here(ans) => return Some(ans),
+                Served::Shared(req) => {
+                    let ans = self.shared.handle(req, &self.activity).await;
+                    return self.activity.closed().is_none().then_some(ans);
+                }
+                Served::More(rest) => req = rest,
+            }
+            tokio::task::yield_now().await;
+            self.activity.closed()?;
+        }
+    }
+
     /// The answer to one frame, and whether the connection goes on: from
     /// the connection's session, or else from the shared handler. A peer
     /// not yet authorized gets `Unauthorized` for anything but HELLO, and
@@ -183,11 +203,13 @@ impl<H: Handler> Connection<H> {
             }
             Ok((id, req)) => {
                 let op = req.op().code();
-                let ans = match self.session.handle(req) {
-                    Served::Here(ans) => ans,
-                    Served::Shared(req) => self.shared.handle(req).await,
-                };
-                (reply(id, op, ans), Then::GoOn)
+                match self.served(req).await {
+                    Some(ans) => (reply(id, op, ans), Then::GoOn),
+                    None => (
+                        reply(id, op, Answer::Protocol(ProtocolError::Busy)),
+                        Then::Close,
+                    ),
+                }
             }
             Err(r) => {
                 debug!(error = %r.error, "bad request");

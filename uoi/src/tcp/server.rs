@@ -18,6 +18,7 @@ use tracing::{info, warn};
 
 use super::access::AccessPolicy;
 use super::gate::Gate;
+use super::idle::Activity;
 use crate::wire::{Answer, ProtocolError, Request};
 
 /// What serves the requests: the emulator, in `addipos`. HELLO frames
@@ -61,6 +62,10 @@ pub trait Session: Default + Send + 'static {
 pub enum Served {
     /// Answered by the session.
     Here(Answer),
+    /// Served in part by the session: the rest, for the session to serve
+    /// as a further slice (the connection lets other tasks run, and stops
+    /// if it is closed, in between).
+    More(Request),
     /// For the shared handler.
     Shared(Request),
 }
@@ -189,8 +194,11 @@ impl<H> Clone for Shared<H> {
 
 impl<H: Handler> Shared<H> {
     /// Answers one request with the shared handler, slice by slice; the
-    /// lock is released and other tasks run between slices.
-    pub(crate) async fn handle(&self, req: Request) -> Answer {
+    /// lock is released and other tasks run between slices. When the
+    /// connection is closed meanwhile (`closed`: idle, evicted, stopping)
+    /// the rest of the request is dropped and `Busy` comes back (nobody
+    /// reads it), so a closed connection never keeps the handler busy.
+    pub(crate) async fn handle(&self, req: Request, closed: &Activity) -> Answer {
         match self {
             Shared::Lock(m) => {
                 let mut req = req;
@@ -201,9 +209,12 @@ impl<H: Handler> Shared<H> {
                         Slice::More(rest) => req = rest,
                     }
                     m.let_others_in().await;
+                    if closed.closed().is_some() {
+                        return Answer::Protocol(ProtocolError::Busy);
+                    }
                 }
             }
-            Shared::Owner(tx) => ask(tx, req).await,
+            Shared::Owner(tx) => ask(tx, req, closed).await,
         }
     }
 }
@@ -228,21 +239,28 @@ async fn own<H: Handler>(mut h: H, mut rx: mpsc::Receiver<Job>) {
             Slice::Done(a) => {
                 let _ = answer.send(a);
             }
-            Slice::More(rest) => {
+            // The rest waits its turn, unless its connection is gone.
+            Slice::More(rest) if !answer.is_closed() => {
                 later.push_back((rest, answer));
                 tokio::task::yield_now().await;
             }
+            Slice::More(_) => {}
         }
     }
 }
 
-/// Hands a request to the owner task and waits for its answer.
-async fn ask(tx: &mpsc::Sender<Job>, req: Request) -> Answer {
+/// Hands a request to the owner task and waits for its answer, or until
+/// the connection is closed (the owner task then drops the rest of it).
+async fn ask(tx: &mpsc::Sender<Job>, req: Request, closed: &Activity) -> Answer {
     let (atx, arx) = oneshot::channel();
     if tx.send((req, atx)).await.is_err() {
         return Answer::Protocol(ProtocolError::Busy);
     }
-    arx.await.unwrap_or(Answer::Protocol(ProtocolError::Busy))
+    let gone = std::future::poll_fn(|cx| closed.poll_closed(cx));
+    tokio::select! {
+        answer = arx => answer.unwrap_or(Answer::Protocol(ProtocolError::Busy)),
+        _ = gone => Answer::Protocol(ProtocolError::Busy),
+    }
 }
 
 /// A bound server, ready to run.

@@ -1,0 +1,153 @@
+//! A request that never ends (a huge `EXEC` with a per-cycle model, in the
+//! emulator) is served slice by slice, by the shared handler (both cores)
+//! or by a connection's session: other clients are served meanwhile, and
+//! once its connection is closed (here by the idle timeout) no further
+//! slice of it runs.
+
+// Test helpers may stop loudly on a broken setup.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
+use std::io::{Read, Write};
+use std::net::{SocketAddr, TcpStream};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Duration;
+
+use bytes::BytesMut;
+use uoi::tcp::{Core, Handler, Served, Server, ServerConfig, Session, Slice};
+use uoi::wire::{encode_request, Answer, Request};
+use uoi::{ObjectAddress, Value, ValueType};
+
+/// Slices run of the endless request, per test (each test its own index).
+static SLICES: [AtomicU64; 3] = [AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0)];
+
+/// A READ of index 0 never ends: every slice hands back the rest; in the
+/// shared handler for sub 0, in the session for sub 1. Any other READ is
+/// answered with its index.
+struct Endless;
+
+impl Handler for Endless {
+    type Session = EndlessSession;
+
+    fn handle(&mut self, req: Request) -> Answer {
+        match req {
+            Request::Read(a, _) => Answer::Value(Value::I32(i32::from(a.index))),
+            _ => Answer::Ok,
+        }
+    }
+
+    fn handle_slice(&mut self, req: Request) -> Slice {
+        match req {
+            Request::Read(a, _) if a.index == 0 => {
+                SLICES[usize::from(a.sub)].fetch_add(1, Ordering::Relaxed);
+                Slice::More(req)
+            }
+            other => Slice::Done(self.handle(other)),
+        }
+    }
+}
+
+/// Takes READs of index 0, sub 2 itself, endlessly.
+#[derive(Default)]
+struct EndlessSession;
+
+impl Session for EndlessSession {
+    fn handle(&mut self, req: Request) -> Served {
+        match req {
+            Request::Read(a, _) if a.index == 0 && a.sub == 2 => {
+                SLICES[2].fetch_add(1, Ordering::Relaxed);
+                Served::More(req)
+            }
+            other => Served::Shared(other),
+        }
+    }
+}
+
+fn serve(core: Core) -> (SocketAddr, tokio::sync::oneshot::Sender<()>) {
+    let (addr_tx, addr_rx) = std::sync::mpsc::channel();
+    let (stop_tx, stop_rx) = tokio::sync::oneshot::channel::<()>();
+    let cfg = ServerConfig {
+        listen: "127.0.0.1:0".parse().expect("addr"),
+        idle_timeout: Duration::from_millis(300),
+        core,
+        ..ServerConfig::default()
+    };
+    std::thread::spawn(move || {
+        let rt = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .expect("runtime");
+        rt.block_on(async move {
+            let server = Server::bind(cfg, Endless).await.expect("bind");
+            addr_tx
+                .send(server.local_addr().expect("addr"))
+                .expect("send");
+            let _ = server
+                .run(async {
+                    let _ = stop_rx.await;
+                })
+                .await;
+        });
+    });
+    (addr_rx.recv().expect("server started"), stop_tx)
+}
+
+fn read(s: &mut TcpStream, index: u16, sub: u16) {
+    let mut f = BytesMut::new();
+    let req = Request::Read(ObjectAddress::new(7, 0, index, sub), ValueType::I32);
+    encode_request(1, &req, &mut f);
+    s.write_all(&f).expect("send");
+}
+
+fn connect(addr: SocketAddr) -> TcpStream {
+    let s = TcpStream::connect(addr).expect("connect");
+    // Only a guard against a hung test, far above any real wait.
+    s.set_read_timeout(Some(Duration::from_secs(60)))
+        .expect("timeout");
+    s
+}
+
+/// The endless request of `slot` runs while another client is answered,
+/// and stops for good once its connection is closed.
+fn endless_request_stops_with_its_connection(core: Core, slot: usize) {
+    let (addr, _stop) = serve(core);
+    let mut hog = connect(addr);
+    read(&mut hog, 0, slot as u16);
+    // Another client is answered while the endless request runs.
+    let mut other = connect(addr);
+    read(&mut other, 5, 0);
+    let mut a = [0u8; 28];
+    other
+        .read_exact(&mut a)
+        .expect("the other client is answered");
+    assert_eq!(i32::from_le_bytes([a[20], a[21], a[22], a[23]]), 5);
+    assert!(
+        SLICES[slot].load(Ordering::Relaxed) > 0,
+        "the endless request runs"
+    );
+    // The idle timeout closes the hog (no complete request for 300 ms).
+    let mut rest = Vec::new();
+    let _ = hog.read_to_end(&mut rest);
+    // Then its request stops: the count of slices comes to rest (it
+    // would grow forever if the rest of the request kept running).
+    let stopped = (0..50).any(|_| {
+        let before = SLICES[slot].load(Ordering::Relaxed);
+        std::thread::sleep(Duration::from_millis(100));
+        SLICES[slot].load(Ordering::Relaxed) == before
+    });
+    assert!(stopped, "slices still run after the connection closed");
+}
+
+#[test]
+fn lock_core_drops_the_rest_of_a_request_of_a_closed_connection() {
+    endless_request_stops_with_its_connection(Core::Lock, 0);
+}
+
+#[test]
+fn owner_core_drops_the_rest_of_a_request_of_a_closed_connection() {
+    endless_request_stops_with_its_connection(Core::Owner, 1);
+}
+
+#[test]
+fn a_session_serves_a_long_request_in_slices_and_stops_with_its_connection() {
+    endless_request_stops_with_its_connection(Core::Lock, 2);
+}
