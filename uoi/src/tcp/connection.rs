@@ -30,6 +30,17 @@ const WRITE_BATCH: usize = 64 * 1024;
 /// A decoded request with its id, or what to answer a frame that is not one.
 type Incoming = Result<(u32, Request), Rejected>;
 
+/// The shared handler's answer, unless the connection was closed
+/// meanwhile.
+async fn shared_answer<H: Handler>(
+    shared: &Shared<H>,
+    activity: &Activity,
+    req: Request,
+) -> Option<Answer> {
+    let ans = shared.handle(req, activity).await;
+    activity.closed().is_none().then_some(ans)
+}
+
 /// The answer frame for request `id` of op `op`.
 pub(crate) fn reply(id: u32, op: u8, answer: Answer) -> Reply {
     Reply { id, op, answer }
@@ -166,18 +177,29 @@ impl<H: Handler> Connection<H> {
     /// was closed (idle, evicted, stopping) before the request was done:
     /// the rest of it is dropped.
     async fn served(&mut self, req: Request) -> Option<Answer> {
-        let mut req = req;
+        match self.session.handle(req) {
+            Served::Here(ans) => Some(ans),
+            Served::Shared(req) => shared_answer(&self.shared, &self.activity, req).await,
+            // Rare (a long request of a session): boxed, so that its state
+            // does not enlarge every request's future.
+            Served::More(rest) => Box::pin(self.session_rest(rest)).await,
+        }
+    }
+
+    /// The rest of a session's request, slice by slice, letting other tasks
+    /// run in between; `None` once the connection is closed.
+    async fn session_rest(&mut self, rest: Request) -> Option<Answer> {
+        let mut req = rest;
         loop {
+            tokio::task::yield_now().await;
+            self.activity.closed()?;
             match self.session.handle(req) {
                 Served::Here(ans) => return Some(ans),
                 Served::Shared(req) => {
-                    let ans = self.shared.handle(req, &self.activity).await;
-                    return self.activity.closed().is_none().then_some(ans);
+                    return shared_answer(&self.shared, &self.activity, req).await
                 }
                 Served::More(rest) => req = rest,
             }
-            tokio::task::yield_now().await;
-            self.activity.closed()?;
         }
     }
 
