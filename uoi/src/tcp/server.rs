@@ -146,6 +146,11 @@ type Job = (Request, oneshot::Sender<Answer>);
 /// waiting for the lock before it takes the next slice.
 const YIELDS_TO_WAITING: usize = 1000;
 
+/// New jobs the owner task serves in a row before it gives the next slice
+/// to a job with more to go (so a steady stream of requests cannot starve a
+/// long one).
+const FRESH_BEFORE_REST: usize = 64;
+
 /// The handler behind a lock, with a count of the requests waiting for it.
 pub(crate) struct Locked<H> {
     handler: Mutex<H>,
@@ -235,9 +240,19 @@ impl<H: Handler> Shared<H> {
 /// slices to go waits behind the jobs that arrived meanwhile.
 async fn own<H: Handler>(mut h: H, mut rx: mpsc::Receiver<Job>) {
     let mut later: VecDeque<Job> = VecDeque::new();
+    let mut fresh = 0;
     loop {
-        let job = match rx.try_recv() {
-            Ok(job) => job,
+        let turn = if fresh >= FRESH_BEFORE_REST {
+            fresh = 0;
+            later.pop_front()
+        } else {
+            None
+        };
+        let job = match turn.map_or_else(|| rx.try_recv().map(|j| (j, true)), |j| Ok((j, false))) {
+            Ok((job, new)) => {
+                fresh += usize::from(new);
+                job
+            }
             Err(_) => match later.pop_front() {
                 Some(job) => job,
                 None => match rx.recv().await {
@@ -382,5 +397,60 @@ impl<H: Handler> Server<H> {
             warn!("connections still open after 5 s; closing them");
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{ObjectAddress, Value, ValueType};
+    use std::sync::atomic::AtomicU64;
+
+    /// READ of index 0 never ends (counted per slice); any other READ is
+    /// answered at once.
+    struct Endless(Arc<AtomicU64>);
+
+    impl Handler for Endless {
+        type Session = ();
+        fn handle(&mut self, _req: Request) -> Answer {
+            Answer::Ok
+        }
+        fn handle_slice(&mut self, req: Request) -> Slice {
+            match req {
+                Request::Read(a, _) if a.index == 0 => {
+                    self.0.fetch_add(1, Ordering::Relaxed);
+                    Slice::More(req)
+                }
+                _ => Slice::Done(Answer::Value(Value::I32(1))),
+            }
+        }
+    }
+
+    fn read(index: u16) -> Request {
+        Request::Read(ObjectAddress::new(1, 0, index, 0), ValueType::I32)
+    }
+
+    #[tokio::test]
+    async fn a_stream_of_new_jobs_cannot_starve_a_long_one() {
+        let slices = Arc::new(AtomicU64::new(0));
+        let (tx, rx) = mpsc::channel::<Job>(2048);
+        let owner = tokio::spawn(own(Endless(Arc::clone(&slices)), rx));
+        let (long_tx, _long_rx) = oneshot::channel();
+        tx.try_send((read(0), long_tx)).expect("queued");
+        let answers: Vec<_> = (0..1000)
+            .map(|_| {
+                let (atx, arx) = oneshot::channel();
+                tx.try_send((read(5), atx)).expect("queued");
+                arx
+            })
+            .collect();
+        for a in answers {
+            assert_eq!(a.await.expect("answered"), Answer::Value(Value::I32(1)));
+        }
+        // The long job had a slice after every 64 new ones at least.
+        assert!(slices.load(Ordering::Relaxed) >= 1000 / 64, "{slices:?}");
+        drop(tx);
+        drop(_long_rx);
+        owner.await.expect("the owner task ends once nobody waits");
     }
 }
