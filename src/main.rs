@@ -1,38 +1,21 @@
 //! The `addipos` command line.
 
+mod cli;
+
 use std::io::IsTerminal;
-use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::Duration;
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Parser, Subcommand};
 
-use addipos::access;
-use addipos::address::parse_address;
-use addipos::config::{Config, DEFAULT_CONFIG};
+use addipos::config::DEFAULT_CONFIG;
 use addipos::remote::{setup_failed, RemoteTarget};
-use addipos::service::EmulatorService;
 use addipos::trace::{fresh_emulator, open_trace, replay_stream, trace_files, Target};
+use cli::remote_args::{connect, protocol_hint, token_hint, RemoteArgs};
+use cli::serve::cmd_serve;
+use cli::{EXIT_FAILED, EXIT_HELP, EXIT_TROUBLE};
 use tc_request::text::parse_request;
 use tc_request::Reply;
-use uoi::tcp::{AccessToken, ClientError, ClientOptions, Server};
-use uoi::wire::ProtocolError;
-
-/// Exit status when the command ran and found a failure: a trace that
-/// differs, an error answer to `call`, a server that failed while serving.
-const EXIT_FAILED: u8 = 1;
-
-/// Exit status when the command could not do its job at all: bad
-/// arguments or settings, no traces, an address it cannot listen on or
-/// connect to (clap's usage errors exit with 2 as well).
-const EXIT_TROUBLE: u8 = 2;
-
-/// Exit statuses, for `--help`.
-const EXIT_HELP: &str = "Exit status: 0 success; 1 ran and found a failure (a trace differs, \
-an error answer, the server failed while serving); 2 could not start (bad arguments or \
-settings, no traces found, a path that does not exist, an address that cannot be listened \
-on or connected to).";
 
 /// Emulator of the ADDIPOS TC module (UOI bus 1300) with OTC wear compensation.
 #[derive(Parser)]
@@ -97,72 +80,6 @@ enum Command {
     /// the register bits. `docs/objects.md` is this output.
     Objects,
 }
-
-/// How `call` and `replay --server` reach the server.
-#[derive(Args)]
-struct RemoteArgs {
-    /// Longest wait, in seconds, for the connection and for each answer
-    /// [default: 5 for the connection, 30 for an answer].
-    #[arg(long, value_name = "SECS", value_parser = parse_secs)]
-    timeout: Option<Duration>,
-    /// Access token to present (a server with allow_remote asks remote
-    /// clients for it).
-    #[arg(
-        long,
-        value_name = "TOKEN",
-        env = "ADDIPOS_TOKEN",
-        hide_env_values = true
-    )]
-    token: Option<String>,
-    /// File holding the access token (the server's <data_dir>/access-token);
-    /// takes precedence over --token and ADDIPOS_TOKEN.
-    #[arg(long, value_name = "FILE")]
-    token_file: Option<PathBuf>,
-}
-
-fn parse_secs(s: &str) -> Result<Duration, String> {
-    s.parse::<f64>()
-        .ok()
-        .filter(|v| *v > 0.0)
-        .and_then(|v| Duration::try_from_secs_f64(v).ok())
-        .ok_or_else(|| format!("`{s}` is not a number of seconds above 0"))
-}
-
-impl RemoteArgs {
-    /// The client options these arguments give.
-    fn options(&self) -> Result<ClientOptions, String> {
-        let mut opts = ClientOptions::default();
-        if let Some(t) = self.timeout {
-            opts.connect_timeout = t;
-            opts.request_timeout = t;
-        }
-        opts.token = match (&self.token_file, &self.token) {
-            (Some(f), _) => Some(access::read_token_file(f).map_err(|e| e.to_string())?),
-            (None, Some(t)) => Some(AccessToken::new(t).map_err(|e| format!("--token: {e}"))?),
-            (None, None) => None,
-        };
-        Ok(opts)
-    }
-}
-
-/// A hint for an `Unauthorized` answer.
-fn token_hint(e: &ClientError) -> &'static str {
-    match e {
-        ClientError::Protocol(p) => protocol_hint(*p),
-        _ => "",
-    }
-}
-
-/// What to do about a protocol error, if the user can do something.
-fn protocol_hint(e: ProtocolError) -> &'static str {
-    match e {
-        ProtocolError::Unauthorized => {
-            " (pass the server's access token with --token-file FILE, --token or ADDIPOS_TOKEN)"
-        }
-        _ => "",
-    }
-}
-
 /// The trace files the arguments name: files as given, folders as their
 /// `*.trace` files. A path that does not exist, or a folder without
 /// traces, is an error.
@@ -187,20 +104,6 @@ fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
         out.extend(files);
     }
     Ok(out)
-}
-
-/// Connects `call` or `replay --server` to a server given as the user
-/// typed its address, or says why not.
-fn connect(addr: &str, args: &RemoteArgs) -> Result<RemoteTarget, String> {
-    let resolved = parse_address(addr)?;
-    let opts = args.options()?;
-    RemoteTarget::connect_with(&resolved.to_string(), &opts).map_err(|e| match e {
-        ClientError::TimedOut { .. } => e.to_string(),
-        e => format!(
-            "cannot connect to {addr} ({resolved}): {e}{}",
-            token_hint(&e)
-        ),
-    })
 }
 
 /// Replays one trace file as it is read, printing every mismatch; true
@@ -326,128 +229,6 @@ fn cmd_call(addr: &str, words: &[String], remote_args: &RemoteArgs) -> ExitCode 
         }
     }
     ExitCode::SUCCESS
-}
-
-async fn shutdown_signal() {
-    let ctrl_c = async {
-        let _ = tokio::signal::ctrl_c().await;
-    };
-    #[cfg(unix)]
-    let term = async {
-        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
-            Ok(mut s) => {
-                s.recv().await;
-            }
-            Err(_) => std::future::pending::<()>().await,
-        }
-    };
-    #[cfg(not(unix))]
-    let term = std::future::pending::<()>();
-    tokio::select! {
-        () = ctrl_c => {},
-        () = term => {},
-    }
-    tracing::info!("stop requested");
-}
-
-/// What `serve` runs with.
-struct ServeSettings {
-    server: uoi::tcp::ServerConfig,
-    service: EmulatorService,
-}
-
-/// The settings file (or the built-in settings) with `--listen` and
-/// `--allow-remote` applied, checked; every error names where the bad
-/// value came from.
-fn serve_settings(
-    config: Option<&Path>,
-    listen: Option<&str>,
-    allow_remote: bool,
-) -> Result<ServeSettings, String> {
-    let source = config.map_or_else(|| "built-in settings".into(), |p| p.display().to_string());
-    let text = match config {
-        None => DEFAULT_CONFIG.to_string(),
-        Some(p) => std::fs::read_to_string(p).map_err(|e| format!("cannot read {source}: {e}"))?,
-    };
-    let in_source = |e: addipos::config::ConfigError| format!("{source}: {e}");
-    let mut cfg = Config::parse(&text).map_err(in_source)?;
-    if let Some(l) = listen {
-        cfg.listen = parse_address(l)
-            .map_err(|e| format!("--listen: {e}"))?
-            .to_string();
-    }
-    cfg.allow_remote |= allow_remote;
-    let mut server = cfg.server().map_err(in_source)?;
-    let service = cfg.service().map_err(in_source)?;
-    if cfg.wants_token() {
-        let token = server_token(&cfg.data_dir).map_err(|e| format!("access token: {e}"))?;
-        server.access.token = Some(token);
-    }
-    Ok(ServeSettings { server, service })
-}
-
-/// The server's access token, read or generated; the log names its file
-/// (not the token itself: logs are often read more widely than the file).
-fn server_token(data_dir: &Path) -> std::io::Result<AccessToken> {
-    let t = access::load_or_create(data_dir)?;
-    let path = std::path::absolute(&t.path).unwrap_or_else(|_| t.path.clone());
-    let file = path.display();
-    if t.created {
-        tracing::info!("generated a new access token in {file}");
-    }
-    tracing::info!(
-        "clients must present the access token in {file} (call/replay: --token-file FILE)"
-    );
-    Ok(t.token)
-}
-
-/// Why the server could not listen on `addr`, and what to do about it.
-fn listen_error(addr: SocketAddr, e: &std::io::Error) -> String {
-    const HINT: &str = "choose another with --listen ADDR or `listen` in the settings file";
-    match e.kind() {
-        std::io::ErrorKind::AddrInUse => {
-            format!("cannot listen on {addr}: address already in use ({HINT})")
-        }
-        // The server's own refusal (a non-loopback address) says what to do.
-        _ if e.raw_os_error().is_none() => e.to_string(),
-        _ => format!("cannot listen on {addr}: {e} ({HINT})"),
-    }
-}
-
-fn cmd_serve(config: Option<&Path>, listen: Option<&str>, allow_remote: bool) -> ExitCode {
-    let settings = match serve_settings(config, listen, allow_remote) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(EXIT_TROUBLE);
-        }
-    };
-    let rt = match tokio::runtime::Builder::new_multi_thread()
-        .enable_all()
-        .build()
-    {
-        Ok(rt) => rt,
-        Err(e) => {
-            eprintln!("error: cannot start the runtime: {e}");
-            return ExitCode::from(EXIT_TROUBLE);
-        }
-    };
-    let addr = settings.server.listen;
-    // The server logs its one start line (address, limits) once bound.
-    let server = match rt.block_on(Server::bind(settings.server, settings.service)) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("error: {}", listen_error(addr, &e));
-            return ExitCode::from(EXIT_TROUBLE);
-        }
-    };
-    match rt.block_on(server.run(shutdown_signal())) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(EXIT_FAILED)
-        }
-    }
 }
 
 /// Log lines on stderr; colour only on a terminal, and not with `NO_COLOR`

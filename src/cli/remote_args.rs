@@ -1,0 +1,92 @@
+//! How `call` and `replay --server` reach a server: the options for the
+//! timeouts and the access token, and the messages when it goes wrong.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use clap::Args;
+
+use addipos::access;
+use addipos::address::parse_address;
+use addipos::remote::RemoteTarget;
+use uoi::tcp::{AccessToken, ClientError, ClientOptions};
+use uoi::wire::ProtocolError;
+
+/// How `call` and `replay --server` reach the server.
+#[derive(Args)]
+pub struct RemoteArgs {
+    /// Longest wait, in seconds, for the connection and for each answer
+    /// [default: 5 for the connection, 30 for an answer].
+    #[arg(long, value_name = "SECS", value_parser = parse_secs)]
+    timeout: Option<Duration>,
+    /// Access token to present (a server with allow_remote asks remote
+    /// clients for it).
+    #[arg(
+        long,
+        value_name = "TOKEN",
+        env = "ADDIPOS_TOKEN",
+        hide_env_values = true
+    )]
+    token: Option<String>,
+    /// File holding the access token (the server's <data_dir>/access-token);
+    /// takes precedence over --token and ADDIPOS_TOKEN.
+    #[arg(long, value_name = "FILE")]
+    token_file: Option<PathBuf>,
+}
+
+fn parse_secs(s: &str) -> Result<Duration, String> {
+    s.parse::<f64>()
+        .ok()
+        .filter(|v| *v > 0.0)
+        .and_then(|v| Duration::try_from_secs_f64(v).ok())
+        .ok_or_else(|| format!("`{s}` is not a number of seconds above 0"))
+}
+
+impl RemoteArgs {
+    /// The client options these arguments give.
+    fn options(&self) -> Result<ClientOptions, String> {
+        let mut opts = ClientOptions::default();
+        if let Some(t) = self.timeout {
+            opts.connect_timeout = t;
+            opts.request_timeout = t;
+        }
+        opts.token = match (&self.token_file, &self.token) {
+            (Some(f), _) => Some(access::read_token_file(f).map_err(|e| e.to_string())?),
+            (None, Some(t)) => Some(AccessToken::new(t).map_err(|e| format!("--token: {e}"))?),
+            (None, None) => None,
+        };
+        Ok(opts)
+    }
+}
+
+/// A hint for an `Unauthorized` answer.
+pub fn token_hint(e: &ClientError) -> &'static str {
+    match e {
+        ClientError::Protocol(p) => protocol_hint(*p),
+        _ => "",
+    }
+}
+
+/// What to do about a protocol error, if the user can do something.
+pub fn protocol_hint(e: ProtocolError) -> &'static str {
+    match e {
+        ProtocolError::Unauthorized => {
+            " (pass the server's access token with --token-file FILE, --token or ADDIPOS_TOKEN)"
+        }
+        _ => "",
+    }
+}
+
+/// Connects `call` or `replay --server` to a server given as the user
+/// typed its address, or says why not.
+pub fn connect(addr: &str, args: &RemoteArgs) -> Result<RemoteTarget, String> {
+    let resolved = parse_address(addr)?;
+    let opts = args.options()?;
+    RemoteTarget::connect_with(&resolved.to_string(), &opts).map_err(|e| match e {
+        ClientError::TimedOut { .. } => e.to_string(),
+        e => format!(
+            "cannot connect to {addr} ({resolved}): {e}{}",
+            token_hint(&e)
+        ),
+    })
+}

@@ -1,0 +1,138 @@
+//! `addipos serve`: the settings with the command line applied, the access
+//! token, the server's run until a stop signal, and clear errors when it
+//! cannot start.
+
+use std::net::SocketAddr;
+use std::path::Path;
+use std::process::ExitCode;
+
+use addipos::access;
+use addipos::address::parse_address;
+use addipos::config::{Config, DEFAULT_CONFIG};
+use addipos::service::EmulatorService;
+use uoi::tcp::{AccessToken, Server};
+
+use super::{EXIT_FAILED, EXIT_TROUBLE};
+
+async fn shutdown_signal() {
+    let ctrl_c = async {
+        let _ = tokio::signal::ctrl_c().await;
+    };
+    #[cfg(unix)]
+    let term = async {
+        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+            Ok(mut s) => {
+                s.recv().await;
+            }
+            Err(_) => std::future::pending::<()>().await,
+        }
+    };
+    #[cfg(not(unix))]
+    let term = std::future::pending::<()>();
+    tokio::select! {
+        () = ctrl_c => {},
+        () = term => {},
+    }
+    tracing::info!("stop requested");
+}
+
+/// What `serve` runs with.
+struct ServeSettings {
+    server: uoi::tcp::ServerConfig,
+    service: EmulatorService,
+}
+
+/// The settings file (or the built-in settings) with `--listen` and
+/// `--allow-remote` applied, checked; every error names where the bad
+/// value came from.
+fn serve_settings(
+    config: Option<&Path>,
+    listen: Option<&str>,
+    allow_remote: bool,
+) -> Result<ServeSettings, String> {
+    let source = config.map_or_else(|| "built-in settings".into(), |p| p.display().to_string());
+    let text = match config {
+        None => DEFAULT_CONFIG.to_string(),
+        Some(p) => std::fs::read_to_string(p).map_err(|e| format!("cannot read {source}: {e}"))?,
+    };
+    let in_source = |e: addipos::config::ConfigError| format!("{source}: {e}");
+    let mut cfg = Config::parse(&text).map_err(in_source)?;
+    if let Some(l) = listen {
+        cfg.listen = parse_address(l)
+            .map_err(|e| format!("--listen: {e}"))?
+            .to_string();
+    }
+    cfg.allow_remote |= allow_remote;
+    let mut server = cfg.server().map_err(in_source)?;
+    let service = cfg.service().map_err(in_source)?;
+    if cfg.wants_token() {
+        let token = server_token(&cfg.data_dir).map_err(|e| format!("access token: {e}"))?;
+        server.access.token = Some(token);
+    }
+    Ok(ServeSettings { server, service })
+}
+
+/// The server's access token, read or generated; the log names its file
+/// (not the token itself: logs are often read more widely than the file).
+fn server_token(data_dir: &Path) -> std::io::Result<AccessToken> {
+    let t = access::load_or_create(data_dir)?;
+    let path = std::path::absolute(&t.path).unwrap_or_else(|_| t.path.clone());
+    let file = path.display();
+    if t.created {
+        tracing::info!("generated a new access token in {file}");
+    }
+    tracing::info!(
+        "clients must present the access token in {file} (call/replay: --token-file FILE)"
+    );
+    Ok(t.token)
+}
+
+/// Why the server could not listen on `addr`, and what to do about it.
+fn listen_error(addr: SocketAddr, e: &std::io::Error) -> String {
+    const HINT: &str = "choose another with --listen ADDR or `listen` in the settings file";
+    match e.kind() {
+        std::io::ErrorKind::AddrInUse => {
+            format!("cannot listen on {addr}: address already in use ({HINT})")
+        }
+        // The server's own refusal (a non-loopback address) says what to do.
+        _ if e.raw_os_error().is_none() => e.to_string(),
+        _ => format!("cannot listen on {addr}: {e} ({HINT})"),
+    }
+}
+
+/// Runs `serve` until a stop signal; the exit status says how it ended.
+pub fn cmd_serve(config: Option<&Path>, listen: Option<&str>, allow_remote: bool) -> ExitCode {
+    let settings = match serve_settings(config, listen, allow_remote) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(EXIT_TROUBLE);
+        }
+    };
+    let rt = match tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+    {
+        Ok(rt) => rt,
+        Err(e) => {
+            eprintln!("error: cannot start the runtime: {e}");
+            return ExitCode::from(EXIT_TROUBLE);
+        }
+    };
+    let addr = settings.server.listen;
+    // The server logs its one start line (address, limits) once bound.
+    let server = match rt.block_on(Server::bind(settings.server, settings.service)) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {}", listen_error(addr, &e));
+            return ExitCode::from(EXIT_TROUBLE);
+        }
+    };
+    match rt.block_on(server.run(shutdown_signal())) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(EXIT_FAILED)
+        }
+    }
+}

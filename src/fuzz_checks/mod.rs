@@ -1,0 +1,56 @@
+//! The bodies of the fuzz targets (`fuzz/`, docs/fuzzing.md): one function
+//! per target, taking any bytes and checking properties of what the code
+//! makes of them. A violated property panics, which is what a fuzzer (or
+//! the stable harness `tests/fuzz_stable.rs`) reports:
+//!
+//! * [`frame_decoder`]: the server's and the client's frame decoders;
+//! * [`trace_line`]: the trace reader and the request parser;
+//! * [`frame_sequence`]: a byte stream of frames served the way a
+//!   connection serves it, by a connection's session and the shared
+//!   emulator, every answer checked.
+//!
+//! Each function reads at most [`MAX_INPUT`] bytes of its input
+//! ([`MAX_TRACE_INPUT`] for the trace reader).
+
+// A violated property is meant to stop loudly: that is what is reported.
+#![allow(clippy::panic)]
+
+mod frames;
+mod sequence;
+mod text;
+
+pub use frames::frame_decoder;
+pub use sequence::{frame_sequence, request_stream, serve_stream, trace_requests, Connection};
+pub use text::trace_line;
+
+use tc_module::MAX_COORD;
+use uoi::wire::{MAX_FRAME, PREFIX_LEN};
+
+use crate::trace::MAX_LINE_BYTES;
+
+/// Most bytes of an input a check reads: four of the largest frames.
+pub const MAX_INPUT: usize = 4 * (PREFIX_LEN + MAX_FRAME);
+
+/// Most bytes of an input [`trace_line`] reads: room for a line past the
+/// trace reader's limit ([`MAX_LINE_BYTES`]).
+pub const MAX_TRACE_INPUT: usize = 2 * MAX_LINE_BYTES;
+
+/// Most frames [`frame_sequence`] serves of one input.
+pub const MAX_FRAMES: usize = 512;
+
+/// Most interpolation cycles [`frame_sequence`] lets one input run, over
+/// all its `EXEC` requests; each `EXEC` is cut to what is left. A harness
+/// bound only: a legitimate `EXEC` may run far longer, and the fuzzer
+/// must not take that for a hang.
+pub const EXEC_BUDGET: u64 = 20_000;
+
+/// Largest magnitude of an executed or spooled coordinate: every word,
+/// offset and centre a command carries is within [`MAX_COORD`], and a
+/// rotation about a centre, an arc about its centre and the tool radius
+/// and length move a point by a few such amounts at most.
+pub const POS_LIMIT: f64 = 2.0 * MAX_COORD;
+
+/// Most elements [`frame_sequence`] allows the spooler to hold per frame
+/// served (a corrected command spools the corrected element, its
+/// transition and the approach or departure).
+pub const SPOOLED_PER_FRAME: u64 = 8;
