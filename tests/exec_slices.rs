@@ -7,7 +7,6 @@
 // Test helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
-use std::net::SocketAddr;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
@@ -17,8 +16,11 @@ use addipos::Emulator;
 use tc_module::extension::NoKey;
 use tc_module::{AxisPos, Cycle, CycleTime, Groups, TcExtension, AXES};
 use tc_request::{Reply, Request};
-use uoi::tcp::{BlockingClient, Core, Server, ServerConfig};
+use uoi::tcp::{BlockingClient, Core};
 use uoi::ObjectDesc;
+
+mod common;
+use common::{loopback, TestServer};
 
 /// The test model: active until `stop`, counting its cycles.
 #[derive(Debug, Default)]
@@ -44,31 +46,10 @@ impl TcExtension for Hook {
     }
 }
 
-/// Starts a server of an emulator with `hook` on its own thread.
-fn serve(core: Core, hook: Hook) -> SocketAddr {
-    let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        let rt = tokio::runtime::Builder::new_multi_thread()
-            .worker_threads(2)
-            .enable_all()
-            .build()
-            .expect("runtime");
-        rt.block_on(async move {
-            let cfg = ServerConfig {
-                listen: "127.0.0.1:0".parse().expect("addr"),
-                core,
-                ..ServerConfig::default()
-            };
-            let emu = Emulator::with_extension([0.0; AXES], CycleTime::DEFAULT, hook);
-            let server = Server::bind(cfg, EmulatorService::with_emulator(emu))
-                .await
-                .expect("bind");
-            tx.send(server.local_addr().expect("addr")).expect("send");
-            // Runs until the test process ends.
-            let _ = server.run(std::future::pending::<()>()).await;
-        });
-    });
-    rx.recv_timeout(Duration::from_secs(30)).expect("server up")
+/// Starts a server of an emulator with `hook`; stopped when dropped.
+fn serve(core: Core, hook: Hook) -> TestServer {
+    let emu = Emulator::with_extension([0.0; AXES], CycleTime::DEFAULT, hook);
+    TestServer::with(loopback(core), EmulatorService::with_emulator(emu))
 }
 
 fn call(client: &mut BlockingClient, req: &Request) -> Reply {
@@ -79,7 +60,8 @@ fn call(client: &mut BlockingClient, req: &Request) -> Reply {
 fn another_request_is_answered_during_a_huge_exec(core: Core) {
     let hook = Hook::default();
     let (cycles, stop) = (Arc::clone(&hook.cycles), Arc::clone(&hook.stop));
-    let addr = serve(core, hook);
+    let server = serve(core, hook);
+    let addr = server.addr;
     let exec_done = Arc::new(AtomicBool::new(false));
     let done = Arc::clone(&exec_done);
     let long = std::thread::spawn(move || {

@@ -5,14 +5,12 @@
 // Test and bench helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
-use std::io::{BufRead, BufReader, Read};
 use std::path::PathBuf;
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_addipos"))
-}
+mod common;
+use common::{bin, ServeProcess};
 
 fn temp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("addipos-{name}-{}", std::process::id()));
@@ -70,74 +68,6 @@ fn call_and_replay_give_up_on_a_server_that_never_answers() {
     assert!(text(&out.stdout).contains(&want), "{}", text(&out.stdout));
 }
 
-/// A running `serve` and the address it printed.
-struct Serve {
-    child: Child,
-    addr: String,
-    /// The log so far, drained from stderr by a thread.
-    log: std::sync::Arc<std::sync::Mutex<String>>,
-    drain: Option<std::thread::JoinHandle<()>>,
-}
-
-impl Serve {
-    fn start(config: &std::path::Path) -> Self {
-        let mut child = bin()
-            .args(["serve", "--config"])
-            .arg(config)
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("start serve");
-        // The start line is the server's log line on stderr naming the address.
-        let mut err = BufReader::new(child.stderr.take().expect("stderr"));
-        let mut log = String::new();
-        let mut line = String::new();
-        while !line.contains("serving") {
-            line.clear();
-            let n = err.read_line(&mut line).expect("start line");
-            assert!(n > 0, "serve ended without a start line: {log}");
-            log.push_str(&line);
-        }
-        let addr = line
-            .split_whitespace()
-            .find_map(|w| w.strip_prefix("listen="))
-            .unwrap_or_else(|| panic!("no address in {line:?}"))
-            .to_string();
-        let log = std::sync::Arc::new(std::sync::Mutex::new(log));
-        let sink = std::sync::Arc::clone(&log);
-        let drain = std::thread::spawn(move || {
-            let mut rest = String::new();
-            let _ = err.read_to_string(&mut rest);
-            sink.lock().expect("log").push_str(&rest);
-        });
-        Self {
-            child,
-            addr,
-            log,
-            drain: Some(drain),
-        }
-    }
-
-    /// Stops the server and returns its log.
-    fn stop(mut self) -> String {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-        if let Some(d) = self.drain.take() {
-            let _ = d.join();
-        }
-        let log = self.log.lock().expect("log").clone();
-        log
-    }
-}
-
-/// A failed test does not leave the server running.
-impl Drop for Serve {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
 /// Issue 8, point 13, end to end: `serve` generates the token file
 /// (owner only), logs where it is but not the token, and `call` gets in
 /// only with the token (file, option or environment).
@@ -154,7 +84,7 @@ fn serve_with_a_token_lets_in_only_clients_that_present_it() {
         ),
     )
     .expect("config");
-    let server = Serve::start(&config);
+    let server = ServeProcess::start(&["--config", config.to_str().expect("utf-8 path")], &[]);
     let token_file = data.join("access-token");
     let token = std::fs::read_to_string(&token_file).expect("token file");
     let token = token.trim().to_string();

@@ -5,7 +5,7 @@
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use std::io::{Read, Write};
-use std::net::{SocketAddr, TcpStream};
+use std::net::TcpStream;
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -17,70 +17,8 @@ use uoi::tcp::{BlockingClient, Client, Core, Server, ServerConfig};
 use uoi::wire::{encode_request, Answer, Op, ProtocolError, Request, PREFIX_LEN};
 use uoi::{AccessError, ObjectAddress, Value, ValueType};
 
-/// A server on its own thread and runtime, stopped on drop.
-struct TestServer {
-    addr: SocketAddr,
-    stop: Option<tokio::sync::oneshot::Sender<()>>,
-    thread: Option<std::thread::JoinHandle<()>>,
-}
-
-impl TestServer {
-    fn start(cfg: ServerConfig) -> Self {
-        let (addr_tx, addr_rx) = std::sync::mpsc::channel();
-        let (stop_tx, stop_rx) = tokio::sync::oneshot::channel::<()>();
-        let thread = std::thread::spawn(move || {
-            let rt = tokio::runtime::Builder::new_multi_thread()
-                .worker_threads(2)
-                .enable_all()
-                .build()
-                .expect("runtime");
-            rt.block_on(async move {
-                let server = Server::bind(
-                    cfg,
-                    EmulatorService::new([0.0; 8], tc_module::CycleTime::DEFAULT),
-                )
-                .await
-                .expect("bind");
-                addr_tx
-                    .send(server.local_addr().expect("addr"))
-                    .expect("send addr");
-                server
-                    .run(async {
-                        let _ = stop_rx.await;
-                    })
-                    .await
-                    .expect("run");
-            });
-        });
-        let addr = addr_rx
-            .recv_timeout(Duration::from_secs(10))
-            .expect("server started");
-        Self {
-            addr,
-            stop: Some(stop_tx),
-            thread: Some(thread),
-        }
-    }
-
-    fn local(core: Core) -> Self {
-        Self::start(ServerConfig {
-            listen: "127.0.0.1:0".parse().expect("addr"),
-            core,
-            ..ServerConfig::default()
-        })
-    }
-}
-
-impl Drop for TestServer {
-    fn drop(&mut self) {
-        if let Some(s) = self.stop.take() {
-            let _ = s.send(());
-        }
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
-        }
-    }
-}
+mod common;
+use common::TestServer;
 
 fn corpus() -> Vec<addipos::trace::Trace> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("traces");

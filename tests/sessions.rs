@@ -5,53 +5,21 @@
 // Test helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
-use std::io::{BufRead, BufReader};
 use std::net::SocketAddr;
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
-use std::time::Duration;
 
-use addipos::service::EmulatorService;
 use tc_request::text::parse_request;
 use tc_request::{Reply, Request};
-use uoi::tcp::{BlockingClient, Client, Core, Server, ServerConfig};
+use uoi::tcp::{BlockingClient, Client, Core};
 use uoi::{AccessError, Value};
 
-/// A server on its own thread; stopped when the sender is dropped.
-fn serve(core: Core) -> (SocketAddr, tokio::sync::oneshot::Sender<()>) {
-    let (addr_tx, addr_rx) = std::sync::mpsc::channel();
-    let (stop_tx, stop_rx) = tokio::sync::oneshot::channel::<()>();
-    std::thread::spawn(move || {
-        let rt = tokio::runtime::Builder::new_current_thread()
-            .enable_all()
-            .build()
-            .expect("runtime");
-        rt.block_on(async move {
-            let cfg = ServerConfig {
-                listen: "127.0.0.1:0".parse().expect("addr"),
-                core,
-                ..ServerConfig::default()
-            };
-            let server = Server::bind(
-                cfg,
-                EmulatorService::new([0.0; 8], tc_module::CycleTime::DEFAULT),
-            )
-            .await
-            .expect("bind");
-            addr_tx
-                .send(server.local_addr().expect("addr"))
-                .expect("send");
-            let _ = server
-                .run(async {
-                    let _ = stop_rx.await;
-                })
-                .await;
-        });
-    });
-    let addr = addr_rx
-        .recv_timeout(Duration::from_secs(10))
-        .expect("server started");
-    (addr, stop_tx)
+mod common;
+use common::{bin, ServeProcess, TestServer};
+
+/// A server of a fresh emulator with `core`; stopped when dropped.
+fn serve(core: Core) -> (SocketAddr, TestServer) {
+    let s = TestServer::local(core);
+    (s.addr, s)
 }
 
 /// A request in trace syntax, on the wire, its reply decoded.
@@ -210,44 +178,6 @@ fn a_full_session_log_is_reported_until_the_next_setup() {
 }
 
 /// `addipos serve` on a free port; killed on drop.
-struct Serve(Child, String);
-
-impl Drop for Serve {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_addipos"))
-}
-
-fn start_serve() -> Serve {
-    let mut child = bin()
-        .args(["serve", "--listen", "127.0.0.1:0"])
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start serve");
-    // The start line is the server's log line on stderr naming the address.
-    let mut log = BufReader::new(child.stderr.take().expect("stderr"));
-    let mut line = String::new();
-    while !line.contains("serving") {
-        line.clear();
-        let n = log.read_line(&mut line).expect("start line");
-        assert!(n > 0, "serve ended without a start line");
-    }
-    let addr = line
-        .split_whitespace()
-        .find_map(|w| w.strip_prefix("listen="))
-        .unwrap_or_else(|| panic!("no address in {line:?}"))
-        .to_string();
-    // Keep draining the log so that the server never blocks on it.
-    std::thread::spawn(move || std::io::copy(&mut log, &mut std::io::sink()));
-    Serve(child, addr)
-}
-
 fn cli(args: &[&str]) -> (bool, String) {
     let out = bin().args(args).output().expect("run addipos");
     let text = String::from_utf8_lossy(&out.stdout).trim().to_string();
@@ -258,8 +188,8 @@ fn cli(args: &[&str]) -> (bool, String) {
 /// `replay --server` command; the radius is still there.
 #[test]
 fn replay_over_the_wire_leaves_the_shared_emulator_alone() {
-    let server = start_serve();
-    let a = server.1.as_str();
+    let server = ServeProcess::start(&["--listen", "127.0.0.1:0"], &[]);
+    let a = server.addr.as_str();
     assert_eq!(
         cli(&["call", a, "W", "1300/1/1/6", "d", "7.25"]),
         (true, "ok".into())

@@ -7,9 +7,8 @@
 //! requests wrote.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{Read, Write};
 use std::net::{Shutdown, TcpStream};
-use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::thread;
@@ -21,6 +20,9 @@ use tc_request::{Reply, Request};
 use uoi::tcp::BlockingClient;
 use uoi::wire::{encode_request, Answer};
 use uoi::{AccessError, Value};
+
+mod common;
+use common::ServeProcess;
 
 /// How long the mixed load runs.
 const SOAK: Duration = Duration::from_secs(15);
@@ -34,20 +36,7 @@ const CAPACITY: usize = 20_000;
 /// 65 connections' buffers (~13 MB) and the runtime, with room to spare.
 const RSS_BOUND_KB: u64 = 200 * 1024;
 
-/// The server, killed when dropped.
-struct Serve {
-    child: Child,
-    addr: String,
-}
-
-impl Drop for Serve {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-fn start_server(dir: &std::path::Path) -> Serve {
+fn start_server(dir: &std::path::Path) -> ServeProcess {
     let cfg = dir.join("soak.toml");
     std::fs::write(
         &cfg,
@@ -57,27 +46,8 @@ fn start_server(dir: &std::path::Path) -> Serve {
         ),
     )
     .unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_addipos"))
-        .args(["serve", "--config"])
-        .arg(&cfg)
-        .env("RUST_LOG", "warn,uoi=info")
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start serve");
-    let mut log = BufReader::new(child.stderr.take().unwrap());
-    let mut line = String::new();
-    while !line.contains("serving") {
-        line.clear();
-        assert!(log.read_line(&mut line).unwrap() > 0, "no start line");
-    }
-    let addr = line
-        .split_whitespace()
-        .find_map(|w| w.strip_prefix("listen="))
-        .unwrap()
-        .to_string();
-    thread::spawn(move || std::io::copy(&mut log, &mut std::io::sink()));
-    Serve { child, addr }
+    let cfg = cfg.to_str().expect("utf-8 path");
+    ServeProcess::start(&["--config", cfg], &[("RUST_LOG", "warn,uoi=info")])
 }
 
 fn wire(text: &str) -> uoi::wire::Request {
@@ -313,7 +283,7 @@ fn sixty_four_clients_of_every_kind_cannot_hurt_the_server() {
         assert_eq!(ans[1], Answer::Value(Value::F64(*radius)), "group {g}");
     }
     let rounds: usize = written.iter().map(|w| w.2).sum();
-    let peak = peak_rss_kb(server.child.id());
+    let peak = peak_rss_kb(server.id());
     println!(
         "valid rounds: {rounds}; server peak RSS: {} MB",
         peak / 1024
