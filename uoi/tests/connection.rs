@@ -5,100 +5,22 @@
 // Test and bench helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
+mod common;
+
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::time::Duration;
 
 use bytes::{Bytes, BytesMut};
-use uoi::tcp::{
-    AccessPolicy, AccessToken, Client, ClientError, ClientOptions, Handler, Server, ServerConfig,
-    Waited,
+use common::{
+    connect, connect_from, flood_until_blocked, is_closed, local, read_answer, read_frame,
+    read_head, serve, Index,
 };
-use uoi::wire::{encode_request, Answer, ProtocolError, Request};
+use uoi::tcp::{
+    AccessPolicy, AccessToken, Client, ClientError, ClientOptions, Server, ServerConfig, Waited,
+};
+use uoi::wire::{encode_request, ProtocolError, Request};
 use uoi::{ObjectAddress, Value, ValueType};
-
-/// Answers a READ with the object's index.
-struct Index;
-
-impl Handler for Index {
-    type Session = ();
-
-    fn handle(&mut self, req: Request) -> Answer {
-        match req {
-            Request::Read(a, _) => Answer::Value(Value::I32(i32::from(a.index))),
-            _ => Answer::Ok,
-        }
-    }
-}
-
-/// A server on its own thread; stopped when the sender is dropped.
-fn serve(cfg: ServerConfig) -> (SocketAddr, tokio::sync::oneshot::Sender<()>) {
-    let (addr_tx, addr_rx) = std::sync::mpsc::channel();
-    let (stop_tx, stop_rx) = tokio::sync::oneshot::channel::<()>();
-    std::thread::spawn(move || {
-        let rt = tokio::runtime::Builder::new_current_thread()
-            .enable_all()
-            .build()
-            .expect("runtime");
-        rt.block_on(async move {
-            let server = Server::bind(cfg, Index).await.expect("bind");
-            addr_tx
-                .send(server.local_addr().expect("addr"))
-                .expect("send");
-            let _ = server
-                .run(async {
-                    let _ = stop_rx.await;
-                })
-                .await;
-        });
-    });
-    let addr = addr_rx.recv().expect("server started");
-    (addr, stop_tx)
-}
-
-fn local() -> ServerConfig {
-    ServerConfig {
-        listen: "127.0.0.1:0".parse().expect("addr"),
-        ..ServerConfig::default()
-    }
-}
-
-fn read_frame(index: u16) -> Vec<u8> {
-    let mut f = BytesMut::new();
-    let req = Request::Read(ObjectAddress::new(7, 0, index, 0), ValueType::I32);
-    encode_request(u32::from(index), &req, &mut f);
-    f.to_vec()
-}
-
-/// Reads one READ answer: (id, value).
-fn read_answer(s: &mut TcpStream) -> (u32, i32) {
-    let mut a = [0u8; 28];
-    s.read_exact(&mut a).expect("answer");
-    let id = u32::from_le_bytes([a[8], a[9], a[10], a[11]]);
-    let v = i32::from_le_bytes([a[20], a[21], a[22], a[23]]);
-    (id, v)
-}
-
-fn connect(addr: SocketAddr) -> TcpStream {
-    let s = TcpStream::connect(addr).expect("connect");
-    // Only a guard against a hung test, far above any real wait.
-    s.set_read_timeout(Some(Duration::from_secs(60)))
-        .expect("timeout");
-    s
-}
-
-/// Waits for the server to close `s`: end of stream or a reset, not the
-/// guard timeout.
-fn is_closed(s: &mut TcpStream) -> bool {
-    let mut b = [0u8; 1];
-    match s.read(&mut b) {
-        Ok(n) => n == 0,
-        Err(e) => !matches!(
-            e.kind(),
-            std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
-        ),
-    }
-}
 
 #[test]
 fn pipelined_requests_are_answered_in_order() {
@@ -162,10 +84,7 @@ fn a_client_that_never_reads_is_closed_when_idle_and_frees_its_place() {
     // Pipeline requests and never read an answer: the server's writes
     // block once the socket buffers are full.
     let mut hog = connect(addr);
-    hog.set_write_timeout(Some(Duration::from_millis(200)))
-        .expect("timeout");
-    let burst: Vec<u8> = (0..4096).flat_map(|i| read_frame(i as u16)).collect();
-    while hog.write_all(&burst).is_ok() {}
+    flood_until_blocked(&mut hog);
     // The blocked connection is closed by the idle timeout: a new client
     // gets in (a guard of 60 s, not a timed assertion).
     let deadline = std::time::Instant::now() + Duration::from_secs(60);
@@ -184,35 +103,6 @@ fn a_client_that_never_reads_is_closed_when_idle_and_frees_its_place() {
         );
         std::thread::sleep(Duration::from_millis(50));
     }
-}
-
-/// A connection to `addr` from the local address `from` (any of
-/// 127.0.0.0/8 on Linux): another peer address on the same machine.
-fn connect_from(from: [u8; 4], addr: SocketAddr) -> TcpStream {
-    let rt = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .expect("runtime");
-    let s = rt.block_on(async {
-        let sock = tokio::net::TcpSocket::new_v4().expect("socket");
-        sock.bind(SocketAddr::from((from, 0))).expect("bind");
-        sock.connect(addr).await.expect("connect")
-    });
-    let s = s.into_std().expect("std");
-    s.set_nonblocking(false).expect("blocking");
-    s.set_read_timeout(Some(Duration::from_secs(60)))
-        .expect("timeout");
-    s
-}
-
-/// Reads one answer frame: (id, op, status).
-fn read_head(s: &mut TcpStream) -> (u32, u8, u32) {
-    let mut pre = [0u8; 4];
-    s.read_exact(&mut pre).expect("prefix");
-    let mut body = vec![0u8; u32::from_le_bytes(pre) as usize];
-    s.read_exact(&mut body).expect("body");
-    let word = |at: usize| u32::from_le_bytes([body[at], body[at + 1], body[at + 2], body[at + 3]]);
-    (word(4), body[3], word(8))
 }
 
 /// Issue 8, point 7: a frame whose first two bytes arrive before a look
@@ -261,10 +151,7 @@ fn a_client_that_takes_its_answers_a_trickle_at_a_time_loses_its_place() {
         ..local()
     });
     let mut hog = connect(addr);
-    hog.set_write_timeout(Some(Duration::from_millis(200)))
-        .expect("timeout");
-    let burst: Vec<u8> = (0..4096).flat_map(|i| read_frame(i as u16)).collect();
-    while hog.write_all(&burst).is_ok() {}
+    flood_until_blocked(&mut hog);
     let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
     let stopped = std::sync::Arc::clone(&stop);
     let trickle = std::thread::spawn(move || {

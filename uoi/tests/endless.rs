@@ -7,13 +7,16 @@
 // Test helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
+mod common;
+
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
 use bytes::BytesMut;
-use uoi::tcp::{Core, Handler, Served, Server, ServerConfig, Session, Slice};
+use common::{connect, local, serve_with};
+use uoi::tcp::{Core, Handler, Served, ServerConfig, Session, Slice};
 use uoi::wire::{encode_request, Answer, Request};
 use uoi::{ObjectAddress, Value, ValueType};
 
@@ -62,33 +65,14 @@ impl Session for EndlessSession {
     }
 }
 
+/// A server with the [`Endless`] handler and an idle timeout of 300 ms.
 fn serve(core: Core) -> (SocketAddr, tokio::sync::oneshot::Sender<()>) {
-    let (addr_tx, addr_rx) = std::sync::mpsc::channel();
-    let (stop_tx, stop_rx) = tokio::sync::oneshot::channel::<()>();
     let cfg = ServerConfig {
-        listen: "127.0.0.1:0".parse().expect("addr"),
         idle_timeout: Duration::from_millis(300),
         core,
-        ..ServerConfig::default()
+        ..local()
     };
-    std::thread::spawn(move || {
-        let rt = tokio::runtime::Builder::new_current_thread()
-            .enable_all()
-            .build()
-            .expect("runtime");
-        rt.block_on(async move {
-            let server = Server::bind(cfg, Endless).await.expect("bind");
-            addr_tx
-                .send(server.local_addr().expect("addr"))
-                .expect("send");
-            let _ = server
-                .run(async {
-                    let _ = stop_rx.await;
-                })
-                .await;
-        });
-    });
-    (addr_rx.recv().expect("server started"), stop_tx)
+    serve_with(cfg, Endless)
 }
 
 fn read(s: &mut TcpStream, index: u16, sub: u16) {
@@ -96,14 +80,6 @@ fn read(s: &mut TcpStream, index: u16, sub: u16) {
     let req = Request::Read(ObjectAddress::new(7, 0, index, sub), ValueType::I32);
     encode_request(1, &req, &mut f);
     s.write_all(&f).expect("send");
-}
-
-fn connect(addr: SocketAddr) -> TcpStream {
-    let s = TcpStream::connect(addr).expect("connect");
-    // Only a guard against a hung test, far above any real wait.
-    s.set_read_timeout(Some(Duration::from_secs(60)))
-        .expect("timeout");
-    s
 }
 
 /// The endless request of `slot` runs while another client is answered,

@@ -10,123 +10,38 @@
 // Test helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
+mod common;
+
 use std::io::{Read, Write};
-use std::net::{SocketAddr, TcpStream};
+use std::net::TcpStream;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use bytes::BytesMut;
-use uoi::tcp::{Handler, Server, ServerConfig};
-use uoi::wire::{encode_request, Answer, Request};
-use uoi::{ObjectAddress, Value, ValueType};
+use common::{connect, connect_from, flood_until_blocked, local, read_frame, serve, try_read_head};
+use uoi::tcp::ServerConfig;
 
 const BUSY: u32 = 0xE000_0007;
 const HOUR: Duration = Duration::from_secs(3600);
-
-/// Answers a READ with the object's index.
-struct Index;
-
-impl Handler for Index {
-    type Session = ();
-
-    fn handle(&mut self, req: Request) -> Answer {
-        match req {
-            Request::Read(a, _) => Answer::Value(Value::I32(i32::from(a.index))),
-            _ => Answer::Ok,
-        }
-    }
-}
-
-/// A server on its own thread; stopped when the sender is dropped.
-fn serve(cfg: ServerConfig) -> (SocketAddr, tokio::sync::oneshot::Sender<()>) {
-    let (addr_tx, addr_rx) = std::sync::mpsc::channel();
-    let (stop_tx, stop_rx) = tokio::sync::oneshot::channel::<()>();
-    std::thread::spawn(move || {
-        let rt = tokio::runtime::Builder::new_current_thread()
-            .enable_all()
-            .build()
-            .expect("runtime");
-        rt.block_on(async move {
-            let server = Server::bind(cfg, Index).await.expect("bind");
-            addr_tx
-                .send(server.local_addr().expect("addr"))
-                .expect("send");
-            let _ = server
-                .run(async {
-                    let _ = stop_rx.await;
-                })
-                .await;
-        });
-    });
-    (addr_rx.recv().expect("server started"), stop_tx)
-}
 
 /// `max` places, eviction after `grace_ms` of quiet; the idle and write
 /// timeouts far away, so only eviction frees a place.
 fn full_at(max: usize, grace_ms: u64) -> ServerConfig {
     ServerConfig {
-        listen: "127.0.0.1:0".parse().expect("addr"),
         max_connections: max,
         idle_timeout: HOUR,
         write_timeout: HOUR,
         evict_after: Some(Duration::from_millis(grace_ms)),
-        ..ServerConfig::default()
+        ..local()
     }
-}
-
-fn guarded(s: TcpStream) -> TcpStream {
-    // Only a guard against a hung test, far above any real wait.
-    s.set_read_timeout(Some(Duration::from_secs(60)))
-        .expect("timeout");
-    s
-}
-
-fn connect(addr: SocketAddr) -> TcpStream {
-    guarded(TcpStream::connect(addr).expect("connect"))
-}
-
-/// A connection from the local address `from` (any of 127.0.0.0/8 on
-/// Linux): another peer address on the same machine.
-fn connect_from(from: [u8; 4], addr: SocketAddr) -> TcpStream {
-    let rt = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .expect("runtime");
-    let s = rt.block_on(async {
-        let sock = tokio::net::TcpSocket::new_v4().expect("socket");
-        sock.bind(SocketAddr::from((from, 0))).expect("bind");
-        sock.connect(addr).await.expect("connect")
-    });
-    let s = s.into_std().expect("std");
-    s.set_nonblocking(false).expect("blocking");
-    guarded(s)
-}
-
-fn read_frame(index: u16) -> Vec<u8> {
-    let mut f = BytesMut::new();
-    let req = Request::Read(ObjectAddress::new(7, 0, index, 0), ValueType::I32);
-    encode_request(u32::from(index), &req, &mut f);
-    f.to_vec()
-}
-
-/// Reads one answer frame: (id, op, status); `None` if the connection
-/// ends first.
-fn read_head(s: &mut TcpStream) -> Option<(u32, u8, u32)> {
-    let mut pre = [0u8; 4];
-    s.read_exact(&mut pre).ok()?;
-    let mut body = vec![0u8; u32::from_le_bytes(pre) as usize];
-    s.read_exact(&mut body).ok()?;
-    let word = |at: usize| u32::from_le_bytes([body[at], body[at + 1], body[at + 2], body[at + 3]]);
-    Some((word(4), body[3], word(8)))
 }
 
 /// Sends READ `k` and returns the answer's status; `None` if the server
 /// has closed the connection.
 fn ask(s: &mut TcpStream, k: u16) -> Option<u32> {
     s.write_all(&read_frame(k)).ok()?;
-    let (id, _, status) = read_head(s)?;
+    let (id, _, status) = try_read_head(s)?;
     assert!(status != 0 || id == u32::from(k), "answer {id} to {k}");
     Some(status)
 }
@@ -147,15 +62,6 @@ fn closed_by_server(s: &mut TcpStream) -> bool {
             }
         }
     }
-}
-
-/// Pipelines requests and never reads an answer, until the server's
-/// writes to it block (its socket buffers are full).
-fn flood_until_blocked(s: &mut TcpStream) {
-    s.set_write_timeout(Some(Duration::from_millis(200)))
-        .expect("timeout");
-    let burst: Vec<u8> = (0..4096).flat_map(|i| read_frame(i as u16)).collect();
-    while s.write_all(&burst).is_ok() {}
 }
 
 /// A client in use: asks, reads the answer, asks again, until stopped.
@@ -242,7 +148,7 @@ fn a_newcomer_is_refused_while_every_connection_is_in_use() {
     let a = InUse::start(connect(addr));
     let b = InUse::start(connect(addr));
     let mut fresh = connect(addr);
-    assert_eq!(read_head(&mut fresh), Some((0, 0, BUSY)));
+    assert_eq!(try_read_head(&mut fresh), Some((0, 0, BUSY)));
     assert!(closed_by_server(&mut fresh));
     a.stop().expect("a kept its place");
     b.stop().expect("b kept its place");
@@ -279,10 +185,7 @@ fn at_its_own_limit_an_address_makes_room_among_its_own() {
 /// (a load test on loopback) are all served, and keep their places.
 #[test]
 fn sixty_four_local_clients_with_default_limits_are_all_served() {
-    let (addr, _stop) = serve(ServerConfig {
-        listen: "127.0.0.1:0".parse().expect("addr"),
-        ..ServerConfig::default()
-    });
+    let (addr, _stop) = serve(local());
     let mut clients: Vec<TcpStream> = (0..64).map(|_| connect(addr)).collect();
     for round in 0..2u16 {
         for (k, c) in clients.iter_mut().enumerate() {

@@ -18,7 +18,8 @@ use tracing::{debug, warn};
 use super::access::AccessToken;
 use super::halves::{ClosableRead, ClosableWrite};
 use super::idle::{Activity, Closed};
-use super::server::{Handler, Served, Session, Shared};
+use super::server::{Handler, Served, Session};
+use super::shared::Shared;
 use crate::wire::{
     Answer, CodecError, Op, ProtocolError, Rejected, Reply, Request, ServerCodec, MAX_FRAME,
     PREFIX_LEN,

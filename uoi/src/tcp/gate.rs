@@ -28,7 +28,8 @@ use super::access::AccessPolicy;
 use super::connection::{reply, serve_connection, Gatekeeper};
 use super::idle::Watchdog;
 use super::places::{Full, Limits, Places, Seat};
-use super::server::{Handler, ServerConfig, Shared};
+use super::server::{Handler, ServerConfig};
+use super::shared::Shared;
 use crate::wire::{Answer, ProtocolError, ServerCodec};
 
 /// Looks for a place per grace while newcomers wait.

@@ -9,6 +9,7 @@ mod halves;
 mod idle;
 mod places;
 mod server;
+mod shared;
 
 pub use access::{
     is_loopback_peer, AccessPolicy, AccessToken, BadToken, MAX_TOKEN_LEN, MIN_TOKEN_LEN,
