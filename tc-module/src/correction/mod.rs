@@ -13,21 +13,30 @@
 //! `Full`); a refused profile leaves spooler and buffer as they were.
 //! Plane-null profiles waiting with the held one count toward the
 //! spooler's capacity.
+//!
+//! By concept: this module holds the profile, the refusals and the buffer
+//! with its corner logic; [`Sink`] admits and writes what is spooled
+//! (`sink.rs`); `spool.rs` spools the held profile, the plane-null moves
+//! and the transitions.
 
 use uoi::AccessError;
 
 use crate::bits::ErrorBits;
-use crate::element::{ContourNormal, NormalRule, Origin, Path, SpoolElement};
 use crate::geometry::full_circle::{keeps_whole_turn, start_shift, whole_turn_end};
-use crate::geometry::tolerance::ZERO_ARC;
 use crate::geometry::{
     classify, inside_point, transition, Contour, CornerKind, Offset, OffsetError, Part, Transition,
     V2,
 };
 use crate::group::TransitionMode;
 use crate::limits::check_point;
-use crate::plane::{AxisPos, PlaneAxes};
-use crate::spooler::{Mark, Spooler};
+use crate::plane::AxisPos;
+
+mod sink;
+mod spool;
+
+pub use sink::Sink;
+
+use spool::{check_held, spool_held, spool_null, spool_transition};
 
 /// Most elements a transition spools (three lines).
 const MAX_TRANSITION: usize = 3;
@@ -79,138 +88,6 @@ pub struct Profile {
     pub feed: f64,
     /// A rapid move.
     pub rapid: bool,
-}
-
-/// Where elements go: the spooler, with the current tool position and the
-/// group's plane and tool length.
-#[derive(Debug)]
-pub struct Sink<'a> {
-    /// The spooler.
-    pub spooler: &'a mut Spooler,
-    /// The current tool position (end of the last spooled element).
-    pub q: AxisPos,
-    /// The group's plane axes.
-    pub plane: PlaneAxes,
-    /// Tool length added on the third main axis of every end point.
-    pub len: f64,
-    /// Where the spooler stood when the profile came in.
-    mark: Mark,
-}
-
-fn rule_of(n: V2) -> NormalRule {
-    NormalRule::Fixed([n.x, n.y])
-}
-
-/// `base` with the plane point `p` on the plane axes (`v` written last,
-/// as [`PlaneAxes::set_point`] does) and `third_add` added on the third
-/// axis when it is not a plane axis. Axis by axis, so the position is
-/// built in registers (no single-axis store read back as a whole).
-fn with_plane_point(plane: PlaneAxes, base: &AxisPos, p: V2, third_add: Option<f64>) -> AxisPos {
-    let (h, v, third) = (plane.h as usize, plane.v as usize, plane.third as usize);
-    std::array::from_fn(|i| match third_add {
-        _ if i == v => p.y,
-        _ if i == h => p.x,
-        Some(add) if i == third => base[i] + add,
-        _ => base[i],
-    })
-}
-
-impl<'a> Sink<'a> {
-    /// Elements go to `spooler`; the tool stands at `q`; `plane` and tool
-    /// length `len` are the group's.
-    pub fn new(spooler: &'a mut Spooler, q: AxisPos, plane: PlaneAxes, len: f64) -> Self {
-        let mark = spooler.mark();
-        Self {
-            spooler,
-            q,
-            plane,
-            len,
-            mark,
-        }
-    }
-
-    /// A profile comes in: what it spools is admitted or taken back as a
-    /// whole.
-    fn begin(&mut self) {
-        self.mark = self.spooler.mark();
-    }
-
-    /// Admits what was spooled since the profile came in, with `reserve`
-    /// places kept for what the buffer then holds; otherwise takes it back
-    /// and answers why (`Range` for a point beyond the limit, `Full`).
-    fn admit(&mut self, reserve: usize) -> Result<(), AccessError> {
-        let r = self.check(reserve);
-        if r.is_err() {
-            self.spooler.rollback(self.mark);
-        }
-        r
-    }
-
-    fn check(&self, reserve: usize) -> Result<(), AccessError> {
-        for e in self.spooler.since(self.mark) {
-            check_point(&e.end)?;
-            if let Path::Arc(a) = &e.path {
-                check_point(&a.centre)?;
-            }
-        }
-        if self.spooler.len() + reserve > self.spooler.capacity() {
-            return Err(AccessError::Full);
-        }
-        Ok(())
-    }
-
-    /// End point: plane point `p`, other axes from `prog` with the tool
-    /// length on the third axis.
-    fn end_point(&self, p: V2, prog: &AxisPos) -> AxisPos {
-        with_plane_point(self.plane, prog, p, Some(self.len))
-    }
-
-    /// End point that moves only the plane axes from the tool position
-    /// (transitions: the other axes stay where the corner left them).
-    fn in_plane(&self, p: V2) -> AxisPos {
-        with_plane_point(self.plane, &self.q, p, None)
-    }
-
-    fn normal(&self, rule: Option<NormalRule>) -> Option<ContourNormal> {
-        rule.map(|rule| ContourNormal {
-            plane: self.plane,
-            rule,
-        })
-    }
-
-    fn line(
-        &mut self,
-        end: AxisPos,
-        feed: f64,
-        rapid: bool,
-        origin: Origin,
-        n: Option<NormalRule>,
-    ) {
-        let e = SpoolElement::line(self.q, end, feed, rapid, origin).with_normal(self.normal(n));
-        self.spooler.push(e);
-        self.q = end;
-    }
-
-    fn arc(
-        &mut self,
-        end: AxisPos,
-        centre: V2,
-        ccw: bool,
-        feed: f64,
-        origin: Origin,
-        n: NormalRule,
-    ) {
-        let c = [centre.x, centre.y];
-        let e = SpoolElement::arc(self.q, end, self.plane, c, ccw, feed, origin)
-            .with_normal(self.normal(Some(n)));
-        self.spooler.push(e);
-        self.q = end;
-    }
-
-    fn here(&self) -> V2 {
-        let p = self.plane.point(&self.q);
-        V2::new(p[0], p[1])
-    }
 }
 
 /// The held profile (the fields of its `Profile`, kept flat: see `hold`)
@@ -506,133 +383,5 @@ impl Held {
         } else {
             1
         }
-    }
-}
-
-/// `Range` unless the held profile's corrected end (and, for an approach
-/// arc, its corrected start), tool length included, are within the limit.
-fn check_held(
-    prof: &Profile,
-    off: &Offset,
-    arc_approach: bool,
-    sink: &Sink,
-) -> Result<(), AccessError> {
-    check_point(&sink.end_point(off.end, &prof.end))?;
-    if arc_approach {
-        check_point(&sink.end_point(off.start, &prof.start))?;
-    }
-    Ok(())
-}
-
-/// Spools the held profile's corrected element(s) up to `x`, then the
-/// plane-null profiles waiting with it; returns the contour normal where
-/// it ends (the caller forgets the plane-null profiles once all is
-/// admitted).
-fn spool_held(a: &Held, x: V2, nulls: &[NullMove], sink: &mut Sink) -> V2 {
-    let x = match a.contour {
-        Contour::Line { .. } => {
-            let origin = if a.approach {
-                Origin::Approach
-            } else {
-                Origin::Corrected
-            };
-            let end = sink.end_point(x, &a.end);
-            let n = rule_of(a.off.normal_at(x));
-            sink.line(end, a.feed, a.rapid, origin, Some(n));
-            x
-        }
-        Contour::Arc { centre, sigma, .. } => spool_held_arc(a, centre, sigma, x, sink),
-    };
-    let n_end = a.off.normal_at(x);
-    for n in nulls {
-        spool_null(n, Some(n_end), sink);
-    }
-    n_end
-}
-
-/// Spools the held arc (after its approach line, for an approach) up to
-/// `x`, or where its whole turn ends; an arc cut to zero length is not
-/// spooled, a full circle always is. Returns where it ends.
-fn spool_held_arc(a: &Held, centre: V2, sigma: f64, x: V2, sink: &mut Sink) -> V2 {
-    if a.approach {
-        let end = sink.end_point(a.off.start, &a.start);
-        let n = rule_of(a.off.normal_at(a.off.start));
-        sink.line(end, a.feed, a.rapid, Origin::Approach, Some(n));
-    }
-    let here = sink.here();
-    let x = a.end_at(here, x);
-    let zero = (here - x).norm() <= ZERO_ARC;
-    if !zero || a.contour.is_full_circle() {
-        let end = sink.end_point(x, &a.end);
-        let rule = NormalRule::Radial {
-            centre: [centre.x, centre.y],
-            outward: a.off.tool_outside_arc(sigma),
-        };
-        sink.arc(end, centre, sigma > 0.0, a.feed, Origin::Corrected, rule);
-    }
-    x
-}
-
-/// Spools a plane-null profile at the current tool position; it keeps the
-/// normal the tool has there.
-fn spool_null(n: &NullMove, normal: Option<V2>, sink: &mut Sink) {
-    let end = sink.end_point(sink.here(), &n.end);
-    sink.line(end, n.feed, n.rapid, Origin::Corrected, normal.map(rule_of));
-}
-
-/// Spools the transition at corner `k`, at the next profile's feed.
-fn spool_transition(t: Transition, k: V2, next: &Profile, sink: &mut Sink) {
-    let rule = NormalRule::FromCorner([k.x, k.y]);
-    match t {
-        Transition::Arc { centre, ccw, to } => {
-            let end = sink.in_plane(to);
-            sink.arc(end, centre, ccw, next.feed, Origin::Transition, rule);
-        }
-        Transition::Lines(lines) => {
-            for p in lines.points() {
-                let end = sink.in_plane(*p);
-                sink.line(end, next.feed, next.rapid, Origin::Transition, Some(rule));
-            }
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::plane::AXES;
-
-    /// The old way: copy, write h then v, add on a distinct third axis.
-    fn by_set_point(plane: PlaneAxes, base: &AxisPos, p: V2, add: Option<f64>) -> AxisPos {
-        let mut e = *base;
-        plane.set_point(&mut e, [p.x, p.y]);
-        let third = plane.third as usize;
-        if let Some(add) = add {
-            if third != plane.h as usize && third != plane.v as usize {
-                e[third] += add;
-            }
-        }
-        e
-    }
-
-    #[test]
-    fn plane_point_written_as_set_point_does() {
-        let base: AxisPos = std::array::from_fn(|i| i as f64 - 2.0);
-        let p = V2::new(10.5, -20.25);
-        for (h, v, third) in [
-            (0, 1, 2),
-            (2, 0, 1),
-            (1, 2, 0),
-            (3, 3, 4),
-            (5, 6, 5),
-            (7, 0, 7),
-        ] {
-            let plane = PlaneAxes { h, v, third };
-            for add in [None, Some(0.0), Some(4.0)] {
-                let want = by_set_point(plane, &base, p, add);
-                assert_eq!(with_plane_point(plane, &base, p, add), want, "{plane:?}");
-            }
-        }
-        assert_eq!(base.len(), AXES);
     }
 }
