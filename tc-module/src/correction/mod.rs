@@ -114,6 +114,12 @@ struct Held {
 }
 
 impl Held {
+    /// Places its elements take at most: an approach arc spools a line
+    /// and the arc.
+    fn reserve(&self) -> usize {
+        held_places(self.approach && self.from.is_some())
+    }
+
     /// Its part for an inside corner: from the corrected start to `pa`;
     /// the whole circle for a full circle that keeps its whole turn.
     fn part(&self) -> Part {
@@ -298,9 +304,8 @@ impl Buffer {
             }
         };
         let arc_approach = approach && from.is_some();
-        let reserve = if arc_approach { MAX_HELD } else { 1 };
-        let admitted =
-            check_held(prof, &off, arc_approach, sink).and_then(|()| sink.admit(reserve));
+        let admitted = check_held(prof, &off, arc_approach, sink)
+            .and_then(|()| sink.check(held_places(arc_approach)));
         if let Err(e) = admitted {
             sink.spooler.rollback(sink.mark);
             return Err(e.into());
@@ -374,14 +379,12 @@ impl Buffer {
     }
 }
 
-impl Held {
-    /// Places its elements take at most: an approach arc spools a line
-    /// and the arc.
-    fn reserve(&self) -> usize {
-        if self.approach && self.from.is_some() {
-            MAX_HELD
-        } else {
-            1
-        }
+/// Places a held profile takes at most once spooled: an approach arc
+/// spools a line and the arc, anything else one element.
+fn held_places(arc_approach: bool) -> usize {
+    if arc_approach {
+        MAX_HELD
+    } else {
+        1
     }
 }

@@ -75,7 +75,10 @@ impl<'a> Sink<'a> {
         r
     }
 
-    fn check(&self, reserve: usize) -> Result<(), AccessError> {
+    /// Whether what was spooled since the profile came in may stay, with
+    /// `reserve` places kept: every point within the limit (`Range`) and
+    /// room left (`Full`).
+    pub(super) fn check(&self, reserve: usize) -> Result<(), AccessError> {
         for e in self.spooler.since(self.mark) {
             check_point(&e.end)?;
             if let Path::Arc(a) = &e.path {

@@ -31,7 +31,7 @@ pub(super) fn check_held(
 /// it ends (the caller forgets the plane-null profiles once all is
 /// admitted).
 pub(super) fn spool_held(a: &Held, x: V2, nulls: &[NullMove], sink: &mut Sink) -> V2 {
-    let x = match a.contour {
+    let n_end = match a.contour {
         Contour::Line { .. } => {
             let origin = if a.approach {
                 Origin::Approach
@@ -39,13 +39,14 @@ pub(super) fn spool_held(a: &Held, x: V2, nulls: &[NullMove], sink: &mut Sink) -
                 Origin::Corrected
             };
             let end = sink.end_point(x, &a.end);
-            let n = rule_of(a.off.normal_at(x));
-            sink.line(end, a.feed, a.rapid, origin, Some(n));
-            x
+            let n_end = a.off.normal_at(x);
+            sink.line(end, a.feed, a.rapid, origin, Some(rule_of(n_end)));
+            n_end
         }
-        Contour::Arc { centre, sigma, .. } => spool_held_arc(a, centre, sigma, x, sink),
+        Contour::Arc { centre, sigma, .. } => {
+            a.off.normal_at(spool_held_arc(a, centre, sigma, x, sink))
+        }
     };
-    let n_end = a.off.normal_at(x);
     for n in nulls {
         spool_null(n, Some(n_end), sink);
     }
