@@ -61,8 +61,13 @@ impl Meaning for O {
             }
             O::RadiusOffsetCommand => "PLC channel unit: the radius offset asked for, in 0.1 µm.",
             O::RadiusOffsetEnable => "PLC channel unit: 1 lets the command act.",
-            O::RadiusOffsetRequest => "The command as it is used: clamped to ± ToolMaxInfeed.",
-            O::RadiusOffsetState => "The offset applied now, after the ramp.",
+            O::RadiusOffsetRequest => {
+                "The command clamped to ± ToolMaxInfeed of the current entry of the group \
+                 whose OTC is on (with none on: of group 1), enabled or not."
+            }
+            O::RadiusOffsetState => {
+                "The offset applied now, after the ramp, in 0.1 µm rounded to the nearest."
+            }
             O::HandoffCount => {
                 "How many tools were handed back to external tool management: one per \
                  WKZINDEX change, with the outgoing tool's booked wear."
@@ -72,8 +77,13 @@ impl Meaning for O {
             O::HandoffWearRadiusCont => "Its WearRadiusCont at the hand-back.",
             O::AxisOffsetCommand => "PLC axis unit: the offset asked for on this axis, in 0.1 µm.",
             O::AxisOffsetEnable => "PLC axis unit: 1 lets the command act.",
-            O::AxisOffsetRequest => "The command as it is used: clamped to ± ToolMaxInfeed.",
-            O::AxisOffsetState => "The offset applied now, after the ramp.",
+            O::AxisOffsetRequest => {
+                "The command clamped to ± ToolMaxInfeed of the current entry of the group \
+                 whose OTC is on (with none on: of group 1), enabled or not."
+            }
+            O::AxisOffsetState => {
+                "The offset applied now, after the ramp, in 0.1 µm rounded to the nearest."
+            }
         }
     }
 }
