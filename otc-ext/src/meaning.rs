@@ -10,7 +10,8 @@ impl Meaning for O {
         match self {
             O::OtcOn => {
                 "1 switches OTC on for the group (NC `#OTC ON`; needs a grinding tool, else \
-                 OtcError ToolType), 0 switches it off and books the wear. Read: whether it is on."
+                 OtcError ToolType; one group at a time, else OtcError Sequence), 0 switches \
+                 it off and books the wear. Read: whether it is on."
             }
             O::ProcType => {
                 "Where the wear acts: 0 RADIUS, 1 LENGTH (default), 2 TOOL_DIR, \
