@@ -8,7 +8,7 @@ use tc_module::{AxisPos, Cycle, GroupAccess, Groups, AXES};
 
 use crate::state::PlcUnit;
 use crate::switching::taken;
-use crate::wear::{run_cycle, TakenMut, WearSettings};
+use crate::wear::{offset_at, run_cycle, TakenMut, WearSettings};
 use crate::OtcExtension;
 
 type Access<'a> = GroupAccess<'a, OtcExtension>;
@@ -54,6 +54,15 @@ impl OtcExtension {
     pub(crate) fn wear_cycle(&mut self, c: &Cycle<'_>, groups: Groups<'_, Self>) -> AxisPos {
         with_on_group(&mut self.axes, groups, |state, units, set| {
             run_cycle(state, units, set, c)
+        })
+        .unwrap_or([0.0; AXES])
+    }
+
+    /// The offset for the wear so far where the executor stands, no cycle
+    /// passing (after a direct command).
+    pub(crate) fn wear_offset_now(&mut self, c: &Cycle<'_>, groups: Groups<'_, Self>) -> AxisPos {
+        with_on_group(&mut self.axes, groups, |state, units, set| {
+            offset_at(state, units, set, c)
         })
         .unwrap_or([0.0; AXES])
     }

@@ -270,6 +270,14 @@ pub trait TcExtension: Debug + Send + Sized + 'static {
         [0.0; AXES]
     }
 
+    /// The offset of the per-cycle model for its state as it stands, no
+    /// cycle passing (see
+    /// [`CycleModel::offset_now`](crate::cycle::CycleModel::offset_now)).
+    /// Default: no offset.
+    fn cycle_offset_now(&mut self, _cycle: &Cycle<'_>, _groups: Groups<'_, Self>) -> AxisPos {
+        [0.0; AXES]
+    }
+
     /// Whether the per-cycle model is at rest (see
     /// [`CycleModel::at_rest`](crate::cycle::CycleModel::at_rest)): a
     /// cycle in which nothing moves would change nothing. Default: no.

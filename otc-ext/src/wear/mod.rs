@@ -141,6 +141,18 @@ pub fn run_cycle(
         state.w_cont += continuous_wear(c.parts, set.proc_type, set.wear_const);
     }
     units.ramp(set);
+    offset_at(state, units, set, c)
+}
+
+/// The offset for the wear so far where cycle `c` stands, no wear added
+/// and no unit ramped (also after a direct command moved the axes at
+/// once); keeps the direction in `state`.
+pub fn offset_at(
+    state: &mut WearState,
+    units: &TakenMut<'_>,
+    set: &WearSettings,
+    c: &Cycle<'_>,
+) -> AxisPos {
     let w = state.w_cont + units.w_disc();
     let (dir, weight) = direction(state.last_dir, set, c);
     state.last_dir = Some(dir);

@@ -39,6 +39,7 @@ impl<E: TcExtension> TcModule<E> {
                 self.position_request()?;
                 self.direct_command();
                 self.resync_programmed();
+                self.refresh_offset();
                 Ok(())
             }
             Motion::Ssf { axis, function } => self.special_function(*axis, *function),
@@ -66,6 +67,7 @@ impl<E: TcExtension> TcModule<E> {
             }
         }
         self.resync_programmed();
+        self.refresh_offset();
         Ok(())
     }
 

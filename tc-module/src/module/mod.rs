@@ -220,6 +220,18 @@ impl<E: TcExtension> TcModule<E> {
         }
     }
 
+    /// Re-evaluates the extension model's offset where the executor stands
+    /// (after a direct command moved it at once).
+    fn refresh_offset(&mut self) {
+        let mut model = ExtModel::new(
+            &mut self.ext,
+            &mut self.groups[..],
+            self.running,
+            self.plane,
+        );
+        self.executor.refresh_offset(&self.spooler, &mut model);
+    }
+
     /// Ends the correction of `slot`, if it runs.
     fn clear_run(&mut self, slot: usize) {
         if self.running == Some(slot) {
@@ -281,5 +293,9 @@ impl<E: TcExtension> CycleModel for ExtModel<'_, E> {
 
     fn at_rest(&mut self) -> bool {
         self.ext.cycle_at_rest(self.groups.reborrow())
+    }
+
+    fn offset_now(&mut self, cycle: &Cycle<'_>) -> AxisPos {
+        self.ext.cycle_offset_now(cycle, self.groups.reborrow())
     }
 }
