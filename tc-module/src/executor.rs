@@ -149,14 +149,43 @@ impl Executor {
             self.offset = None;
             return;
         }
-        let (current, done) = match stand {
-            Stand::OnFront => (spooler.front(), self.done),
-            Stand::OnEnded => (self.ended.as_ref(), self.ended.map_or(0.0, |e| e.length)),
+        let (current, done, previous) = match stand {
+            Stand::OnFront => (spooler.front(), self.done, self.ended.as_ref()),
+            Stand::OnEnded => (
+                self.ended.as_ref(),
+                self.ended.map_or(0.0, |e| e.length),
+                None,
+            ),
         };
         self.offset = Some(model.cycle(&Cycle {
             parts: self.parts.as_slice(),
             current,
             done,
+            previous,
+            nominal: &self.nominal,
+        }));
+    }
+
+    /// Re-evaluates an active model's offset where the executor stands,
+    /// no cycle passing (a direct command moved it at once); drops it when
+    /// the model is not active.
+    pub fn refresh_offset<M: CycleModel>(&mut self, spooler: &Spooler, model: &mut M) {
+        if !model.active() {
+            self.offset = None;
+            return;
+        }
+        let inside = self.done > 0.0 && spooler.front().is_some();
+        let (current, done, previous) = if inside {
+            (spooler.front(), self.done, self.ended.as_ref())
+        } else {
+            let ended = self.ended.as_ref();
+            (ended, ended.map_or(0.0, |e| e.length), None)
+        };
+        self.offset = Some(model.offset_now(&Cycle {
+            parts: &[],
+            current,
+            done,
+            previous,
             nominal: &self.nominal,
         }));
     }

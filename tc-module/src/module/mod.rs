@@ -189,7 +189,12 @@ impl<E: TcExtension> TcModule<E> {
     /// work is bounded by the elements spooled). Running the slices one
     /// after the other is the same as running the whole request.
     pub fn exec_slice(&mut self, cycles: Option<u64>) -> ExecLeft {
-        let mut model = ExtModel::new(&mut self.ext, &mut self.groups[..], self.running);
+        let mut model = ExtModel::new(
+            &mut self.ext,
+            &mut self.groups[..],
+            self.running,
+            self.plane,
+        );
         let (spooler, budget) = (&mut self.spooler, EXEC_SLICE_CYCLES);
         match cycles {
             Some(n) => match self.executor.run_for(spooler, n, &mut model, budget) {
@@ -209,10 +214,22 @@ impl<E: TcExtension> TcModule<E> {
     /// Drops the executor's offset when the extension's model stopped
     /// acting (after a write to its objects: OTC switched off).
     fn sync_offset(&mut self) {
-        let mut groups = Groups::new(&mut self.groups[..], self.running);
+        let mut groups = Groups::new(&mut self.groups[..], self.running, self.plane);
         if !self.ext.cycle_active(groups.reborrow()) {
             self.executor.clear_offset();
         }
+    }
+
+    /// Re-evaluates the extension model's offset where the executor stands
+    /// (after a direct command moved it at once).
+    fn refresh_offset(&mut self) {
+        let mut model = ExtModel::new(
+            &mut self.ext,
+            &mut self.groups[..],
+            self.running,
+            self.plane,
+        );
+        self.executor.refresh_offset(&self.spooler, &mut model);
     }
 
     /// Ends the correction of `slot`, if it runs.
@@ -253,8 +270,9 @@ impl<'a, E: TcExtension> ExtModel<'a, E> {
         ext: &'a mut E,
         slots: &'a mut crate::extension::GroupSlots<E>,
         running: Option<usize>,
+        plane: TcPlane,
     ) -> Self {
-        let mut groups = Groups::new(slots, running);
+        let mut groups = Groups::new(slots, running, plane);
         let active = ext.cycle_active(groups.reborrow());
         Self {
             ext,
@@ -275,5 +293,9 @@ impl<E: TcExtension> CycleModel for ExtModel<'_, E> {
 
     fn at_rest(&mut self) -> bool {
         self.ext.cycle_at_rest(self.groups.reborrow())
+    }
+
+    fn offset_now(&mut self, cycle: &Cycle<'_>) -> AxisPos {
+        self.ext.cycle_offset_now(cycle, self.groups.reborrow())
     }
 }
