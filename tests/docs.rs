@@ -50,6 +50,33 @@ fn otc_path_svg_is_the_generated_picture() {
     );
 }
 
+/// The request and spool lines of `text` (no headers, comments or blank
+/// lines), as written.
+fn request_lines(text: &str) -> Vec<&str> {
+    text.lines()
+        .map(str::trim_end)
+        .filter(|l| !l.is_empty() && !l.starts_with('#') && !l.starts_with('@'))
+        .collect()
+}
+
+#[test]
+fn otc_md_example_is_the_example_trace() {
+    let docs = fs::read_to_string(root().join("docs/otc.md")).unwrap();
+    let example = docs
+        .split("## A worked example")
+        .nth(1)
+        .and_then(|rest| rest.split("\n## ").next())
+        .unwrap();
+    let blocks: String = example
+        .split("```")
+        .skip(1)
+        .step_by(2)
+        .map(|b| b.trim_start_matches('\n'))
+        .collect();
+    let trace = fs::read_to_string(root().join("traces/otc-example-docs.trace")).unwrap();
+    assert_eq!(request_lines(&blocks), request_lines(&trace));
+}
+
 #[test]
 fn every_device_and_bit_is_described() {
     assert_eq!(devices_without_section(), Vec::<u16>::new());
