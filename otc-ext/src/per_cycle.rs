@@ -24,8 +24,8 @@ fn settings(g: &Access<'_>) -> WearSettings {
         acc_weight: s.acc_weight,
         max_infeed: tool.max_infeed,
         tilt: tool.tilt,
-        axes: g.plane_axes(),
-        xyz: g.xyz(),
+        axes: g.main_axes().plane,
+        xyz: g.main_axes().xyz,
         // The table limits OriAxis to 0..7.
         ori_axis: usize::try_from(s.ori_axis).unwrap_or(0).min(AXES - 1),
     }

@@ -48,9 +48,9 @@ pub struct WearSettings {
     pub max_infeed: f64,
     /// ToolTiltAngle of the current entry, 0.0001°.
     pub tilt: f64,
-    /// The group's plane axes (LENGTH's first and third main axes).
+    /// The main plane (LENGTH's first and third main axes).
     pub axes: PlaneAxes,
-    /// The group's X, Y, Z machine axes.
+    /// The machine axes allocated as X, Y, Z (AxisNr).
     pub xyz: [u8; 3],
     /// The machine axis of the orientation angle B.
     pub ori_axis: usize,

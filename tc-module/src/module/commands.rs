@@ -52,7 +52,8 @@ impl<E: TcExtension> TcModule<E> {
 
     /// Asks the extension whether a position request may happen.
     pub(super) fn position_request(&mut self) -> Result<(), AccessError> {
-        let groups = Groups::new(&mut self.groups[..], self.running, self.plane);
+        let main = self.main_axes();
+        let groups = Groups::new(&mut self.groups[..], self.running, main);
         self.ext.position_request(groups)
     }
 
