@@ -11,6 +11,14 @@ use crate::spooler::Spooler;
 
 pub use crate::limits::DEFAULT_CYCLE_S;
 
+/// A cycle whose step reaches an element's end point to within this
+/// fraction of the step ends exactly on it: the distance run is a sum of
+/// steps, and its rounding (a few ulps) must not carry the executor a hair
+/// past the end point into the next element, nor leave it a hair short
+/// for one more cycle (otc.md rule 2: a cycle that ends exactly on an end
+/// point stands on the element that just ended).
+pub const END_POINT_SNAP: f64 = 1e-6;
+
 /// Where a cycle ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Stand {
@@ -103,8 +111,9 @@ impl Executor {
     /// Moves along the spooler for one cycle: distance left over at the
     /// end of an element carries into the next; elements without length
     /// are passed; with nothing spooled the cycle runs idle. A cycle that
-    /// ends exactly on an end point stands on the element that ended
-    /// there (otc.md rule 2), though the next one is already entered.
+    /// ends exactly on an end point (to within [`END_POINT_SNAP`] of its
+    /// step) stands on the element that ended there (otc.md rule 2),
+    /// though the next one is already entered.
     /// With `track`, the path per element is kept for a model.
     fn advance(&mut self, spooler: &mut Spooler, track: bool) -> Stand {
         if track {
@@ -113,10 +122,12 @@ impl Executor {
         let Some(front) = spooler.front() else {
             return Stand::OnEnded;
         };
-        let mut budget = self.step_at(front.feed);
+        let step = self.step_at(front.feed);
+        let snap = step * END_POINT_SNAP;
+        let mut budget = step;
         while let Some(e) = spooler.front() {
             let left = e.length - self.done;
-            if budget < left {
+            if budget < left - snap {
                 self.done += budget;
                 self.nominal = e.point_at(self.done);
                 if budget > 0.0 {
@@ -127,7 +138,12 @@ impl Executor {
                 }
                 return Stand::OnEnded;
             }
-            budget -= left;
+            // Within the snap the cycle ends exactly on the end point.
+            budget = if budget - left <= snap {
+                0.0
+            } else {
+                budget - left
+            };
             if track {
                 self.parts.push(part(e, left));
             }
@@ -355,7 +371,7 @@ fn part(e: &SpoolElement, length: f64) -> PathPart {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cycle::NoModel;
+    use crate::cycle::{Cycle, CycleModel, NoModel};
     use crate::element::Origin;
 
     fn pos(x: f64) -> AxisPos {
@@ -391,6 +407,48 @@ mod tests {
         ex.run_until_empty(&mut sp, &mut NoModel);
         assert_eq!(ex.position()[0], 1e12);
         assert!(sp.is_empty());
+    }
+
+    /// Records the origin of the current element and the cycle's parts.
+    #[derive(Default)]
+    struct Current(Option<Origin>, f64);
+
+    impl CycleModel for Current {
+        fn active(&self) -> bool {
+            true
+        }
+        fn cycle(&mut self, c: &Cycle<'_>) -> AxisPos {
+            self.0 = c.current.map(|e| e.origin);
+            self.1 = c.parts.iter().map(|p| p.length).sum();
+            [0.0; AXES]
+        }
+    }
+
+    #[test]
+    fn a_cycle_that_ends_on_an_end_point_stands_on_the_element_that_ended() {
+        // 0.3, 0.7, 1.1 summed in steps of 0.01 round a few ulps past (or
+        // short of) their length; the cycle that reaches it ends exactly.
+        for len in [0.3, 0.7, 1.1, 10.0] {
+            let mut sp = Spooler::default();
+            let first = SpoolElement::line(pos(0.0), pos(len), 600.0, false, Origin::Corrected);
+            sp.push(first);
+            sp.push(SpoolElement::line(
+                pos(len),
+                pos(5.0 * len),
+                600.0,
+                false,
+                Origin::Transition,
+            ));
+            let (mut ex, mut m) = (Executor::default(), Current::default());
+            let cycles = (len / 0.01).round() as u64;
+            ex.run(&mut sp, cycles, &mut m);
+            assert_eq!(m.0, Some(Origin::Corrected), "{len}");
+            assert_eq!(ex.nominal()[0], len, "{len}");
+            assert_eq!(sp.len(), 1, "{len}");
+            ex.step(&mut sp, &mut m);
+            assert_eq!(m.0, Some(Origin::Transition), "{len}");
+            assert!((m.1 - 0.01).abs() < 1e-15);
+        }
     }
 
     #[test]
