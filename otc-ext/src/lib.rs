@@ -7,11 +7,11 @@
 //! (`ToolType`, `Sequence`, `PosRequest`) and the read-back of wear at
 //! switch-off and tool change.
 //!
-//! Not yet here: the per-cycle wear model (continuous wear along the path,
-//! the ramped discrete offset and its application to the executed
-//! position). The seam for it is `TcExtension::cycle`; until the model
-//! lands the wear accumulators stay 0, so switch-off and tool change hand
-//! back zero wear.
+//! The per-cycle wear model (`wear`: continuous wear along the path, the
+//! ramped discrete offsets of the PLC units, the direction of each
+//! processing type) is pure and testable alone; `per_cycle` plugs it into
+//! the executor through `TcExtension::cycle`, so the offset shows in the
+//! executed position (`POS`), never in the spool log.
 //!
 //! ```
 //! use otc_ext::OtcExtension;
@@ -27,8 +27,11 @@
 
 mod meaning;
 mod objects;
+mod per_cycle;
 mod registers;
 mod state;
+mod switching;
+pub mod wear;
 
 pub use objects::{
     OtcObject, AXIS_DEVICE, AXIS_OBJECTS, GROUP_DEVICE, GROUP_OBJECTS, WEAR_AXIS_SUBS,

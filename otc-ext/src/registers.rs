@@ -1,22 +1,34 @@
-//! The OTC registers of devices 3 and 4 and the switching rules of otc.md
-//! ("Switching", "Switching off and reading back", "Position requests").
+//! The OTC registers of devices 3 and 4 (uoi-map.md), the request
+//! registers' bound (rule 7), writes while OTC is on (rule 9) and the
+//! hooks the TC module calls; switching is in `switching`, the per-cycle
+//! model in `wear` and `per_cycle`.
 
-use tc_module::{GroupAccess, Groups, TcExtension, WkzIndex, AXES};
+use tc_module::{Cycle, GroupAccess, Groups, TcExtension, WkzIndex, AXES};
 use uoi::{AccessError, ObjectAddress, ObjectDesc, Value};
 
 use crate::objects::{OtcObject, AXIS_OBJECTS, GROUP_OBJECTS, WEAR_AXIS_SUBS};
-use crate::state::{
-    clamp_command, OtcErrorBits, OtcGroup, OtcMode, OtcTool, PlcUnit, ProcType, GRINDING,
-};
+use crate::state::{clamp_command, OtcErrorBits, OtcGroup, OtcMode, OtcTool, PlcUnit, ProcType};
+use crate::switching::check_units;
 
 /// The OTC extension: its own state is the PLC units of the machine axes
 /// (device 4); the state of each group and tool entry lives in them.
 #[derive(Debug, Default)]
 pub struct OtcExtension {
-    axes: [PlcUnit; AXES],
+    pub(crate) axes: [PlcUnit; AXES],
 }
 
 type Access<'a> = GroupAccess<'a, OtcExtension>;
+
+/// Rule 7: the bound of the request registers, ToolMaxInfeed of the
+/// current entry of the group whose OTC is on, else of group 1's.
+fn request_bound(groups: &mut Groups<'_, OtcExtension>) -> f64 {
+    let on = groups
+        .iter_mut()
+        .find(|g| g.state().on)
+        .map(|g| g.tool().ext.max_infeed);
+    on.or_else(|| groups.get(1).map(|g| g.tool().ext.max_infeed))
+        .unwrap_or(0.0)
+}
 
 fn int(v: Value) -> i32 {
     v.as_i32().unwrap_or(0)
@@ -26,62 +38,12 @@ fn dbl(v: Value) -> f64 {
     v.as_f64().unwrap_or(0.0)
 }
 
-/// `#OTC OFF`: the wear accumulated since ON is booked on the tool and
-/// read back through the V.G. values (otc.md "Switching off"). A booking
-/// the tool entry refuses (a radius or length that would leave ±1e9)
-/// changes nothing.
-fn switch_off(g: &mut Access<'_>) -> Result<(), AccessError> {
-    let s = g.state();
-    let (w, w_cont, radius) = (
-        s.w_cont + s.w_disc,
-        s.w_cont,
-        s.proc_type == ProcType::Radius,
-    );
-    if radius {
-        g.reduce_radius(w)?;
-        let s = g.state_mut();
-        s.wear_radius += w;
-        s.wear_radius_cont += w_cont;
-    } else {
-        // The wear direction in force is the cycle model's; with w = 0
-        // nothing changes per axis.
-        g.reduce_length(w)?;
-    }
-    let s = g.state_mut();
-    s.w_cont = 0.0;
-    s.w_disc = 0.0;
-    s.on = false;
-    Ok(())
-}
-
-/// `OtcOn` written: ON needs a grinding tool and fixes the wear constant;
-/// OFF while a RADIUS correction runs is out of sequence.
-fn write_on(on: bool, g: &mut Access<'_>) -> Result<(), AccessError> {
-    let tool = g.tool().ext;
-    let running = g.running();
-    let s = g.state_mut();
-    if on && !s.on {
-        if tool.tool_type != GRINDING {
-            s.error |= OtcErrorBits::TOOL_TYPE;
-        } else {
-            s.const_in_force = s.wear_const_override.unwrap_or(tool.wear_const);
-            s.on = true;
-        }
-    } else if !on && s.on {
-        if s.proc_type == ProcType::Radius && running {
-            s.error |= OtcErrorBits::SEQUENCE;
-        } else {
-            return switch_off(g);
-        }
-    }
-    Ok(())
-}
-
 fn read_group_state(
     obj: OtcObject,
     addr: ObjectAddress,
     s: &OtcGroup,
     tool: &OtcTool,
+    bound: f64,
 ) -> Option<Value> {
     use OtcObject as O;
     let i = |v: i32| Some(Value::I32(v));
@@ -101,8 +63,8 @@ fn read_group_state(
         O::OriAxis => i(s.ori_axis),
         O::RadiusOffsetCommand => i(s.radius_unit.command),
         O::RadiusOffsetEnable => i(i32::from(s.radius_unit.enable)),
-        O::RadiusOffsetRequest => i(clamp_command(s.radius_unit.command, tool.max_infeed)),
-        O::RadiusOffsetState => i(s.radius_unit.state),
+        O::RadiusOffsetRequest => i(clamp_command(s.radius_unit.command, bound)),
+        O::RadiusOffsetState => i(s.radius_unit.state()),
         O::HandoffCount => i(s.handoff_count),
         O::HandoffToolIndex => i(s.handoff_tool),
         O::HandoffWearRadius => d(s.handoff_wear_radius),
@@ -159,23 +121,29 @@ impl TcExtension for OtcExtension {
         &mut self,
         obj: OtcObject,
         addr: ObjectAddress,
-        g: Access<'_>,
+        mut groups: Groups<'_, Self>,
     ) -> Result<Value, AccessError> {
+        let bound = request_bound(&mut groups);
+        let g = groups.get(addr.index).ok_or(AccessError::NoObject)?;
         // Write-only objects never reach read (checked by the table).
-        read_group_state(obj, addr, g.state(), &g.tool().ext).ok_or(AccessError::WriteOnly)
+        read_group_state(obj, addr, g.state(), &g.tool().ext, bound).ok_or(AccessError::WriteOnly)
     }
 
     fn write_group(
         &mut self,
         obj: OtcObject,
-        _: ObjectAddress,
+        addr: ObjectAddress,
         v: Value,
-        mut g: Access<'_>,
+        mut groups: Groups<'_, Self>,
     ) -> Result<(), AccessError> {
         if obj == OtcObject::OtcOn {
-            return write_on(int(v) == 1, &mut g);
+            return self.write_on(addr.index, int(v) == 1, groups);
         }
+        let mut g = groups.get(addr.index).ok_or(AccessError::NoObject)?;
         if write_tool(obj, v, g.tool_ext()) || write_state(obj, v, g.state_mut()) {
+            if obj == OtcObject::RadiusOffsetEnable && int(v) == 1 && g.state().on {
+                check_units(&mut g, &self.axes);
+            }
             return Ok(());
         }
         // Read-only objects never reach write (checked by the table).
@@ -189,10 +157,7 @@ impl TcExtension for OtcExtension {
         mut groups: Groups<'_, Self>,
     ) -> Result<Value, AccessError> {
         use OtcObject as O;
-        let bound = groups
-            .iter_mut()
-            .find(|g| g.state().on)
-            .map_or(0.0, |g| g.tool().ext.max_infeed);
+        let bound = request_bound(&mut groups);
         let unit = self
             .axes
             .get(usize::from(addr.index))
@@ -201,7 +166,7 @@ impl TcExtension for OtcExtension {
             O::AxisOffsetCommand => unit.command,
             O::AxisOffsetEnable => i32::from(unit.enable),
             O::AxisOffsetRequest => clamp_command(unit.command, bound),
-            O::AxisOffsetState => unit.state,
+            O::AxisOffsetState => unit.state(),
             _ => return Err(AccessError::NoObject),
         }))
     }
@@ -211,7 +176,7 @@ impl TcExtension for OtcExtension {
         obj: OtcObject,
         addr: ObjectAddress,
         v: Value,
-        _: Groups<'_, Self>,
+        mut groups: Groups<'_, Self>,
     ) -> Result<(), AccessError> {
         use OtcObject as O;
         let unit = self
@@ -222,6 +187,11 @@ impl TcExtension for OtcExtension {
             O::AxisOffsetCommand => unit.command = int(v),
             O::AxisOffsetEnable => unit.enable = int(v) == 1,
             _ => return Err(AccessError::ReadOnly),
+        }
+        if obj == O::AxisOffsetEnable && int(v) == 1 {
+            if let Some(mut g) = groups.iter_mut().find(|g| g.state().on) {
+                check_units(&mut g, &self.axes);
+            }
         }
         Ok(())
     }
@@ -240,6 +210,18 @@ impl TcExtension for OtcExtension {
 
     fn clean(&mut self) {
         *self = Self::default();
+    }
+
+    fn cycle_active(&mut self, mut groups: Groups<'_, Self>) -> bool {
+        groups.iter_mut().any(|g| g.state().on)
+    }
+
+    fn cycle(&mut self, cycle: &Cycle<'_>, groups: Groups<'_, Self>) -> tc_module::AxisPos {
+        self.wear_cycle(cycle, groups)
+    }
+
+    fn cycle_at_rest(&mut self, groups: Groups<'_, Self>) -> bool {
+        self.settled(groups)
     }
 
     fn position_request(&mut self, mut groups: Groups<'_, Self>) -> Result<(), AccessError> {

@@ -4,6 +4,8 @@
 use bitflags::bitflags;
 use tc_module::AXES;
 
+use crate::wear::WearState;
+
 bitflags! {
     /// OtcError register bits (device 3 sub 7).
     #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -111,15 +113,34 @@ pub struct OtcTool {
     pub tilt: f64,
 }
 
-/// A PLC control unit: command, enable, applied state (0.1 µm).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// A PLC control unit: command, enable, the value applied now.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct PlcUnit {
     /// `command_w`.
     pub command: i32,
     /// `enable_w`.
     pub enable: bool,
-    /// `state_r`: the value applied now.
-    pub state: i32,
+    /// The value applied now, in [`APPLIED_UNIT_MM`] (0.01 µm): always a
+    /// whole number, since the targets and the ramp step are, so ramps
+    /// are exact.
+    pub applied: f64,
+}
+
+/// The unit of [`PlcUnit::applied`] in mm: 0.01 µm, a tenth of the PLC's
+/// 0.1 µm. The ramp step `1e-3 · AccWeight / 100` mm is AccWeight of them.
+pub const APPLIED_UNIT_MM: f64 = 1e-5;
+
+/// Applied units per PLC unit (0.1 µm).
+pub const APPLIED_PER_PLC: f64 = 10.0;
+
+impl PlcUnit {
+    /// `state_r`: the applied value rounded to the nearest 0.1 µm (rule 7),
+    /// halves away from zero.
+    pub fn state(&self) -> i32 {
+        // Within ±i32::MAX: the applied value moves between 0 and clamped
+        // commands; `as` saturates anyway.
+        (self.applied / APPLIED_PER_PLC).round() as i32
+    }
 }
 
 /// Clamps a PLC command to ± the tool's maximum infeed (0: no discrete
@@ -159,10 +180,8 @@ pub struct OtcGroup {
     pub ori_axis: i32,
     /// The channel unit `otc_radius_offset`.
     pub radius_unit: PlcUnit,
-    /// Continuous wear accumulated since OTC ON.
-    pub w_cont: f64,
-    /// Discrete wear applied since OTC ON.
-    pub w_disc: f64,
+    /// The wear model's state since OTC ON (continuous wear, direction).
+    pub wear: WearState,
     /// Tool changes reported to external tool management.
     pub handoff_count: i32,
     /// WKZINDEX of the tool last handed back.
@@ -189,8 +208,7 @@ impl Default for OtcGroup {
             allow_pos_req: false,
             ori_axis: DEFAULT_ORI_AXIS,
             radius_unit: PlcUnit::default(),
-            w_cont: 0.0,
-            w_disc: 0.0,
+            wear: WearState::default(),
             handoff_count: 0,
             handoff_tool: 0,
             handoff_wear_radius: 0.0,

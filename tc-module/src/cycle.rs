@@ -100,6 +100,10 @@ pub struct Cycle<'a> {
     pub current: Option<&'a SpoolElement>,
     /// Path distance run on the current element.
     pub done: f64,
+    /// The element that ended before the current one, while the executor
+    /// stands inside the current one (`None` when the current element has
+    /// just ended, before the first element and after a direct command).
+    pub previous: Option<&'a SpoolElement>,
     /// The nominal path position of all axes at the cycle's end.
     pub nominal: &'a AxisPos,
 }

@@ -149,14 +149,19 @@ impl Executor {
             self.offset = None;
             return;
         }
-        let (current, done) = match stand {
-            Stand::OnFront => (spooler.front(), self.done),
-            Stand::OnEnded => (self.ended.as_ref(), self.ended.map_or(0.0, |e| e.length)),
+        let (current, done, previous) = match stand {
+            Stand::OnFront => (spooler.front(), self.done, self.ended.as_ref()),
+            Stand::OnEnded => (
+                self.ended.as_ref(),
+                self.ended.map_or(0.0, |e| e.length),
+                None,
+            ),
         };
         self.offset = Some(model.cycle(&Cycle {
             parts: self.parts.as_slice(),
             current,
             done,
+            previous,
             nominal: &self.nominal,
         }));
     }

@@ -17,7 +17,7 @@ use uoi::{AccessError, ObjectAddress, ObjectDesc, Value};
 
 use crate::cycle::Cycle;
 use crate::group::CorrGroup;
-use crate::plane::{AxisPos, AXES};
+use crate::plane::{AxisPos, PlaneAxes, TcPlane, AXES};
 use crate::tool_table::{ToolEntry, WkzIndex};
 
 /// A compensation group as the module stores it for extension `E`.
@@ -32,16 +32,30 @@ pub struct GroupAccess<'a, E: TcExtension> {
     index: u16,
     group: &'a mut Group<E>,
     running: bool,
+    plane: TcPlane,
 }
 
 impl<'a, E: TcExtension> GroupAccess<'a, E> {
-    /// The group at `index` (1..=32), running or not.
-    pub fn new(index: u16, group: &'a mut Group<E>, running: bool) -> Self {
+    /// The group at `index` (1..=32), running or not, under main plane
+    /// `plane` (TcPlane).
+    pub fn new(index: u16, group: &'a mut Group<E>, running: bool, plane: TcPlane) -> Self {
         Self {
             index,
             group,
             running,
+            plane,
         }
+    }
+
+    /// The group's plane axes `(h, v, third)`: TcPlane applied to its
+    /// XAxis, YAxis and ZAxis.
+    pub fn plane_axes(&self) -> PlaneAxes {
+        self.group.plane_axes(self.plane)
+    }
+
+    /// The machine axes the group uses as X, Y and Z (XAxis, YAxis, ZAxis).
+    pub fn xyz(&self) -> [u8; 3] {
+        self.group.axes
     }
 
     /// The group number, 1..=32.
@@ -116,13 +130,18 @@ fn reduced(value: f64, w: f64) -> Result<f64, AccessError> {
 pub struct Groups<'a, E: TcExtension> {
     slots: &'a mut GroupSlots<E>,
     running: Option<usize>,
+    plane: TcPlane,
 }
 
 impl<'a, E: TcExtension> Groups<'a, E> {
     /// The groups in `slots` (slot = index - 1); `running` is the slot of
-    /// the running group.
-    pub fn new(slots: &'a mut GroupSlots<E>, running: Option<usize>) -> Self {
-        Self { slots, running }
+    /// the running group, `plane` the main plane (TcPlane).
+    pub fn new(slots: &'a mut GroupSlots<E>, running: Option<usize>, plane: TcPlane) -> Self {
+        Self {
+            slots,
+            running,
+            plane,
+        }
     }
 
     /// The same view, borrowed again.
@@ -130,6 +149,7 @@ impl<'a, E: TcExtension> Groups<'a, E> {
         Groups {
             slots: &mut *self.slots,
             running: self.running,
+            plane: self.plane,
         }
     }
 
@@ -138,19 +158,20 @@ impl<'a, E: TcExtension> Groups<'a, E> {
         let slot = usize::from(index).checked_sub(1)?;
         let running = self.running == Some(slot);
         let g = self.slots.get_mut(slot)?.as_deref_mut()?;
-        Some(GroupAccess::new(index, g, running))
+        Some(GroupAccess::new(index, g, running, self.plane))
     }
 
     /// Every group that was created, in index order.
     pub fn iter_mut(&mut self) -> impl Iterator<Item = GroupAccess<'_, E>> {
-        let running = self.running;
+        let (running, plane) = (self.running, self.plane);
         self.slots
             .iter_mut()
             .enumerate()
             .filter_map(move |(slot, g)| {
                 let g = g.as_deref_mut()?;
                 // slot < GROUP_COUNT (32) fits u16.
-                Some(GroupAccess::new(slot as u16 + 1, g, running == Some(slot)))
+                let index = slot as u16 + 1;
+                Some(GroupAccess::new(index, g, running == Some(slot), plane))
             })
     }
 }
@@ -173,24 +194,27 @@ pub trait TcExtension: Debug + Send + Sized + 'static {
     /// Its other objects, on devices of its own.
     const OBJECTS: &'static [ObjectDesc<Self::Key>];
 
-    /// Reads a group object. (Only called for declared rows; an extension
-    /// without group rows need not implement it.)
+    /// Reads a group object of the group at `addr.index`, which exists
+    /// (created on first access) in `groups`; the other groups are there
+    /// too. (Only called for declared rows; an extension without group
+    /// rows need not implement it.)
     fn read_group(
         &mut self,
         _key: Self::Key,
         _addr: ObjectAddress,
-        _group: GroupAccess<'_, Self>,
+        _groups: Groups<'_, Self>,
     ) -> Result<Value, AccessError> {
         Err(AccessError::NoObject)
     }
 
-    /// Writes a group object.
+    /// Writes a group object of the group at `addr.index` (as for
+    /// [`TcExtension::read_group`]).
     fn write_group(
         &mut self,
         _key: Self::Key,
         _addr: ObjectAddress,
         _value: Value,
-        _group: GroupAccess<'_, Self>,
+        _groups: Groups<'_, Self>,
     ) -> Result<(), AccessError> {
         Err(AccessError::NoObject)
     }

@@ -51,7 +51,7 @@ impl<E: TcExtension> TcModule<E> {
 
     /// Asks the extension whether a position request may happen.
     pub(super) fn position_request(&mut self) -> Result<(), AccessError> {
-        let groups = Groups::new(&mut self.groups[..], self.running);
+        let groups = Groups::new(&mut self.groups[..], self.running, self.plane);
         self.ext.position_request(groups)
     }
 

@@ -22,9 +22,13 @@ impl<E: TcExtension> Bus for TcModule<E> {
     fn read(&mut self, key: Self::Key, addr: ObjectAddress) -> Result<Value, AccessError> {
         match key {
             TcKey::Tc(obj) => self.read_register(obj, addr),
-            TcKey::Group(k) => self.with_group(slot_of(addr), |ext, g| ext.read_group(k, addr, g)),
+            TcKey::Group(k) => {
+                self.group_mut(slot_of(addr));
+                let groups = Groups::new(&mut self.groups[..], self.running, self.plane);
+                self.ext.read_group(k, addr, groups)
+            }
             TcKey::Ext(k) => {
-                let groups = Groups::new(&mut self.groups[..], self.running);
+                let groups = Groups::new(&mut self.groups[..], self.running, self.plane);
                 self.ext.read(k, addr, groups)
             }
         }
@@ -39,10 +43,12 @@ impl<E: TcExtension> Bus for TcModule<E> {
         let result = match key {
             TcKey::Tc(obj) => self.write_global(obj, addr, value),
             TcKey::Group(k) => {
-                self.with_group(slot_of(addr), |ext, g| ext.write_group(k, addr, value, g))
+                self.group_mut(slot_of(addr));
+                let groups = Groups::new(&mut self.groups[..], self.running, self.plane);
+                self.ext.write_group(k, addr, value, groups)
             }
             TcKey::Ext(k) => {
-                let groups = Groups::new(&mut self.groups[..], self.running);
+                let groups = Groups::new(&mut self.groups[..], self.running, self.plane);
                 self.ext.write(k, addr, value, groups)
             }
         };

@@ -189,7 +189,12 @@ impl<E: TcExtension> TcModule<E> {
     /// work is bounded by the elements spooled). Running the slices one
     /// after the other is the same as running the whole request.
     pub fn exec_slice(&mut self, cycles: Option<u64>) -> ExecLeft {
-        let mut model = ExtModel::new(&mut self.ext, &mut self.groups[..], self.running);
+        let mut model = ExtModel::new(
+            &mut self.ext,
+            &mut self.groups[..],
+            self.running,
+            self.plane,
+        );
         let (spooler, budget) = (&mut self.spooler, EXEC_SLICE_CYCLES);
         match cycles {
             Some(n) => match self.executor.run_for(spooler, n, &mut model, budget) {
@@ -209,7 +214,7 @@ impl<E: TcExtension> TcModule<E> {
     /// Drops the executor's offset when the extension's model stopped
     /// acting (after a write to its objects: OTC switched off).
     fn sync_offset(&mut self) {
-        let mut groups = Groups::new(&mut self.groups[..], self.running);
+        let mut groups = Groups::new(&mut self.groups[..], self.running, self.plane);
         if !self.ext.cycle_active(groups.reborrow()) {
             self.executor.clear_offset();
         }
@@ -253,8 +258,9 @@ impl<'a, E: TcExtension> ExtModel<'a, E> {
         ext: &'a mut E,
         slots: &'a mut crate::extension::GroupSlots<E>,
         running: Option<usize>,
+        plane: TcPlane,
     ) -> Self {
-        let mut groups = Groups::new(slots, running);
+        let mut groups = Groups::new(slots, running, plane);
         let active = ext.cycle_active(groups.reborrow());
         Self {
             ext,

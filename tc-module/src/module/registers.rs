@@ -37,10 +37,13 @@ impl<E: TcExtension> TcModule<E> {
         slot: usize,
         f: impl FnOnce(&mut E, GroupAccess<'_, E>) -> T,
     ) -> T {
-        let running = self.running == Some(slot);
+        let (running, plane) = (self.running == Some(slot), self.plane);
         let g = self.groups[slot].get_or_insert_with(Default::default);
         // slot < GROUP_COUNT (32) fits u16.
-        f(&mut self.ext, GroupAccess::new(slot as u16 + 1, g, running))
+        f(
+            &mut self.ext,
+            GroupAccess::new(slot as u16 + 1, g, running, plane),
+        )
     }
 
     /// Writes a register of device 0.

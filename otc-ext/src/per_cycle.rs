@@ -1,0 +1,69 @@
+//! The wear model plugged into the executor: for the group whose OTC is
+//! on, the settings in force are read from the group, its current tool
+//! entry and the axes, and the taken PLC units are lent to the model for
+//! one cycle (`TcExtension::cycle`); the model is at rest when those
+//! units stand on their targets.
+
+use tc_module::{AxisPos, Cycle, GroupAccess, Groups, AXES};
+
+use crate::state::PlcUnit;
+use crate::switching::taken;
+use crate::wear::{run_cycle, TakenMut, WearSettings};
+use crate::OtcExtension;
+
+type Access<'a> = GroupAccess<'a, OtcExtension>;
+
+/// The settings in force for the group (rule 9: read every cycle, so
+/// AccWeight, ToolMaxInfeed and ToolTiltAngle act from the next one).
+fn settings(g: &Access<'_>) -> WearSettings {
+    let (s, tool) = (g.state(), g.tool().ext);
+    WearSettings {
+        proc_type: s.proc_type,
+        mode: s.mode,
+        wear_const: s.const_in_force,
+        acc_weight: s.acc_weight,
+        max_infeed: tool.max_infeed,
+        tilt: tool.tilt,
+        axes: g.plane_axes(),
+        xyz: g.xyz(),
+        // The table limits OriAxis to 0..7.
+        ori_axis: usize::try_from(s.ori_axis).unwrap_or(0).min(AXES - 1),
+    }
+}
+
+/// Runs `f` on the group whose OTC is on with its settings and the units
+/// it takes; `None` when no group's OTC is on.
+fn with_on_group<T>(
+    axes: &mut [PlcUnit; AXES],
+    mut groups: Groups<'_, OtcExtension>,
+    f: impl FnOnce(&mut crate::wear::WearState, &mut TakenMut<'_>, &WearSettings) -> T,
+) -> Option<T> {
+    let mut g = groups.iter_mut().find(|g| g.state().on)?;
+    let (set, t) = (settings(&g), taken(&g));
+    let s = g.state_mut();
+    let mut units = TakenMut {
+        channel: t.channel.then_some(&mut s.radius_unit),
+        axis: t.axis.and_then(|a| axes.get_mut(a)),
+    };
+    Some(f(&mut s.wear, &mut units, &set))
+}
+
+impl OtcExtension {
+    /// One interpolation cycle of the wear model: the offset of the group
+    /// whose OTC is on (none while no OTC is on).
+    pub(crate) fn wear_cycle(&mut self, c: &Cycle<'_>, groups: Groups<'_, Self>) -> AxisPos {
+        with_on_group(&mut self.axes, groups, |state, units, set| {
+            run_cycle(state, units, set, c)
+        })
+        .unwrap_or([0.0; AXES])
+    }
+
+    /// Whether a cycle in which nothing moves would change nothing: the
+    /// units the group whose OTC is on takes stand on their targets.
+    pub(crate) fn settled(&mut self, groups: Groups<'_, Self>) -> bool {
+        with_on_group(&mut self.axes, groups, |_, units, set| {
+            units.settled(set.max_infeed)
+        })
+        .unwrap_or(true)
+    }
+}

@@ -1,0 +1,115 @@
+//! Switching OTC on and off (otc.md "Switching", "Switching off and
+//! reading back", "Position requests", rules 1, 6, 8 and 10 of "Exact
+//! rules"), and the NotAllowed check of the PLC units.
+
+use tc_module::{GroupAccess, Groups, AXES};
+use uoi::AccessError;
+
+use crate::state::{OtcErrorBits, PlcUnit, ProcType, APPLIED_UNIT_MM, GRINDING};
+use crate::wear::units::TakenUnits;
+use crate::wear::WearState;
+use crate::OtcExtension;
+
+type Access<'a> = GroupAccess<'a, OtcExtension>;
+
+/// The units the group's type and mode take.
+pub(crate) fn taken(g: &Access<'_>) -> TakenUnits {
+    let s = g.state();
+    TakenUnits::of(s.proc_type, s.mode, g.plane_axes().third)
+}
+
+/// Rule 8: NotAllowed when an enabled unit is one the group's type and
+/// mode ignore (the unit stays ignored, OTC keeps running).
+pub(crate) fn check_units(g: &mut Access<'_>, axes: &[PlcUnit; AXES]) {
+    let ignored = taken(g).ignore_an_enabled(&g.state().radius_unit, axes);
+    if ignored {
+        g.state_mut().error |= OtcErrorBits::NOT_ALLOWED;
+    }
+}
+
+/// `#OTC OFF`: the wear since ON is booked on the tool and read back
+/// through the V.G. values; every unit gives its offset back. A booking
+/// the tool entry refuses (a radius or length beyond ±1e9) changes
+/// nothing.
+fn switch_off(g: &mut Access<'_>, axes: &mut [PlcUnit; AXES]) -> Result<(), AccessError> {
+    let t = taken(g);
+    let s = g.state();
+    let axis_applied = t.axis.and_then(|a| axes.get(a)).map_or(0.0, |u| u.applied);
+    let channel_applied = if t.channel {
+        s.radius_unit.applied
+    } else {
+        0.0
+    };
+    let w_cont = s.wear.w_cont;
+    let w = w_cont + (channel_applied + axis_applied) * APPLIED_UNIT_MM;
+    let dir = s.wear.last_dir.unwrap_or([0.0; AXES]);
+    if s.proc_type == ProcType::Radius {
+        g.reduce_radius(w)?;
+        let s = g.state_mut();
+        s.wear_radius += w;
+        s.wear_radius_cont += w_cont;
+    } else {
+        g.reduce_length(w)?;
+        let s = g.state_mut();
+        for (acc, u) in s.wear_axis.iter_mut().zip(dir) {
+            *acc += w * u;
+        }
+    }
+    let s = g.state_mut();
+    s.wear = WearState::default();
+    s.radius_unit.applied = 0.0;
+    s.on = false;
+    axes.iter_mut().for_each(|u| u.applied = 0.0);
+    Ok(())
+}
+
+/// `#OTC ON` of the group at `index`: needs a grinding tool (else
+/// ToolType) and no other group with OTC on (else Sequence); fixes the
+/// wear constant and checks the units.
+fn switch_on(index: u16, groups: &mut Groups<'_, OtcExtension>, axes: &[PlcUnit; AXES]) {
+    let other_on = groups
+        .iter_mut()
+        .any(|g| g.index() != index && g.state().on);
+    let Some(mut g) = groups.get(index) else {
+        return;
+    };
+    let tool = g.tool().ext;
+    let s = g.state_mut();
+    if tool.tool_type != GRINDING {
+        s.error |= OtcErrorBits::TOOL_TYPE;
+    } else if other_on {
+        s.error |= OtcErrorBits::SEQUENCE;
+    } else {
+        s.const_in_force = s.wear_const_override.unwrap_or(tool.wear_const);
+        s.wear = WearState::default();
+        s.on = true;
+        check_units(&mut g, axes);
+    }
+}
+
+impl OtcExtension {
+    /// `OtcOn` of the group at `index` written. ON twice or OFF while off
+    /// changes nothing; OFF while a RADIUS correction runs is out of
+    /// sequence.
+    pub(crate) fn write_on(
+        &mut self,
+        index: u16,
+        on: bool,
+        mut groups: Groups<'_, Self>,
+    ) -> Result<(), AccessError> {
+        let is_on = groups.get(index).is_some_and(|g| g.state().on);
+        if on && !is_on {
+            switch_on(index, &mut groups, &self.axes);
+        } else if !on && is_on {
+            let Some(mut g) = groups.get(index) else {
+                return Ok(());
+            };
+            if g.state().proc_type == ProcType::Radius && g.running() {
+                g.state_mut().error |= OtcErrorBits::SEQUENCE;
+            } else {
+                return switch_off(&mut g, &mut self.axes);
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,206 @@
+//! The direction wear acts in, per processing type (otc.md "Wear per
+//! interpolation cycle" and rules 2 to 5, 11): the RADIUS weight and
+//! contour normal, the tilted LENGTH direction, the tool direction from
+//! the orientation axis, and the surface normal.
+
+use tc_module::{AxisPos, Cycle, Origin, PlaneAxes, SpoolElement, AXES};
+
+/// Below this length `t − (t·v)·v` has no direction: the surface normal
+/// is kept from before (SURF_NORM_DIR).
+pub const DEGENERATE_NORMAL: f64 = 1e-9;
+
+/// The RADIUS weight at the end of an element, by its tag: 1 after the
+/// elements the correction spooled and the approach, 0 after the others
+/// (the departure ends at 0), and 0 with no element before (a direct
+/// command).
+fn end_weight(e: Option<&SpoolElement>) -> f64 {
+    match e.map(|e| e.origin) {
+        Some(Origin::Corrected | Origin::Transition | Origin::Approach) => 1.0,
+        _ => 0.0,
+    }
+}
+
+/// The fraction of element `e` run after distance `done`.
+fn fraction(e: &SpoolElement, done: f64) -> f64 {
+    if e.length > 0.0 {
+        (done / e.length).clamp(0.0, 1.0)
+    } else {
+        1.0
+    }
+}
+
+/// The RADIUS weight at the cycle's end (rule 4): 1 on corrected and
+/// transition elements; rising linearly in path length from its value at
+/// the start to 1 along an approach; falling from it to 0 along the
+/// departure; 0 elsewhere and before any element.
+pub fn radius_weight(c: &Cycle<'_>) -> f64 {
+    let Some(e) = c.current else { return 0.0 };
+    let start = end_weight(c.previous);
+    let f = fraction(e, c.done);
+    match e.origin {
+        Origin::Corrected | Origin::Transition => 1.0,
+        Origin::Approach => start + (1.0 - start) * f,
+        Origin::Departure => start * (1.0 - f),
+        _ => 0.0,
+    }
+}
+
+fn axis(a: u8) -> usize {
+    usize::from(a).min(AXES - 1)
+}
+
+/// LENGTH: `sin α · e1 + cos α · e3` on the group's first and third main
+/// axes, `α` the disc tilt in degrees.
+pub fn length_dir(tilt_deg: f64, axes: PlaneAxes) -> AxisPos {
+    let (sin, cos) = tilt_deg.to_radians().sin_cos();
+    let mut u = [0.0; AXES];
+    u[axis(axes.h)] += sin;
+    u[axis(axes.third)] += cos;
+    u
+}
+
+/// The tool direction `(sin B, 0, cos B)` on the group's X, Y, Z, `B` the
+/// orientation axis in degrees (TOOL_DIR; SURF_NORM_DIR's `t`).
+pub fn tool_dir(b_deg: f64, xyz: [u8; 3]) -> AxisPos {
+    let (sin, cos) = b_deg.to_radians().sin_cos();
+    let mut t = [0.0; AXES];
+    t[axis(xyz[0])] += sin;
+    t[axis(xyz[2])] += cos;
+    t
+}
+
+/// The unit path tangent on X, Y, Z at the cycle's end; `None` without
+/// an element or when the path moves none of them.
+fn xyz_tangent(c: &Cycle<'_>, xyz: [u8; 3]) -> Option<[f64; 3]> {
+    let t = c.tangent()?;
+    let v = xyz.map(|a| t[axis(a)]);
+    let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    (len > 0.0).then(|| v.map(|x| x / len))
+}
+
+/// SURF_NORM_DIR: `normalize(t − (t·v)·v)` on X, Y, Z, or `None` where it
+/// degenerates (no tangent on X, Y, Z, or `t` along it).
+pub fn surface_normal(c: &Cycle<'_>, t: &AxisPos, xyz: [u8; 3]) -> Option<AxisPos> {
+    let v = xyz_tangent(c, xyz)?;
+    let tv = xyz.map(|a| t[axis(a)]);
+    let dot = tv[0] * v[0] + tv[1] * v[1] + tv[2] * v[2];
+    let n = [0, 1, 2].map(|i| tv[i] - dot * v[i]);
+    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    if len.is_nan() || len < DEGENERATE_NORMAL {
+        return None;
+    }
+    let mut out = [0.0; AXES];
+    for (i, a) in xyz.iter().enumerate() {
+        out[axis(*a)] += n[i] / len;
+    }
+    Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const XY: PlaneAxes = PlaneAxes {
+        h: 0,
+        v: 1,
+        third: 2,
+    };
+
+    fn pos(x: f64, y: f64, z: f64) -> AxisPos {
+        let mut p = [0.0; AXES];
+        (p[0], p[1], p[2]) = (x, y, z);
+        p
+    }
+
+    fn line(origin: Origin, to: AxisPos) -> SpoolElement {
+        SpoolElement::line([0.0; AXES], to, 1000.0, false, origin)
+    }
+
+    fn cycle<'a>(
+        current: Option<&'a SpoolElement>,
+        previous: Option<&'a SpoolElement>,
+        done: f64,
+        nominal: &'a AxisPos,
+    ) -> Cycle<'a> {
+        Cycle {
+            parts: &[],
+            current,
+            done,
+            previous,
+            nominal,
+        }
+    }
+
+    #[test]
+    fn weight_rises_along_the_approach_and_falls_along_the_departure() {
+        let p = [0.0; AXES];
+        let approach = line(Origin::Approach, pos(10.0, 0.0, 0.0));
+        let corrected = line(Origin::Corrected, pos(10.0, 0.0, 0.0));
+        let departure = line(Origin::Departure, pos(10.0, 0.0, 0.0));
+        let plain = line(Origin::Uncorrected, pos(10.0, 0.0, 0.0));
+        let w = |c, prev, d| radius_weight(&cycle(Some(c), prev, d, &p));
+        assert_eq!(w(&approach, None, 2.5), 0.25);
+        assert_eq!(w(&approach, Some(&plain), 10.0), 1.0);
+        assert_eq!(w(&approach, Some(&corrected), 2.5), 1.0);
+        assert_eq!(w(&corrected, None, 2.5), 1.0);
+        assert_eq!(w(&departure, Some(&corrected), 2.5), 0.75);
+        assert_eq!(w(&departure, Some(&plain), 2.5), 0.0);
+        assert_eq!(w(&departure, None, 10.0), 0.0);
+        assert_eq!(w(&plain, Some(&corrected), 2.5), 0.0);
+        assert_eq!(radius_weight(&cycle(None, None, 0.0, &p)), 0.0);
+    }
+
+    #[test]
+    fn length_direction_follows_the_tilt() {
+        let u = length_dir(0.0, XY);
+        assert_eq!((u[0], u[2]), (0.0, 1.0));
+        let u = length_dir(30.0, XY);
+        assert!((u[0] - 0.5).abs() < 1e-15 && (u[2] - 0.75f64.sqrt()).abs() < 1e-15);
+        let zx = PlaneAxes {
+            h: 2,
+            v: 0,
+            third: 1,
+        };
+        let u = length_dir(-30.0, zx);
+        assert!((u[2] + 0.5).abs() < 1e-15 && (u[1] - 0.75f64.sqrt()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn tool_direction_at_45_and_90_degrees() {
+        let t = tool_dir(45.0, [0, 1, 2]);
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        assert!((t[0] - h).abs() < 1e-15 && (t[2] - h).abs() < 1e-15 && t[1] == 0.0);
+        let t = tool_dir(90.0, [0, 1, 2]);
+        assert!((t[0] - 1.0).abs() < 1e-15 && t[2].abs() < 1e-15);
+    }
+
+    #[test]
+    fn surface_normal_is_t_without_its_tangent_part() {
+        let p = [0.0; AXES];
+        let t = tool_dir(0.0, [0, 1, 2]);
+        // Down a 45° slope in X-Z: v = (1, 0, -1)/√2, n = (1, 0, 1)/√2.
+        let slope = line(Origin::Uncorrected, pos(1.0, 0.0, -1.0));
+        let n = surface_normal(&cycle(Some(&slope), None, 0.5, &p), &t, [0, 1, 2]);
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let n = n.map(|n| [n[0], n[1], n[2]]);
+        assert!(n.is_some_and(|n| (n[0] - h).abs() < 1e-15 && (n[2] - h).abs() < 1e-15));
+        // Along Z, t is the tangent: no normal.
+        let plunge = line(Origin::Uncorrected, pos(0.0, 0.0, -1.0));
+        assert_eq!(
+            surface_normal(&cycle(Some(&plunge), None, 0.5, &p), &t, [0, 1, 2]),
+            None
+        );
+        // A pure B move has no X/Y/Z tangent; nothing moved: none either.
+        let mut b = [0.0; AXES];
+        b[4] = 10.0;
+        let turn = line(Origin::Uncorrected, b);
+        assert_eq!(
+            surface_normal(&cycle(Some(&turn), None, 1.0, &p), &t, [0, 1, 2]),
+            None
+        );
+        assert_eq!(
+            surface_normal(&cycle(None, None, 0.0, &p), &t, [0, 1, 2]),
+            None
+        );
+    }
+}

@@ -1,0 +1,151 @@
+//! The OTC wear model, one interpolation cycle at a time (otc.md "Wear per
+//! interpolation cycle" and "Exact rules"). Pure: the state of the group
+//! whose OTC is on and the PLC units it takes go in, with the settings in
+//! force and the cycle's facts; the offset to the executed position
+//! comes out, and the state is updated. It allocates nothing.
+//!
+//! Within one cycle: the continuous wear of the path travelled is added,
+//! each taken unit ramps one step, then the direction is taken where the
+//! cycle ended, and the offset is `−w · direction` (RADIUS: `−w · weight
+//! · n`), `w = w_cont + w_disc`.
+
+pub mod direction;
+pub mod ramp;
+pub mod units;
+
+use tc_module::{AxisPos, Cycle, Origin, PathPart, PlaneAxes, AXES};
+
+use crate::state::{OtcMode, PlcUnit, ProcType, APPLIED_UNIT_MM};
+use direction::{length_dir, radius_weight, surface_normal, tool_dir};
+
+/// Interpolation units of wear per unit of path, per 0.1 µm/m of
+/// WearConst.
+pub const WEAR_PER_CONST: f64 = 1e-7;
+
+/// What the model keeps of a group between cycles.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct WearState {
+    /// Continuous wear since OTC ON, interpolation units.
+    pub w_cont: f64,
+    /// The unit wear direction of the last cycle (RADIUS: `n`, without
+    /// its weight): kept where a cycle cannot find one, and the direction
+    /// a switch-off books the wear along; `None` since ON.
+    pub last_dir: Option<AxisPos>,
+}
+
+/// The settings in force for one cycle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WearSettings {
+    /// Processing type.
+    pub proc_type: ProcType,
+    /// Mode.
+    pub mode: OtcMode,
+    /// The wear constant fixed at ON, 0.1 µm/m.
+    pub wear_const: f64,
+    /// AccWeight, percent.
+    pub acc_weight: i32,
+    /// ToolMaxInfeed of the current entry, 0.1 µm.
+    pub max_infeed: f64,
+    /// ToolTiltAngle of the current entry, 0.0001°.
+    pub tilt: f64,
+    /// The group's plane axes (LENGTH's first and third main axes).
+    pub axes: PlaneAxes,
+    /// The group's X, Y, Z machine axes.
+    pub xyz: [u8; 3],
+    /// The machine axis of the orientation angle B.
+    pub ori_axis: usize,
+}
+
+/// The PLC units the type and mode take, mutable (their applied values
+/// ramp); `None` where one is not taken.
+#[derive(Debug, Default)]
+pub struct TakenMut<'a> {
+    /// The group's channel unit.
+    pub channel: Option<&'a mut PlcUnit>,
+    /// The device-4 unit of one axis.
+    pub axis: Option<&'a mut PlcUnit>,
+}
+
+impl TakenMut<'_> {
+    /// `w_disc`: the applied values of the taken units, interpolation units.
+    pub fn w_disc(&self) -> f64 {
+        let applied = |u: &Option<&mut PlcUnit>| u.as_ref().map_or(0.0, |u| u.applied);
+        (applied(&self.channel) + applied(&self.axis)) * APPLIED_UNIT_MM
+    }
+
+    /// Whether every taken unit stands on its target.
+    pub fn settled(&self, max_infeed: f64) -> bool {
+        let on_target = |u: &Option<&mut PlcUnit>| {
+            u.as_ref()
+                .is_none_or(|u| u.applied == ramp::target(u, max_infeed))
+        };
+        on_target(&self.channel) && on_target(&self.axis)
+    }
+
+    fn ramp(&mut self, set: &WearSettings) {
+        let step = ramp::step_per_cycle(set.acc_weight);
+        for u in [&mut self.channel, &mut self.axis].into_iter().flatten() {
+            u.applied = ramp::ramp(u.applied, ramp::target(u, set.max_infeed), step);
+        }
+    }
+}
+
+/// Whether the path of `part` wears the tool: feed elements only; for
+/// RADIUS only those the running correction spooled.
+pub fn wears(part: &PathPart, proc: ProcType) -> bool {
+    !part.rapid
+        && (proc != ProcType::Radius
+            || matches!(part.origin, Origin::Corrected | Origin::Transition))
+}
+
+/// The continuous wear of one cycle's path: `k · ds` over the parts that
+/// wear, `k = WearConst · 1e-7`.
+pub fn continuous_wear(parts: &[PathPart], proc: ProcType, wear_const: f64) -> f64 {
+    let ds: f64 = parts
+        .iter()
+        .filter(|p| wears(p, proc))
+        .map(|p| p.length)
+        .sum();
+    wear_const * WEAR_PER_CONST * ds
+}
+
+/// The unit direction wear acts against at the cycle's end, and the
+/// weight it acts with (RADIUS' weight, else 1). A direction that cannot
+/// be found here (RADIUS off the elements the correction spooled, a
+/// degenerate surface normal) is the last one.
+fn direction(last: Option<AxisPos>, set: &WearSettings, c: &Cycle<'_>) -> (AxisPos, f64) {
+    let t = || tool_dir(c.nominal[set.ori_axis], set.xyz);
+    match set.proc_type {
+        ProcType::Radius => {
+            let n = c.normal().or(last).unwrap_or([0.0; AXES]);
+            (n, radius_weight(c))
+        }
+        ProcType::Length => (length_dir(set.tilt * 1e-4, set.axes), 1.0),
+        ProcType::ToolDir => (t(), 1.0),
+        ProcType::SurfNormDir => {
+            let n = surface_normal(c, &t(), set.xyz).or(last).unwrap_or_else(t);
+            (n, 1.0)
+        }
+    }
+}
+
+/// One cycle of the model: updates `state` and the taken units, returns
+/// the offset to add to the nominal position.
+pub fn run_cycle(
+    state: &mut WearState,
+    units: &mut TakenMut<'_>,
+    set: &WearSettings,
+    c: &Cycle<'_>,
+) -> AxisPos {
+    if set.mode != OtcMode::Disc {
+        state.w_cont += continuous_wear(c.parts, set.proc_type, set.wear_const);
+    }
+    units.ramp(set);
+    let w = state.w_cont + units.w_disc();
+    let (dir, weight) = direction(state.last_dir, set, c);
+    state.last_dir = Some(dir);
+    dir.map(|d| -w * weight * d)
+}
+
+#[cfg(test)]
+mod tests;
