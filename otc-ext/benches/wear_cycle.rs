@@ -17,6 +17,12 @@
 //!   elements (without the module around it).
 //! * RADIUS, LENGTH, TOOL_DIR, SURF_NORM_DIR: OTC on in AUTO (continuous
 //!   wear, the type's PLC units enabled and ramping at AccWeight 1).
+//!
+//! After criterion, a paired run times every variant once per round,
+//! round after round in rotating order, and prints the minimum and
+//! median per variant and each type's median per-round difference to
+//! the executor alone: on a shared machine a load that comes and goes
+//! then hits every variant alike.
 
 #![allow(missing_docs, clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
@@ -27,7 +33,7 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use common::{command_all, otc_auto_on, otc_module, run, set_units, Contour, CORRECTION_ON, TYPES};
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::{criterion_group, Criterion, Throughput};
 use tc_module::executor::Executor;
 use tc_module::extension::NoKey;
 use tc_module::{
@@ -193,18 +199,99 @@ fn wear_cycle(c: &mut Criterion) {
     });
     for (code, name) in TYPES {
         g.bench_function(name, |b| {
-            let mut rig = Rig::new(otc_module(), Some(code));
-            otc_auto_on(&mut rig.tc, code, 1_000_000);
-            rig.tc.exec(Some(10));
-            assert!(
-                rig.tc.executor().offset().is_some(),
-                "{name}: the wear model does not act per cycle"
-            );
+            let mut rig = otc_rig(code, name);
             b.iter_custom(|iters| rig.time(iters));
         });
     }
     g.finish();
 }
 
+/// A rig with OTC on in AUTO with `code`, checked to act per cycle.
+fn otc_rig(code: i32, name: &str) -> Rig<otc_ext::OtcExtension> {
+    let mut rig = Rig::new(otc_module(), Some(code));
+    otc_auto_on(&mut rig.tc, code, 1_000_000);
+    rig.tc.exec(Some(10));
+    assert!(
+        rig.tc.executor().offset().is_some(),
+        "{name}: the wear model does not act per cycle"
+    );
+    rig
+}
+
+/// Rounds of the paired run.
+const ROUNDS: usize = 300;
+
+/// A variant of the paired run: its name and one timed iteration.
+type Variant = (&'static str, Box<dyn FnMut() -> Duration>);
+
+/// The paired run, for a shared machine: every variant runs one
+/// iteration per round, round after round, in rotating order, so a load
+/// that comes and goes hits all of them alike. Prints per variant the
+/// minimum and median ns per cycle over the rounds and, per OTC type,
+/// the median of its per-round difference to and ratio over `stepped, no
+/// model work` (the executor alone, stepping every cycle).
+fn paired() {
+    let mut variants: Vec<Variant> = Vec::new();
+    let mut off = Rig::new(otc_module(), None);
+    variants.push(("OTC off (counted)", Box::new(move || off.time(1))));
+    let stepped = TcModule::new([0.0; AXES], CycleTime::DEFAULT, Stepped);
+    let mut stepped = Rig::new(stepped, None);
+    variants.push(("stepped, no model work", Box::new(move || stepped.time(1))));
+    let mut bare = BareRig::new();
+    variants.push((
+        "Executor::step, no model work",
+        Box::new(move || bare.time(1)),
+    ));
+    for (code, name) in TYPES {
+        let mut rig = otc_rig(code, name);
+        variants.push((name, Box::new(move || rig.time(1))));
+    }
+    let n = variants.len();
+    let mut ns = vec![Vec::with_capacity(ROUNDS); n];
+    for round in 0..ROUNDS {
+        for k in 0..n {
+            let i = (k + round) % n;
+            let t = (variants[i].1)();
+            ns[i].push(t.as_secs_f64() * 1e9 / CYCLES as f64);
+        }
+    }
+    println!("\npaired run: {ROUNDS} rounds of EXEC {CYCLES} per variant, ns per cycle");
+    println!("| variant | min | median | added (median of per-round differences) | ratio |");
+    println!("|---|---|---|---|---|");
+    let base = ns[1].clone();
+    for (i, (name, _)) in variants.iter().enumerate() {
+        let (min, med) = (min_of(&ns[i]), median(&ns[i]));
+        if i < 3 {
+            println!("| {name} | {min:.1} | {med:.1} | | |");
+            continue;
+        }
+        let diff: Vec<f64> = ns[i].iter().zip(&base).map(|(a, b)| a - b).collect();
+        let ratio: Vec<f64> = ns[i].iter().zip(&base).map(|(a, b)| a / b).collect();
+        println!(
+            "| {name} | {min:.1} | {med:.1} | {:+.1} | {:.2} |",
+            median(&diff),
+            median(&ratio)
+        );
+    }
+}
+
+fn min_of(v: &[f64]) -> f64 {
+    v.iter().copied().fold(f64::INFINITY, f64::min)
+}
+
+fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    s[s.len() / 2]
+}
+
 criterion_group!(benches, wear_cycle);
-criterion_main!(benches);
+
+fn main() {
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+    // Not in test mode (`cargo test --benches` runs each bench once).
+    if std::env::args().any(|a| a == "--bench") {
+        paired();
+    }
+}

@@ -466,7 +466,7 @@ fn check_cycle(
 
 proptest! {
     #![proptest_config(ProptestConfig {
-        cases: 40,
+        cases: 64,
         max_global_rejects: 4000,
         ..ProptestConfig::default()
     })]
