@@ -5,7 +5,7 @@
 //! serves it over TCP ([`service`], with a private emulator per
 //! conformance session: [`session`]), and replays conformance traces
 //! (docs/trace-format.md) in-process or over the wire ([`trace`],
-//! [`remote`]).
+//! [`remote`]). [`picture`] draws paths in a plane as SVG for the docs.
 //!
 //! ```
 //! use addipos::trace::{parse_trace, replay};
@@ -20,6 +20,7 @@ pub mod address;
 pub mod config;
 pub mod emulator;
 pub mod fuzz_checks;
+pub mod picture;
 pub mod reference;
 pub mod remote;
 pub mod service;

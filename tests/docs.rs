@@ -1,10 +1,16 @@
 //! The project's documents stand alone: the object reference matches the
-//! object table, and no file points outside the repository.
+//! object table, the OTC picture is what its generator draws, and no file
+//! points outside the repository.
 
 use std::fs;
 use std::path::{Path, PathBuf};
 
 use addipos::reference::{bits_without_meaning, devices_without_section, object_reference};
+
+/// The generator of docs/otc-path.svg (its `main` writes the file).
+#[path = "../examples/otc_picture.rs"]
+#[allow(dead_code)]
+mod otc_picture;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -22,6 +28,53 @@ fn objects_md_is_the_generated_reference() {
         on_disk == fresh,
         "docs/objects.md is stale: run `cargo run -- objects > docs/objects.md`"
     );
+}
+
+#[test]
+fn otc_path_svg_is_the_generated_picture() {
+    let path = root().join(otc_picture::PICTURE);
+    let fresh = otc_picture::otc_path_svg().unwrap();
+    if std::env::var_os("ADDIPOS_WRITE_DOCS").is_some() {
+        fs::write(&path, &fresh).unwrap();
+    }
+    let on_disk = fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        on_disk == fresh,
+        "{} is stale: run `cargo run --example otc_picture`",
+        otc_picture::PICTURE
+    );
+    let docs = fs::read_to_string(root().join("docs/otc.md")).unwrap();
+    assert!(
+        docs.contains("](otc-path.svg)"),
+        "docs/otc.md shows the picture"
+    );
+}
+
+/// The request and spool lines of `text` (no headers, comments or blank
+/// lines), as written.
+fn request_lines(text: &str) -> Vec<&str> {
+    text.lines()
+        .map(str::trim_end)
+        .filter(|l| !l.is_empty() && !l.starts_with('#') && !l.starts_with('@'))
+        .collect()
+}
+
+#[test]
+fn otc_md_example_is_the_example_trace() {
+    let docs = fs::read_to_string(root().join("docs/otc.md")).unwrap();
+    let example = docs
+        .split("## A worked example")
+        .nth(1)
+        .and_then(|rest| rest.split("\n## ").next())
+        .unwrap();
+    let blocks: String = example
+        .split("```")
+        .skip(1)
+        .step_by(2)
+        .map(|b| b.trim_start_matches('\n'))
+        .collect();
+    let trace = fs::read_to_string(root().join("traces/otc-example-docs.trace")).unwrap();
+    assert_eq!(request_lines(&blocks), request_lines(&trace));
 }
 
 #[test]

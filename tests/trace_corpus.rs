@@ -82,3 +82,26 @@ fn every_access_error_is_expected_somewhere() {
         "access errors no trace expects: {missing:?}"
     );
 }
+
+#[test]
+fn every_otc_error_bit_is_read_back_set_somewhere() {
+    let traces = corpus();
+    // Reads of OtcError (device 3, sub 7) with the value the trace expects.
+    let answers: Vec<i32> = traces
+        .iter()
+        .flat_map(|t| &t.steps)
+        .filter_map(|s| match (&s.request, &s.expect) {
+            (Request::Read(a, _), Expect::Int(v)) if a.device == 3 && a.sub == 7 => Some(*v),
+            _ => None,
+        })
+        .collect();
+    let missing: Vec<String> = otc_ext::OtcErrorBits::all()
+        .iter_names()
+        .filter(|(_, bit)| !answers.iter().any(|v| v & bit.bits() != 0))
+        .map(|(name, _)| name.to_owned())
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "OtcError bits no trace provokes: {missing:?}"
+    );
+}

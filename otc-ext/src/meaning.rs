@@ -10,7 +10,8 @@ impl Meaning for O {
         match self {
             O::OtcOn => {
                 "1 switches OTC on for the group (NC `#OTC ON`; needs a grinding tool, else \
-                 OtcError ToolType), 0 switches it off and books the wear. Read: whether it is on."
+                 OtcError ToolType; one group at a time, else OtcError Sequence), 0 switches \
+                 it off and books the wear. Read: whether it is on."
             }
             O::ProcType => {
                 "Where the wear acts: 0 RADIUS, 1 LENGTH (default), 2 TOOL_DIR, \
@@ -61,8 +62,13 @@ impl Meaning for O {
             }
             O::RadiusOffsetCommand => "PLC channel unit: the radius offset asked for, in 0.1 µm.",
             O::RadiusOffsetEnable => "PLC channel unit: 1 lets the command act.",
-            O::RadiusOffsetRequest => "The command as it is used: clamped to ± ToolMaxInfeed.",
-            O::RadiusOffsetState => "The offset applied now, after the ramp.",
+            O::RadiusOffsetRequest => {
+                "The command clamped to ± ToolMaxInfeed of the current entry of the group \
+                 whose OTC is on (with none on: of group 1), enabled or not."
+            }
+            O::RadiusOffsetState => {
+                "The offset applied now, after the ramp, in 0.1 µm rounded to the nearest."
+            }
             O::HandoffCount => {
                 "How many tools were handed back to external tool management: one per \
                  WKZINDEX change, with the outgoing tool's booked wear."
@@ -72,8 +78,13 @@ impl Meaning for O {
             O::HandoffWearRadiusCont => "Its WearRadiusCont at the hand-back.",
             O::AxisOffsetCommand => "PLC axis unit: the offset asked for on this axis, in 0.1 µm.",
             O::AxisOffsetEnable => "PLC axis unit: 1 lets the command act.",
-            O::AxisOffsetRequest => "The command as it is used: clamped to ± ToolMaxInfeed.",
-            O::AxisOffsetState => "The offset applied now, after the ramp.",
+            O::AxisOffsetRequest => {
+                "The command clamped to ± ToolMaxInfeed of the current entry of the group \
+                 whose OTC is on (with none on: of group 1), enabled or not."
+            }
+            O::AxisOffsetState => {
+                "The offset applied now, after the ramp, in 0.1 µm rounded to the nearest."
+            }
         }
     }
 }

@@ -8,7 +8,7 @@ use tc_module::{AxisPos, Cycle, GroupAccess, Groups, AXES};
 
 use crate::state::PlcUnit;
 use crate::switching::taken;
-use crate::wear::{run_cycle, TakenMut, WearSettings};
+use crate::wear::{offset_at, run_cycle, TakenMut, WearSettings};
 use crate::OtcExtension;
 
 type Access<'a> = GroupAccess<'a, OtcExtension>;
@@ -24,8 +24,8 @@ fn settings(g: &Access<'_>) -> WearSettings {
         acc_weight: s.acc_weight,
         max_infeed: tool.max_infeed,
         tilt: tool.tilt,
-        axes: g.plane_axes(),
-        xyz: g.xyz(),
+        axes: g.main_axes().plane,
+        xyz: g.main_axes().xyz,
         // The table limits OriAxis to 0..7.
         ori_axis: usize::try_from(s.ori_axis).unwrap_or(0).min(AXES - 1),
     }
@@ -54,6 +54,15 @@ impl OtcExtension {
     pub(crate) fn wear_cycle(&mut self, c: &Cycle<'_>, groups: Groups<'_, Self>) -> AxisPos {
         with_on_group(&mut self.axes, groups, |state, units, set| {
             run_cycle(state, units, set, c)
+        })
+        .unwrap_or([0.0; AXES])
+    }
+
+    /// The offset for the wear so far where the executor stands, no cycle
+    /// passing (after a direct command).
+    pub(crate) fn wear_offset_now(&mut self, c: &Cycle<'_>, groups: Groups<'_, Self>) -> AxisPos {
+        with_on_group(&mut self.axes, groups, |state, units, set| {
+            offset_at(state, units, set, c)
         })
         .unwrap_or([0.0; AXES])
     }

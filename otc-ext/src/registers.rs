@@ -220,6 +220,14 @@ impl TcExtension for OtcExtension {
         self.wear_cycle(cycle, groups)
     }
 
+    fn cycle_offset_now(
+        &mut self,
+        cycle: &Cycle<'_>,
+        groups: Groups<'_, Self>,
+    ) -> tc_module::AxisPos {
+        self.wear_offset_now(cycle, groups)
+    }
+
     fn cycle_at_rest(&mut self, groups: Groups<'_, Self>) -> bool {
         self.settled(groups)
     }

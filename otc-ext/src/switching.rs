@@ -15,7 +15,7 @@ type Access<'a> = GroupAccess<'a, OtcExtension>;
 /// The units the group's type and mode take.
 pub(crate) fn taken(g: &Access<'_>) -> TakenUnits {
     let s = g.state();
-    TakenUnits::of(s.proc_type, s.mode, g.plane_axes().third)
+    TakenUnits::of(s.proc_type, s.mode, g.main_axes().plane.third)
 }
 
 /// Rule 8: NotAllowed when an enabled unit is one the group's type and

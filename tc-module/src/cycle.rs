@@ -140,6 +140,13 @@ pub trait CycleModel {
     fn at_rest(&mut self) -> bool {
         false
     }
+
+    /// The offset for the model's state as it stands, no cycle passing:
+    /// asked when a direct command has moved the executor at once
+    /// (`cycle.parts` is empty). Default: no offset.
+    fn offset_now(&mut self, _cycle: &Cycle<'_>) -> AxisPos {
+        [0.0; AXES]
+    }
 }
 
 /// No model: the executed position is the nominal one.

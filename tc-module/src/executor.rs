@@ -166,6 +166,30 @@ impl Executor {
         }));
     }
 
+    /// Re-evaluates an active model's offset where the executor stands,
+    /// no cycle passing (a direct command moved it at once); drops it when
+    /// the model is not active.
+    pub fn refresh_offset<M: CycleModel>(&mut self, spooler: &Spooler, model: &mut M) {
+        if !model.active() {
+            self.offset = None;
+            return;
+        }
+        let inside = self.done > 0.0 && spooler.front().is_some();
+        let (current, done, previous) = if inside {
+            (spooler.front(), self.done, self.ended.as_ref())
+        } else {
+            let ended = self.ended.as_ref();
+            (ended, ended.map_or(0.0, |e| e.length), None)
+        };
+        self.offset = Some(model.offset_now(&Cycle {
+            parts: &[],
+            current,
+            done,
+            previous,
+            nominal: &self.nominal,
+        }));
+    }
+
     /// The path step per cycle at `feed` (units/min).
     pub fn step_at(&self, feed: f64) -> f64 {
         feed * self.cycle_min

@@ -17,7 +17,7 @@ use uoi::{AccessError, ObjectAddress, ObjectDesc, Value};
 
 use crate::cycle::Cycle;
 use crate::group::CorrGroup;
-use crate::plane::{AxisPos, PlaneAxes, TcPlane, AXES};
+use crate::plane::{AxisPos, MainAxes, AXES};
 use crate::tool_table::{ToolEntry, WkzIndex};
 
 /// A compensation group as the module stores it for extension `E`.
@@ -32,30 +32,24 @@ pub struct GroupAccess<'a, E: TcExtension> {
     index: u16,
     group: &'a mut Group<E>,
     running: bool,
-    plane: TcPlane,
+    main: MainAxes,
 }
 
 impl<'a, E: TcExtension> GroupAccess<'a, E> {
-    /// The group at `index` (1..=32), running or not, under main plane
-    /// `plane` (TcPlane).
-    pub fn new(index: u16, group: &'a mut Group<E>, running: bool, plane: TcPlane) -> Self {
+    /// The group at `index` (1..=32), running or not, on a machine with
+    /// main axes `main` (device 0).
+    pub fn new(index: u16, group: &'a mut Group<E>, running: bool, main: MainAxes) -> Self {
         Self {
             index,
             group,
             running,
-            plane,
+            main,
         }
     }
 
-    /// The group's plane axes `(h, v, third)`: TcPlane applied to its
-    /// XAxis, YAxis and ZAxis.
-    pub fn plane_axes(&self) -> PlaneAxes {
-        self.group.plane_axes(self.plane)
-    }
-
-    /// The machine axes the group uses as X, Y and Z (XAxis, YAxis, ZAxis).
-    pub fn xyz(&self) -> [u8; 3] {
-        self.group.axes
+    /// The machine's main axes (device 0 AxisNr and TcPlane).
+    pub fn main_axes(&self) -> MainAxes {
+        self.main
     }
 
     /// The group number, 1..=32.
@@ -130,17 +124,17 @@ fn reduced(value: f64, w: f64) -> Result<f64, AccessError> {
 pub struct Groups<'a, E: TcExtension> {
     slots: &'a mut GroupSlots<E>,
     running: Option<usize>,
-    plane: TcPlane,
+    main: MainAxes,
 }
 
 impl<'a, E: TcExtension> Groups<'a, E> {
     /// The groups in `slots` (slot = index - 1); `running` is the slot of
-    /// the running group, `plane` the main plane (TcPlane).
-    pub fn new(slots: &'a mut GroupSlots<E>, running: Option<usize>, plane: TcPlane) -> Self {
+    /// the running group, `main` the machine's main axes (device 0).
+    pub fn new(slots: &'a mut GroupSlots<E>, running: Option<usize>, main: MainAxes) -> Self {
         Self {
             slots,
             running,
-            plane,
+            main,
         }
     }
 
@@ -149,7 +143,7 @@ impl<'a, E: TcExtension> Groups<'a, E> {
         Groups {
             slots: &mut *self.slots,
             running: self.running,
-            plane: self.plane,
+            main: self.main,
         }
     }
 
@@ -158,12 +152,12 @@ impl<'a, E: TcExtension> Groups<'a, E> {
         let slot = usize::from(index).checked_sub(1)?;
         let running = self.running == Some(slot);
         let g = self.slots.get_mut(slot)?.as_deref_mut()?;
-        Some(GroupAccess::new(index, g, running, self.plane))
+        Some(GroupAccess::new(index, g, running, self.main))
     }
 
     /// Every group that was created, in index order.
     pub fn iter_mut(&mut self) -> impl Iterator<Item = GroupAccess<'_, E>> {
-        let (running, plane) = (self.running, self.plane);
+        let (running, main) = (self.running, self.main);
         self.slots
             .iter_mut()
             .enumerate()
@@ -171,7 +165,7 @@ impl<'a, E: TcExtension> Groups<'a, E> {
                 let g = g.as_deref_mut()?;
                 // slot < GROUP_COUNT (32) fits u16.
                 let index = slot as u16 + 1;
-                Some(GroupAccess::new(index, g, running == Some(slot), plane))
+                Some(GroupAccess::new(index, g, running == Some(slot), main))
             })
     }
 }
@@ -267,6 +261,14 @@ pub trait TcExtension: Debug + Send + Sized + 'static {
     /// One interpolation cycle, while [`TcExtension::cycle_active`]: the
     /// offset to add to the nominal position.
     fn cycle(&mut self, _cycle: &Cycle<'_>, _groups: Groups<'_, Self>) -> AxisPos {
+        [0.0; AXES]
+    }
+
+    /// The offset of the per-cycle model for its state as it stands, no
+    /// cycle passing (see
+    /// [`CycleModel::offset_now`](crate::cycle::CycleModel::offset_now)).
+    /// Default: no offset.
+    fn cycle_offset_now(&mut self, _cycle: &Cycle<'_>, _groups: Groups<'_, Self>) -> AxisPos {
         [0.0; AXES]
     }
 

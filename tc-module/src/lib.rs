@@ -48,7 +48,7 @@ pub use limits::{CycleTime, MAX_COORD};
 pub use module::{ExecLeft, TcModule, EXEC_SLICE_CYCLES};
 pub use motion::{ArcDir, Motion};
 pub use object_map::{TcKey, TcObject, GROUPS, GROUP_COUNT, TC_BUS, TC_OBJECTS};
-pub use plane::{AxisPos, PlaneAxes, TcPlane, AXES, AXIS_NAMES};
+pub use plane::{AxisPos, MainAxes, PlaneAxes, TcPlane, AXES, AXIS_NAMES};
 pub use spooler::Spooler;
 pub use tc_request::AxisWords;
 pub use tool_table::{ToolEntry, ToolTable, WkzIndex};

@@ -59,6 +59,16 @@ impl TcPlane {
     }
 }
 
+/// The machine's main axes (device 0): the axes allocated as X, Y, Z
+/// (AxisNr) and the main plane TcPlane builds from them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct MainAxes {
+    /// The machine axes used as X, Y, Z.
+    pub xyz: [u8; 3],
+    /// The main plane: its first and second axes and the third main axis.
+    pub plane: PlaneAxes,
+}
+
 /// Machine axes of a main plane: `h` and `v` span it (CCW turns h to v),
 /// `third` is the tool axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -49,7 +49,8 @@ impl Handler for Endless {
     }
 }
 
-/// Takes READs of index 0, sub 2 itself, endlessly.
+/// Takes READs of index 0, sub 2 itself, endlessly; READs of index 0,
+/// sub 3 take as many more slices as their device number, then answer 42.
 #[derive(Default)]
 struct EndlessSession;
 
@@ -60,6 +61,10 @@ impl Session for EndlessSession {
                 SLICES[2].fetch_add(1, Ordering::Relaxed);
                 Served::More(req)
             }
+            Request::Read(a, ty) if a.index == 0 && a.sub == 3 => match a.device {
+                0 => Served::Here(Answer::Value(Value::I32(42))),
+                n => Served::More(Request::Read(ObjectAddress::new(7, n - 1, 0, 3), ty)),
+            },
             other => Served::Shared(other),
         }
     }
@@ -121,6 +126,21 @@ fn lock_core_drops_the_rest_of_a_request_of_a_closed_connection() {
 #[test]
 fn owner_core_drops_the_rest_of_a_request_of_a_closed_connection() {
     endless_request_stops_with_its_connection(Core::Owner, 1);
+}
+
+#[test]
+fn a_session_answers_a_request_of_many_slices() {
+    let (addr, _stop) = serve(Core::Lock);
+    let mut s = connect(addr);
+    let mut f = BytesMut::new();
+    let req = Request::Read(ObjectAddress::new(7, 5, 0, 3), ValueType::I32);
+    encode_request(1, &req, &mut f);
+    s.write_all(&f).expect("send");
+    let mut a = [0u8; 28];
+    s.read_exact(&mut a).expect("answered");
+    // Status 0 (ok) and the value of the last slice, not Busy.
+    assert_eq!(a[12..16], [0, 0, 0, 0], "{a:?}");
+    assert_eq!(i32::from_le_bytes([a[20], a[21], a[22], a[23]]), 42);
 }
 
 #[test]

@@ -49,8 +49,8 @@ fn axis(a: u8) -> usize {
     usize::from(a).min(AXES - 1)
 }
 
-/// LENGTH: `sin α · e1 + cos α · e3` on the group's first and third main
-/// axes, `α` the disc tilt in degrees.
+/// LENGTH: `sin α · e1 + cos α · e3` on the first and third main axes,
+/// `α` the disc tilt in degrees.
 pub fn length_dir(tilt_deg: f64, axes: PlaneAxes) -> AxisPos {
     let (sin, cos) = tilt_deg.to_radians().sin_cos();
     let mut u = [0.0; AXES];
@@ -59,7 +59,7 @@ pub fn length_dir(tilt_deg: f64, axes: PlaneAxes) -> AxisPos {
     u
 }
 
-/// The tool direction `(sin B, 0, cos B)` on the group's X, Y, Z, `B` the
+/// The tool direction `(sin B, 0, cos B)` on the machine's X, Y, Z, `B` the
 /// orientation axis in degrees (TOOL_DIR; SURF_NORM_DIR's `t`).
 pub fn tool_dir(b_deg: f64, xyz: [u8; 3]) -> AxisPos {
     let (sin, cos) = b_deg.to_radians().sin_cos();

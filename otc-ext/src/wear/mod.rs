@@ -48,9 +48,9 @@ pub struct WearSettings {
     pub max_infeed: f64,
     /// ToolTiltAngle of the current entry, 0.0001°.
     pub tilt: f64,
-    /// The group's plane axes (LENGTH's first and third main axes).
+    /// The main plane (LENGTH's first and third main axes).
     pub axes: PlaneAxes,
-    /// The group's X, Y, Z machine axes.
+    /// The machine axes allocated as X, Y, Z (AxisNr).
     pub xyz: [u8; 3],
     /// The machine axis of the orientation angle B.
     pub ori_axis: usize,
@@ -141,6 +141,18 @@ pub fn run_cycle(
         state.w_cont += continuous_wear(c.parts, set.proc_type, set.wear_const);
     }
     units.ramp(set);
+    offset_at(state, units, set, c)
+}
+
+/// The offset for the wear so far where cycle `c` stands, no wear added
+/// and no unit ramped (also after a direct command moved the axes at
+/// once); keeps the direction in `state`.
+pub fn offset_at(
+    state: &mut WearState,
+    units: &TakenMut<'_>,
+    set: &WearSettings,
+    c: &Cycle<'_>,
+) -> AxisPos {
     let w = state.w_cont + units.w_disc();
     let (dir, weight) = direction(state.last_dir, set, c);
     state.last_dir = Some(dir);

@@ -3,7 +3,7 @@
 //! Values are in the unit of [`PlcUnit::applied`] (0.01 µm), where
 //! targets and steps are whole numbers.
 
-use crate::state::{clamp_command, PlcUnit, APPLIED_PER_PLC};
+use crate::state::{PlcUnit, APPLIED_PER_PLC};
 
 /// The ramp step per cycle: `1e-3 · AccWeight / 100` mm, which is
 /// AccWeight × 0.01 µm.
@@ -12,11 +12,13 @@ pub fn step_per_cycle(acc_weight: i32) -> f64 {
 }
 
 /// The value a unit moves toward: its command (0.1 µm) clamped to
-/// ±`max_infeed` when enabled, 0 when not (a disabled unit gives its
-/// offset back).
+/// ±`max_infeed` when enabled (the bound as it is, fractions included;
+/// only the integer request register rounds it), 0 when not (a disabled
+/// unit gives its offset back).
 pub fn target(unit: &PlcUnit, max_infeed: f64) -> f64 {
     if unit.enable {
-        f64::from(clamp_command(unit.command, max_infeed)) * APPLIED_PER_PLC
+        let bound = max_infeed.abs();
+        f64::from(unit.command).clamp(-bound, bound) * APPLIED_PER_PLC
     } else {
         0.0
     }
@@ -77,5 +79,8 @@ mod tests {
         assert_eq!(target(&unit(-500, true), 200.0), -2000.0);
         assert_eq!(target(&unit(500, false), 200.0), 0.0);
         assert_eq!(target(&unit(500, true), 0.0), 0.0);
+        // A fractional bound limits the applied value as it is.
+        assert_eq!(target(&unit(1000, true), 150.5), 1505.0);
+        assert_eq!(target(&unit(-1000, true), -150.5), -1505.0);
     }
 }

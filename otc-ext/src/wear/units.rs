@@ -18,8 +18,8 @@ pub struct TakenUnits {
 }
 
 impl TakenUnits {
-    /// The units `proc` takes in `mode`; `third` is the group's third main
-    /// axis (LENGTH).
+    /// The units `proc` takes in `mode`; `third` is the third main axis
+    /// (LENGTH).
     pub fn of(proc: ProcType, mode: OtcMode, third: u8) -> Self {
         if mode == OtcMode::Cont {
             return Self {

@@ -39,6 +39,7 @@ impl<E: TcExtension> TcModule<E> {
                 self.position_request()?;
                 self.direct_command();
                 self.resync_programmed();
+                self.refresh_offset();
                 Ok(())
             }
             Motion::Ssf { axis, function } => self.special_function(*axis, *function),
@@ -51,7 +52,8 @@ impl<E: TcExtension> TcModule<E> {
 
     /// Asks the extension whether a position request may happen.
     pub(super) fn position_request(&mut self) -> Result<(), AccessError> {
-        let groups = Groups::new(&mut self.groups[..], self.running, self.plane);
+        let main = self.main_axes();
+        let groups = Groups::new(&mut self.groups[..], self.running, main);
         self.ext.position_request(groups)
     }
 
@@ -66,6 +68,7 @@ impl<E: TcExtension> TcModule<E> {
             }
         }
         self.resync_programmed();
+        self.refresh_offset();
         Ok(())
     }
 

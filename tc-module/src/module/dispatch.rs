@@ -24,11 +24,13 @@ impl<E: TcExtension> Bus for TcModule<E> {
             TcKey::Tc(obj) => self.read_register(obj, addr),
             TcKey::Group(k) => {
                 self.group_mut(slot_of(addr));
-                let groups = Groups::new(&mut self.groups[..], self.running, self.plane);
+                let main = self.main_axes();
+                let groups = Groups::new(&mut self.groups[..], self.running, main);
                 self.ext.read_group(k, addr, groups)
             }
             TcKey::Ext(k) => {
-                let groups = Groups::new(&mut self.groups[..], self.running, self.plane);
+                let main = self.main_axes();
+                let groups = Groups::new(&mut self.groups[..], self.running, main);
                 self.ext.read(k, addr, groups)
             }
         }
@@ -44,11 +46,13 @@ impl<E: TcExtension> Bus for TcModule<E> {
             TcKey::Tc(obj) => self.write_global(obj, addr, value),
             TcKey::Group(k) => {
                 self.group_mut(slot_of(addr));
-                let groups = Groups::new(&mut self.groups[..], self.running, self.plane);
+                let main = self.main_axes();
+                let groups = Groups::new(&mut self.groups[..], self.running, main);
                 self.ext.write_group(k, addr, value, groups)
             }
             TcKey::Ext(k) => {
-                let groups = Groups::new(&mut self.groups[..], self.running, self.plane);
+                let main = self.main_axes();
+                let groups = Groups::new(&mut self.groups[..], self.running, main);
                 self.ext.write(k, addr, value, groups)
             }
         };

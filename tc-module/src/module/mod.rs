@@ -19,7 +19,7 @@ use crate::executor::Executor;
 use crate::extension::{Group, Groups, NoExtension, TcExtension};
 use crate::limits::CycleTime;
 use crate::object_map::{object_table, TcKey, GROUP_COUNT};
-use crate::plane::{AxisPos, PlaneAxes, TcPlane, AXES};
+use crate::plane::{AxisPos, MainAxes, PlaneAxes, TcPlane, AXES};
 use crate::rotation::Rotation;
 use crate::spooler::{Spooler, MAX_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY};
 use uoi::ObjectDesc;
@@ -118,6 +118,14 @@ impl<E: TcExtension> TcModule<E> {
         self.plane.pick(self.axis_nr)
     }
 
+    /// The main axes: AxisNr X/Y/Z and the main plane built from them.
+    pub fn main_axes(&self) -> MainAxes {
+        MainAxes {
+            xyz: self.axis_nr,
+            plane: self.main_plane(),
+        }
+    }
+
     /// TcPlane (device 0 index 3).
     pub fn plane(&self) -> TcPlane {
         self.plane
@@ -189,12 +197,8 @@ impl<E: TcExtension> TcModule<E> {
     /// work is bounded by the elements spooled). Running the slices one
     /// after the other is the same as running the whole request.
     pub fn exec_slice(&mut self, cycles: Option<u64>) -> ExecLeft {
-        let mut model = ExtModel::new(
-            &mut self.ext,
-            &mut self.groups[..],
-            self.running,
-            self.plane,
-        );
+        let main = self.main_axes();
+        let mut model = ExtModel::new(&mut self.ext, &mut self.groups[..], self.running, main);
         let (spooler, budget) = (&mut self.spooler, EXEC_SLICE_CYCLES);
         match cycles {
             Some(n) => match self.executor.run_for(spooler, n, &mut model, budget) {
@@ -214,10 +218,19 @@ impl<E: TcExtension> TcModule<E> {
     /// Drops the executor's offset when the extension's model stopped
     /// acting (after a write to its objects: OTC switched off).
     fn sync_offset(&mut self) {
-        let mut groups = Groups::new(&mut self.groups[..], self.running, self.plane);
+        let main = self.main_axes();
+        let mut groups = Groups::new(&mut self.groups[..], self.running, main);
         if !self.ext.cycle_active(groups.reborrow()) {
             self.executor.clear_offset();
         }
+    }
+
+    /// Re-evaluates the extension model's offset where the executor stands
+    /// (after a direct command moved it at once).
+    fn refresh_offset(&mut self) {
+        let main = self.main_axes();
+        let mut model = ExtModel::new(&mut self.ext, &mut self.groups[..], self.running, main);
+        self.executor.refresh_offset(&self.spooler, &mut model);
     }
 
     /// Ends the correction of `slot`, if it runs.
@@ -258,9 +271,9 @@ impl<'a, E: TcExtension> ExtModel<'a, E> {
         ext: &'a mut E,
         slots: &'a mut crate::extension::GroupSlots<E>,
         running: Option<usize>,
-        plane: TcPlane,
+        main: MainAxes,
     ) -> Self {
-        let mut groups = Groups::new(slots, running, plane);
+        let mut groups = Groups::new(slots, running, main);
         let active = ext.cycle_active(groups.reborrow());
         Self {
             ext,
@@ -281,5 +294,9 @@ impl<E: TcExtension> CycleModel for ExtModel<'_, E> {
 
     fn at_rest(&mut self) -> bool {
         self.ext.cycle_at_rest(self.groups.reborrow())
+    }
+
+    fn offset_now(&mut self, cycle: &Cycle<'_>) -> AxisPos {
+        self.ext.cycle_offset_now(cycle, self.groups.reborrow())
     }
 }

@@ -37,12 +37,12 @@ impl<E: TcExtension> TcModule<E> {
         slot: usize,
         f: impl FnOnce(&mut E, GroupAccess<'_, E>) -> T,
     ) -> T {
-        let (running, plane) = (self.running == Some(slot), self.plane);
+        let (running, main) = (self.running == Some(slot), self.main_axes());
         let g = self.groups[slot].get_or_insert_with(Default::default);
         // slot < GROUP_COUNT (32) fits u16.
         f(
             &mut self.ext,
-            GroupAccess::new(slot as u16 + 1, g, running, plane),
+            GroupAccess::new(slot as u16 + 1, g, running, main),
         )
     }
 

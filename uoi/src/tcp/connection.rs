@@ -193,7 +193,9 @@ impl<H: Handler> Connection<H> {
         let mut req = rest;
         loop {
             tokio::task::yield_now().await;
-            self.activity.closed()?;
+            if self.activity.closed().is_some() {
+                return None;
+            }
             match self.session.handle(req) {
                 Served::Here(ans) => return Some(ans),
                 Served::Shared(req) => {
