@@ -31,14 +31,15 @@ fn settings(g: &Access<'_>) -> WearSettings {
     }
 }
 
-/// Runs `f` on the group whose OTC is on with its settings and the units
-/// it takes; `None` when no group's OTC is on.
+/// Runs `f` on the group whose OTC is on (`on`) with its settings and the
+/// units it takes; `None` when no group's OTC is on.
 fn with_on_group<T>(
     axes: &mut [PlcUnit; AXES],
+    on: Option<u16>,
     mut groups: Groups<'_, OtcExtension>,
     f: impl FnOnce(&mut crate::wear::WearState, &mut TakenMut<'_>, &WearSettings) -> T,
 ) -> Option<T> {
-    let mut g = groups.iter_mut().find(|g| g.state().on)?;
+    let mut g = groups.get(on?)?;
     let (set, t) = (settings(&g), taken(&g));
     let s = g.state_mut();
     let mut units = TakenMut {
@@ -52,25 +53,31 @@ impl OtcExtension {
     /// One interpolation cycle of the wear model: the offset of the group
     /// whose OTC is on (none while no OTC is on).
     pub(crate) fn wear_cycle(&mut self, c: &Cycle<'_>, groups: Groups<'_, Self>) -> AxisPos {
-        with_on_group(&mut self.axes, groups, |state, units, set| {
-            run_cycle(state, units, set, c)
-        })
+        with_on_group(
+            &mut self.axes,
+            self.on_group,
+            groups,
+            |state, units, set| run_cycle(state, units, set, c),
+        )
         .unwrap_or([0.0; AXES])
     }
 
     /// The offset for the wear so far where the executor stands, no cycle
     /// passing (after a direct command).
     pub(crate) fn wear_offset_now(&mut self, c: &Cycle<'_>, groups: Groups<'_, Self>) -> AxisPos {
-        with_on_group(&mut self.axes, groups, |state, units, set| {
-            offset_at(state, units, set, c)
-        })
+        with_on_group(
+            &mut self.axes,
+            self.on_group,
+            groups,
+            |state, units, set| offset_at(state, units, set, c),
+        )
         .unwrap_or([0.0; AXES])
     }
 
     /// Whether a cycle in which nothing moves would change nothing: the
     /// units the group whose OTC is on takes stand on their targets.
     pub(crate) fn settled(&mut self, groups: Groups<'_, Self>) -> bool {
-        with_on_group(&mut self.axes, groups, |_, units, set| {
+        with_on_group(&mut self.axes, self.on_group, groups, |_, units, set| {
             units.settled(set.max_infeed)
         })
         .unwrap_or(true)

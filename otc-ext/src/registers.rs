@@ -15,19 +15,21 @@ use crate::switching::check_units;
 #[derive(Debug, Default)]
 pub struct OtcExtension {
     pub(crate) axes: [PlcUnit; AXES],
+    /// The group whose OTC is on (kept by switching, so that a cycle need
+    /// not look through the groups).
+    pub(crate) on_group: Option<u16>,
 }
 
 type Access<'a> = GroupAccess<'a, OtcExtension>;
 
-/// Rule 7: the bound of the request registers, ToolMaxInfeed of the
-/// current entry of the group whose OTC is on, else of group 1's.
-fn request_bound(groups: &mut Groups<'_, OtcExtension>) -> f64 {
-    let on = groups
-        .iter_mut()
-        .find(|g| g.state().on)
-        .map(|g| g.tool().ext.max_infeed);
-    on.or_else(|| groups.get(1).map(|g| g.tool().ext.max_infeed))
-        .unwrap_or(0.0)
+impl OtcExtension {
+    /// Rule 7: the bound of the request registers, ToolMaxInfeed of the
+    /// current entry of the group whose OTC is on, else of group 1's.
+    fn request_bound(&self, groups: &mut Groups<'_, Self>) -> f64 {
+        groups
+            .get(self.on_group.unwrap_or(1))
+            .map_or(0.0, |g| g.tool().ext.max_infeed)
+    }
 }
 
 fn int(v: Value) -> i32 {
@@ -123,7 +125,7 @@ impl TcExtension for OtcExtension {
         addr: ObjectAddress,
         mut groups: Groups<'_, Self>,
     ) -> Result<Value, AccessError> {
-        let bound = request_bound(&mut groups);
+        let bound = self.request_bound(&mut groups);
         let g = groups.get(addr.index).ok_or(AccessError::NoObject)?;
         // Write-only objects never reach read (checked by the table).
         read_group_state(obj, addr, g.state(), &g.tool().ext, bound).ok_or(AccessError::WriteOnly)
@@ -157,7 +159,7 @@ impl TcExtension for OtcExtension {
         mut groups: Groups<'_, Self>,
     ) -> Result<Value, AccessError> {
         use OtcObject as O;
-        let bound = request_bound(&mut groups);
+        let bound = self.request_bound(&mut groups);
         let unit = self
             .axes
             .get(usize::from(addr.index))
@@ -189,7 +191,7 @@ impl TcExtension for OtcExtension {
             _ => return Err(AccessError::ReadOnly),
         }
         if obj == O::AxisOffsetEnable && int(v) == 1 {
-            if let Some(mut g) = groups.iter_mut().find(|g| g.state().on) {
+            if let Some(mut g) = self.on_group.and_then(|i| groups.get(i)) {
                 check_units(&mut g, &self.axes);
             }
         }
@@ -212,8 +214,8 @@ impl TcExtension for OtcExtension {
         *self = Self::default();
     }
 
-    fn cycle_active(&mut self, mut groups: Groups<'_, Self>) -> bool {
-        groups.iter_mut().any(|g| g.state().on)
+    fn cycle_active(&mut self, _: Groups<'_, Self>) -> bool {
+        self.on_group.is_some()
     }
 
     fn cycle(&mut self, cycle: &Cycle<'_>, groups: Groups<'_, Self>) -> tc_module::AxisPos {

@@ -65,13 +65,13 @@ fn switch_off(g: &mut Access<'_>, axes: &mut [PlcUnit; AXES]) -> Result<(), Acce
 
 /// `#OTC ON` of the group at `index`: needs a grinding tool (else
 /// ToolType) and no other group with OTC on (else Sequence); fixes the
-/// wear constant and checks the units.
-fn switch_on(index: u16, groups: &mut Groups<'_, OtcExtension>, axes: &[PlcUnit; AXES]) {
+/// wear constant and checks the units. Whether OTC went on.
+fn switch_on(index: u16, groups: &mut Groups<'_, OtcExtension>, axes: &[PlcUnit; AXES]) -> bool {
     let other_on = groups
         .iter_mut()
         .any(|g| g.index() != index && g.state().on);
     let Some(mut g) = groups.get(index) else {
-        return;
+        return false;
     };
     let tool = g.tool().ext;
     let s = g.state_mut();
@@ -84,7 +84,9 @@ fn switch_on(index: u16, groups: &mut Groups<'_, OtcExtension>, axes: &[PlcUnit;
         s.wear = WearState::default();
         s.on = true;
         check_units(&mut g, axes);
+        return true;
     }
+    false
 }
 
 impl OtcExtension {
@@ -99,7 +101,9 @@ impl OtcExtension {
     ) -> Result<(), AccessError> {
         let is_on = groups.get(index).is_some_and(|g| g.state().on);
         if on && !is_on {
-            switch_on(index, &mut groups, &self.axes);
+            if switch_on(index, &mut groups, &self.axes) {
+                self.on_group = Some(index);
+            }
         } else if !on && is_on {
             let Some(mut g) = groups.get(index) else {
                 return Ok(());
@@ -107,7 +111,8 @@ impl OtcExtension {
             if g.state().proc_type == ProcType::Radius && g.running() {
                 g.state_mut().error |= OtcErrorBits::SEQUENCE;
             } else {
-                return switch_off(&mut g, &mut self.axes);
+                switch_off(&mut g, &mut self.axes)?;
+                self.on_group = None;
             }
         }
         Ok(())

@@ -111,7 +111,8 @@ pub struct Cycle<'a> {
 impl Cycle<'_> {
     /// The unit path tangent of the current element at the cycle's end.
     pub fn tangent(&self) -> Option<AxisPos> {
-        self.current.map(|e| e.tangent_at(self.done))
+        self.current
+            .map(|e| e.tangent_through(self.done, self.nominal))
     }
 
     /// The contour normal at the cycle's end (side normal of a corrected

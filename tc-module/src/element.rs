@@ -247,6 +247,33 @@ impl SpoolElement {
         t
     }
 
+    /// The unit path tangent at distance `s`, where the element passes
+    /// through `p` (its [`SpoolElement::point_at`] of `s`): as
+    /// [`SpoolElement::tangent_at`], but an arc takes its direction from
+    /// `p` and the centre instead of turning the start direction again (no
+    /// trigonometry; the per-cycle models ask this every cycle).
+    pub fn tangent_through(&self, s: f64, p: &AxisPos) -> AxisPos {
+        let Path::Arc(a) = &self.path else {
+            return self.tangent_at(s);
+        };
+        let q = a.plane.point(p);
+        let (ch, cv) = (q[0] - a.centre[0], q[1] - a.centre[1]);
+        let r = ch.hypot(cv);
+        if r.is_nan() || r <= 0.0 || self.length <= 0.0 {
+            return self.tangent_at(s);
+        }
+        let (cos, sin) = (ch / r, cv / r);
+        let mut t = [0.0; AXES];
+        for (i, x) in t.iter_mut().enumerate() {
+            *x = (self.end[i] - self.start[i]) / self.length;
+        }
+        let k = a.sweep * r / self.length;
+        let dr = (a.r1 - a.r0) / self.length;
+        a.plane
+            .set_point(&mut t, [-k * sin + dr * cos, k * cos + dr * sin]);
+        t
+    }
+
     /// The unit vector from the programmed contour to the tool centre at
     /// position `p` of this element, on all axes; `None` for elements the
     /// correction did not spool, or where it is undefined (on the centre
@@ -326,6 +353,34 @@ mod tests {
         let q = e.point_at(e.length / 2.0);
         let (r, ang) = (0.5, std::f64::consts::PI);
         assert!((q[0] - r * ang.cos()).abs() < 1e-12 && (q[1] - r * ang.sin()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_tangent_through_a_point_is_the_tangent_at_its_distance() {
+        let arcs = [
+            quarter(true),
+            quarter(false),
+            SpoolElement::arc(
+                pos(2.0, 0.0),
+                pos(-1.0, 0.0),
+                XY,
+                [0.0, 0.0],
+                true,
+                1000.0,
+                Origin::Uncorrected,
+            ),
+        ];
+        let line = SpoolElement::line(pos(0.0, 0.0), pos(3.0, 4.0), 1.0, false, Origin::Corrected);
+        for e in arcs.iter().chain([&line]) {
+            for k in 0..=10 {
+                let s = e.length * f64::from(k) / 10.0;
+                let (a, b) = (e.tangent_at(s), e.tangent_through(s, &e.point_at(s)));
+                assert!(
+                    a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-12),
+                    "{a:?} {b:?}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -31,6 +31,38 @@ pub struct WearState {
     /// its weight): kept where a cycle cannot find one, and the direction
     /// a switch-off books the wear along; `None` since ON.
     pub last_dir: Option<AxisPos>,
+    /// The tool direction of the last B on the last X, Y, Z.
+    pub tool_dir: Memo<(f64, [u8; 3])>,
+    /// The LENGTH direction of the last tilt on the last main plane.
+    pub tilt_dir: Memo<(f64, PlaneAxes)>,
+}
+
+/// A direction kept with the key it was computed for: its sine and cosine
+/// cost more than the rest of a cycle, and its angle rarely changes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Memo<K> {
+    kept: Option<(K, AxisPos)>,
+}
+
+impl<K> Default for Memo<K> {
+    fn default() -> Self {
+        Self { kept: None }
+    }
+}
+
+impl<K: Copy + PartialEq> Memo<K> {
+    /// The direction for `key`: the kept one if computed for the same key,
+    /// else `f(key)`, kept.
+    pub fn get(&mut self, key: K, f: impl FnOnce(K) -> AxisPos) -> AxisPos {
+        match self.kept {
+            Some((k, d)) if k == key => d,
+            _ => {
+                let d = f(key);
+                self.kept = Some((key, d));
+                d
+            }
+        }
+    }
 }
 
 /// The settings in force for one cycle.
@@ -112,19 +144,32 @@ pub fn continuous_wear(parts: &[PathPart], proc: ProcType, wear_const: f64) -> f
 /// The unit direction wear acts against at the cycle's end, and the
 /// weight it acts with (RADIUS' weight, else 1). A direction that cannot
 /// be found here (RADIUS off the elements the correction spooled, a
-/// degenerate surface normal) is the last one.
-fn direction(last: Option<AxisPos>, set: &WearSettings, c: &Cycle<'_>) -> (AxisPos, f64) {
-    let t = || tool_dir(c.nominal[set.ori_axis], set.xyz);
+/// degenerate surface normal) is the last one. The tilted and tool
+/// directions are remembered while their angle stays.
+fn direction(state: &mut WearState, set: &WearSettings, c: &Cycle<'_>) -> (AxisPos, f64) {
+    let last = state.last_dir;
+    let b = c.nominal[set.ori_axis];
+    let mut t = || {
+        state
+            .tool_dir
+            .get((b, set.xyz), |(b, xyz)| tool_dir(b, xyz))
+    };
     match set.proc_type {
         ProcType::Radius => {
             let n = c.normal().or(last).unwrap_or([0.0; AXES]);
             (n, radius_weight(c))
         }
-        ProcType::Length => (length_dir(set.tilt * 1e-4, set.axes), 1.0),
+        ProcType::Length => {
+            let key = (set.tilt, set.axes);
+            let u = state
+                .tilt_dir
+                .get(key, |(tilt, axes)| length_dir(tilt * 1e-4, axes));
+            (u, 1.0)
+        }
         ProcType::ToolDir => (t(), 1.0),
         ProcType::SurfNormDir => {
-            let n = surface_normal(c, &t(), set.xyz).or(last).unwrap_or_else(t);
-            (n, 1.0)
+            let t = t();
+            (surface_normal(c, &t, set.xyz).or(last).unwrap_or(t), 1.0)
         }
     }
 }
@@ -154,7 +199,7 @@ pub fn offset_at(
     c: &Cycle<'_>,
 ) -> AxisPos {
     let w = state.w_cont + units.w_disc();
-    let (dir, weight) = direction(state.last_dir, set, c);
+    let (dir, weight) = direction(state, set, c);
     state.last_dir = Some(dir);
     dir.map(|d| -w * weight * d)
 }
