@@ -110,15 +110,27 @@ pub struct Cycle<'a> {
 
 impl Cycle<'_> {
     /// The unit path tangent of the current element at the cycle's end.
+    #[inline]
     pub fn tangent(&self) -> Option<AxisPos> {
         self.current
             .map(|e| e.tangent_through(self.done, self.nominal))
+    }
+
+    /// The path direction of the current element at the cycle's end, not
+    /// normalised: the tangent times the element's length (see
+    /// [`SpoolElement::direction_through`]), for models that normalise only
+    /// the axes they need.
+    #[inline]
+    pub fn direction(&self) -> Option<AxisPos> {
+        self.current
+            .map(|e| e.direction_through(self.done, self.nominal))
     }
 
     /// The contour normal at the cycle's end (side normal of a corrected
     /// line, radial on an arc, from the programmed corner on a
     /// transition; the normal an approach leads onto or a departure
     /// leaves), or `None` on elements the correction did not spool.
+    #[inline]
     pub fn normal(&self) -> Option<AxisPos> {
         self.current.and_then(|e| e.normal_at(self.nominal))
     }

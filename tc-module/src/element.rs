@@ -258,7 +258,9 @@ impl SpoolElement {
         };
         let q = a.plane.point(p);
         let (ch, cv) = (q[0] - a.centre[0], q[1] - a.centre[1]);
-        let r = ch.hypot(cv);
+        // Coordinates stay within ±1e9: the squares cannot overflow, and
+        // a square root is several times cheaper than `hypot`.
+        let r = (ch * ch + cv * cv).sqrt();
         if r.is_nan() || r <= 0.0 || self.length <= 0.0 {
             return self.tangent_at(s);
         }
@@ -274,10 +276,42 @@ impl SpoolElement {
         t
     }
 
+    /// The path direction at distance `s` through `p`, not normalised:
+    /// [`SpoolElement::tangent_through`] times the element's length (a
+    /// line: end − start), without a division for the axes outside an
+    /// arc's plane; zero for an element without length.
+    #[inline]
+    pub fn direction_through(&self, s: f64, p: &AxisPos) -> AxisPos {
+        let mut d = [0.0; AXES];
+        if self.length <= 0.0 {
+            return d;
+        }
+        for (i, x) in d.iter_mut().enumerate() {
+            *x = self.end[i] - self.start[i];
+        }
+        let Path::Arc(a) = &self.path else {
+            return d;
+        };
+        let q = a.plane.point(p);
+        let (ch, cv) = (q[0] - a.centre[0], q[1] - a.centre[1]);
+        // Within ±1e9: no overflow.
+        let r = (ch * ch + cv * cv).sqrt();
+        if r.is_nan() || r <= 0.0 {
+            return self.tangent_at(s).map(|x| x * self.length);
+        }
+        // Along the circle (sweep · r per unit of fraction) plus the
+        // radius' own drift (r1 − r0), in the direction of the point.
+        let drift = (a.r1 - a.r0) / r;
+        let plane = [-a.sweep * cv + drift * ch, a.sweep * ch + drift * cv];
+        a.plane.set_point(&mut d, plane);
+        d
+    }
+
     /// The unit vector from the programmed contour to the tool centre at
     /// position `p` of this element, on all axes; `None` for elements the
     /// correction did not spool, or where it is undefined (on the centre
     /// or the corner itself).
+    #[inline]
     pub fn normal_at(&self, p: &AxisPos) -> Option<AxisPos> {
         let n = self.normal?;
         let q = n.plane.point(p);
@@ -289,7 +323,8 @@ impl SpoolElement {
             }
             NormalRule::FromCorner(k) => [q[0] - k[0], q[1] - k[1]],
         };
-        let len = v[0].hypot(v[1]);
+        // Within ±1e9 (see `tangent_through`): no overflow.
+        let len = (v[0] * v[0] + v[1] * v[1]).sqrt();
         if !(len > 0.0 && len.is_finite()) {
             return None;
         }
@@ -378,6 +413,12 @@ mod tests {
                 assert!(
                     a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-12),
                     "{a:?} {b:?}"
+                );
+                let d = e.direction_through(s, &e.point_at(s));
+                let scaled = a.map(|x| x * e.length);
+                assert!(
+                    d.iter().zip(scaled).all(|(x, y)| (x - y).abs() < 1e-11),
+                    "{d:?}"
                 );
             }
         }

@@ -69,36 +69,48 @@ pub fn tool_dir(b_deg: f64, xyz: [u8; 3]) -> AxisPos {
     t
 }
 
-/// The unit path tangent on X, Y, Z at the cycle's end; `None` without
-/// an element or when the path moves none of them.
-fn xyz_tangent(c: &Cycle<'_>, xyz: [u8; 3]) -> Option<[f64; 3]> {
-    let t = c.tangent()?;
-    let v = xyz.map(|a| t[axis(a)]);
-    let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    (len > 0.0).then(|| v.map(|x| x / len))
+/// 1 on the machine axes allocated as X, Y, Z, 0 on the others: the
+/// surface normal lives on those axes only.
+pub fn xyz_mask(xyz: [u8; 3]) -> AxisPos {
+    let mut m = [0.0; AXES];
+    for a in xyz {
+        m[axis(a)] = 1.0;
+    }
+    m
 }
 
-/// SURF_NORM_DIR: `normalize(t − (t·v)·v)` on X, Y, Z, or `None` where it
-/// degenerates (no tangent on X, Y, Z, or `t` along it).
-pub fn surface_normal(c: &Cycle<'_>, t: &AxisPos, xyz: [u8; 3]) -> Option<AxisPos> {
-    let v = xyz_tangent(c, xyz)?;
-    let tv = xyz.map(|a| t[axis(a)]);
-    let dot = tv[0] * v[0] + tv[1] * v[1] + tv[2] * v[2];
-    let n = [0, 1, 2].map(|i| tv[i] - dot * v[i]);
-    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-    if len.is_nan() || len < DEGENERATE_NORMAL {
+fn dot(a: &AxisPos, b: &AxisPos) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// SURF_NORM_DIR: `normalize(t − (t·v)·v)` on X, Y, Z (`mask`, see
+/// [`xyz_mask`]; `t` lies on them), `v` the unit path tangent there; or
+/// `None` where it degenerates (no element, a path that moves none of X,
+/// Y, Z, or `t` along it: `|t − (t·v)·v| < DEGENERATE_NORMAL`). Computed
+/// from the unscaled path direction `p` as the same vector scaled by
+/// `p·p`, `(p·p)·t − (t·p)·p`: one square root and one division a cycle.
+pub fn surface_normal(c: &Cycle<'_>, t: &AxisPos, mask: &AxisPos) -> Option<AxisPos> {
+    let d = c.direction()?;
+    let p: AxisPos = std::array::from_fn(|i| d[i] * mask[i]);
+    let pp = dot(&p, &p);
+    if pp.is_nan() || pp <= 0.0 {
         return None;
     }
-    let mut out = [0.0; AXES];
-    for (i, a) in xyz.iter().enumerate() {
-        out[axis(*a)] += n[i] / len;
+    let tp = dot(t, &p);
+    let n: AxisPos = std::array::from_fn(|i| pp * t[i] - tp * p[i]);
+    let len = dot(&n, &n).sqrt();
+    if len.is_nan() || len < DEGENERATE_NORMAL * pp {
+        return None;
     }
-    Some(out)
+    let inv = 1.0 / len;
+    Some(n.map(|x| x * inv))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    const XYZ: AxisPos = [1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0];
 
     const XY: PlaneAxes = PlaneAxes {
         h: 0,
@@ -180,14 +192,14 @@ mod tests {
         let t = tool_dir(0.0, [0, 1, 2]);
         // Down a 45° slope in X-Z: v = (1, 0, -1)/√2, n = (1, 0, 1)/√2.
         let slope = line(Origin::Uncorrected, pos(1.0, 0.0, -1.0));
-        let n = surface_normal(&cycle(Some(&slope), None, 0.5, &p), &t, [0, 1, 2]);
+        let n = surface_normal(&cycle(Some(&slope), None, 0.5, &p), &t, &XYZ);
         let h = std::f64::consts::FRAC_1_SQRT_2;
         let n = n.map(|n| [n[0], n[1], n[2]]);
         assert!(n.is_some_and(|n| (n[0] - h).abs() < 1e-15 && (n[2] - h).abs() < 1e-15));
         // Along Z, t is the tangent: no normal.
         let plunge = line(Origin::Uncorrected, pos(0.0, 0.0, -1.0));
         assert_eq!(
-            surface_normal(&cycle(Some(&plunge), None, 0.5, &p), &t, [0, 1, 2]),
+            surface_normal(&cycle(Some(&plunge), None, 0.5, &p), &t, &XYZ),
             None
         );
         // A pure B move has no X/Y/Z tangent; nothing moved: none either.
@@ -195,12 +207,9 @@ mod tests {
         b[4] = 10.0;
         let turn = line(Origin::Uncorrected, b);
         assert_eq!(
-            surface_normal(&cycle(Some(&turn), None, 1.0, &p), &t, [0, 1, 2]),
+            surface_normal(&cycle(Some(&turn), None, 1.0, &p), &t, &XYZ),
             None
         );
-        assert_eq!(
-            surface_normal(&cycle(None, None, 0.0, &p), &t, [0, 1, 2]),
-            None
-        );
+        assert_eq!(surface_normal(&cycle(None, None, 0.0, &p), &t, &XYZ), None);
     }
 }

@@ -16,7 +16,7 @@ pub mod units;
 use tc_module::{AxisPos, Cycle, Origin, PathPart, PlaneAxes, AXES};
 
 use crate::state::{OtcMode, PlcUnit, ProcType, APPLIED_UNIT_MM};
-use direction::{length_dir, radius_weight, surface_normal, tool_dir};
+use direction::{length_dir, radius_weight, surface_normal, tool_dir, xyz_mask};
 
 /// Interpolation units of wear per unit of path, per 0.1 µm/m of
 /// WearConst.
@@ -35,6 +35,8 @@ pub struct WearState {
     pub tool_dir: Memo<(f64, [u8; 3])>,
     /// The LENGTH direction of the last tilt on the last main plane.
     pub tilt_dir: Memo<(f64, PlaneAxes)>,
+    /// The mask of the last X, Y, Z (SURF_NORM_DIR).
+    pub xyz_mask: Memo<[u8; 3]>,
 }
 
 /// A direction kept with the key it was computed for: its sine and cosine
@@ -147,7 +149,6 @@ pub fn continuous_wear(parts: &[PathPart], proc: ProcType, wear_const: f64) -> f
 /// degenerate surface normal) is the last one. The tilted and tool
 /// directions are remembered while their angle stays.
 fn direction(state: &mut WearState, set: &WearSettings, c: &Cycle<'_>) -> (AxisPos, f64) {
-    let last = state.last_dir;
     let b = c.nominal[set.ori_axis];
     let mut t = || {
         state
@@ -156,7 +157,10 @@ fn direction(state: &mut WearState, set: &WearSettings, c: &Cycle<'_>) -> (AxisP
     };
     match set.proc_type {
         ProcType::Radius => {
-            let n = c.normal().or(last).unwrap_or([0.0; AXES]);
+            let n = match c.normal() {
+                Some(n) => n,
+                None => state.last_dir.unwrap_or([0.0; AXES]),
+            };
             (n, radius_weight(c))
         }
         ProcType::Length => {
@@ -169,7 +173,12 @@ fn direction(state: &mut WearState, set: &WearSettings, c: &Cycle<'_>) -> (AxisP
         ProcType::ToolDir => (t(), 1.0),
         ProcType::SurfNormDir => {
             let t = t();
-            (surface_normal(c, &t, set.xyz).or(last).unwrap_or(t), 1.0)
+            let mask = state.xyz_mask.get(set.xyz, xyz_mask);
+            let n = match surface_normal(c, &t, &mask) {
+                Some(n) => n,
+                None => state.last_dir.unwrap_or(t),
+            };
+            (n, 1.0)
         }
     }
 }
