@@ -302,9 +302,15 @@ impl SpoolElement {
         // Along the circle (sweep · r per unit of fraction) plus the
         // radius' own drift (r1 − r0), in the direction of the point.
         let drift = (a.r1 - a.r0) / r;
-        let plane = [-a.sweep * cv + drift * ch, a.sweep * ch + drift * cv];
-        a.plane.set_point(&mut d, plane);
-        d
+        let (ph, pv) = (-a.sweep * cv + drift * ch, a.sweep * ch + drift * cv);
+        // Chosen per axis rather than stored at the plane's indexes: the
+        // array then stays in registers (a per-cycle path).
+        let (h, v) = (usize::from(a.plane.h), usize::from(a.plane.v));
+        std::array::from_fn(|i| match i {
+            _ if i == h => ph,
+            _ if i == v => pv,
+            _ => d[i],
+        })
     }
 
     /// The unit vector from the programmed contour to the tool centre at
@@ -328,9 +334,15 @@ impl SpoolElement {
         if !(len > 0.0 && len.is_finite()) {
             return None;
         }
-        let mut out = [0.0; AXES];
-        n.plane.set_point(&mut out, [v[0] / len, v[1] / len]);
-        Some(out)
+        let inv = 1.0 / len;
+        let (h, v2) = (usize::from(n.plane.h), usize::from(n.plane.v));
+        // Chosen per axis, not stored at the plane's indexes (see
+        // `direction_through`).
+        Some(std::array::from_fn(|i| match i {
+            _ if i == h => v[0] * inv,
+            _ if i == v2 => v[1] * inv,
+            _ => 0.0,
+        }))
     }
 }
 
