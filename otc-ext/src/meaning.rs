@@ -11,6 +11,13 @@ impl Meaning for O {
     }
 }
 
+/// Both request registers (rule 7).
+const REQUEST: &str = "The command clamped to ± ToolMaxInfeed of the current entry of the group \
+                       whose OTC is on (with none on: of group 1), enabled or not.";
+
+/// Both state registers.
+const STATE: &str = "The offset applied now, after the ramp, in 0.1 µm rounded to the nearest.";
+
 /// The switching, mode and wear objects; `None` for the others.
 fn switching_and_wear(o: O) -> Option<&'static str> {
     Some(match o {
@@ -71,13 +78,8 @@ fn tool_and_plc(o: O) -> &'static str {
         }
         O::RadiusOffsetCommand => "PLC channel unit: the radius offset asked for, in 0.1 µm.",
         O::RadiusOffsetEnable => "PLC channel unit: 1 lets the command act.",
-        O::RadiusOffsetRequest => {
-            "The command clamped to ± ToolMaxInfeed of the current entry of the group \
-             whose OTC is on (with none on: of group 1), enabled or not."
-        }
-        O::RadiusOffsetState => {
-            "The offset applied now, after the ramp, in 0.1 µm rounded to the nearest."
-        }
+        O::RadiusOffsetRequest | O::AxisOffsetRequest => REQUEST,
+        O::RadiusOffsetState | O::AxisOffsetState => STATE,
         O::HandoffCount => {
             "How many tools were handed back to external tool management: one per \
              WKZINDEX change, with the outgoing tool's booked wear."
@@ -87,13 +89,7 @@ fn tool_and_plc(o: O) -> &'static str {
         O::HandoffWearRadiusCont => "Its WearRadiusCont at the hand-back.",
         O::AxisOffsetCommand => "PLC axis unit: the offset asked for on this axis, in 0.1 µm.",
         O::AxisOffsetEnable => "PLC axis unit: 1 lets the command act.",
-        O::AxisOffsetRequest => {
-            "The command clamped to ± ToolMaxInfeed of the current entry of the group \
-             whose OTC is on (with none on: of group 1), enabled or not."
-        }
-        O::AxisOffsetState => {
-            "The offset applied now, after the ramp, in 0.1 µm rounded to the nearest."
-        }
+
         // Answered by `switching_and_wear`.
         _ => "",
     }

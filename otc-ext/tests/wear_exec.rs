@@ -7,53 +7,11 @@
 // Test helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
+mod common;
+
 use std::f64::consts::TAU;
 
-use otc_ext::OtcExtension;
-use tc_module::{CycleTime, TcModule, AXES};
-use tc_request::text::parse_request;
-use tc_request::Request;
-use uoi::{AccessError, ObjectBus, Value, ValueType};
-
-type Tc = TcModule<OtcExtension>;
-
-fn tc() -> Tc {
-    TcModule::new([0.0; AXES], CycleTime::DEFAULT, OtcExtension::default())
-}
-
-/// Runs one request in trace syntax; the answer of a write or motion.
-fn req(tc: &mut Tc, line: &str) -> Result<(), AccessError> {
-    match parse_request(line).unwrap_or_else(|e| panic!("{line}: {e}")) {
-        Request::Write(a, v) => tc.write_checked(a, v),
-        Request::Motion(m) => tc.command(&m),
-        Request::Exec(n) => {
-            tc.exec(n);
-            Ok(())
-        }
-        other => panic!("not in these programs: {other:?}"),
-    }
-}
-
-/// Runs requests, one a line, each of which must succeed.
-fn run(tc: &mut Tc, program: &str) {
-    for line in program.lines().map(str::trim).filter(|l| !l.is_empty()) {
-        req(tc, line).unwrap_or_else(|e| panic!("{line}: {e}"));
-    }
-}
-
-fn read_f64(tc: &mut Tc, addr: &str) -> f64 {
-    match tc.read_checked(addr.parse().unwrap(), ValueType::F64) {
-        Ok(Value::F64(v)) => v,
-        other => panic!("{addr}: {other:?}"),
-    }
-}
-
-fn read_i32(tc: &mut Tc, addr: &str) -> i32 {
-    match tc.read_checked(addr.parse().unwrap(), ValueType::I32) {
-        Ok(Value::I32(v)) => v,
-        other => panic!("{addr}: {other:?}"),
-    }
-}
+use common::{otc_module as tc, read_d as read_f64, read_i as read_i32, run};
 
 /// A grinding tool in entry 1 of group 1 with radius 3, wear constant
 /// 100000 (0.01 per unit of path), max infeed 2 mm.
