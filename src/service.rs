@@ -11,6 +11,7 @@ use otc_ext::OtcExtension;
 use tc_module::{AxisPos, CycleTime, ExecLeft, TcExtension};
 use tc_request::Request;
 use uoi::tcp::{Handler, Slice};
+use uoi::wire::ProtocolError;
 use uoi::wire::{Answer, Request as WireRequest};
 use uoi::AccessError;
 
@@ -97,6 +98,8 @@ pub(crate) fn serve<E: TcExtension>(
         match serve_slice(emu, req)? {
             Slice::Done(answer) => return Ok(answer),
             Slice::More(rest) => req = rest,
+            // `serve_slice` never waits.
+            Slice::Wait(_) => return Ok(Answer::Protocol(ProtocolError::Busy)),
         }
     }
 }

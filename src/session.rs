@@ -145,6 +145,8 @@ impl Conformance {
         let served = match serve_slice(&mut self.emu, req) {
             Ok(Slice::Done(ans)) => Served::Here(ans),
             Ok(Slice::More(rest)) => Served::More(rest),
+            // `serve_slice` never waits: only the shared service persists.
+            Ok(Slice::Wait(_)) => Served::Here(Answer::Protocol(ProtocolError::Busy)),
             Err(Control::SpoolLog(logging)) => {
                 Served::Here(self.log.fetch(&mut self.emu, logging).to_wire())
             }

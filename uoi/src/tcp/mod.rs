@@ -15,4 +15,4 @@ pub use access::{
     is_loopback_peer, AccessPolicy, AccessToken, BadToken, MAX_TOKEN_LEN, MIN_TOKEN_LEN,
 };
 pub use client::{answer_error, BlockingClient, Client, ClientError, ClientOptions, Waited};
-pub use server::{Core, Handler, Served, Server, ServerConfig, Session, Slice};
+pub use server::{Core, Handler, Served, Server, ServerConfig, Session, Slice, Wait};

@@ -33,15 +33,39 @@ pub trait Handler: Send + 'static {
     fn handle_slice(&mut self, req: Request) -> Slice {
         Slice::Done(self.handle(req))
     }
+
+    /// Continues a request that waited ([`Slice::Wait`]) once its wait is
+    /// over; `ok` says whether what it waited for succeeded. Always called,
+    /// even when the request's connection has closed meanwhile. Default
+    /// (a handler that never waits is never asked): `Busy`.
+    fn resume(&mut self, _token: u64, _ok: bool) -> Slice {
+        Slice::Done(Answer::Protocol(crate::wire::ProtocolError::Busy))
+    }
 }
 
 /// What one slice of a request left.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug)]
 pub enum Slice {
     /// The request is complete: its answer.
     Done(Answer),
     /// The rest of the request, to serve as a further slice.
     More(Request),
+    /// The request waits for something outside the handler (a durable
+    /// write): the server awaits it without holding the handler, so other
+    /// requests are served meanwhile, then calls
+    /// [`Handler::resume`] with the wait's token.
+    Wait(Wait),
+}
+
+/// What a request waits for (see [`Slice::Wait`]).
+#[derive(Debug)]
+pub struct Wait {
+    /// Says whether it succeeded; a sender dropped unsent counts as a
+    /// failure.
+    pub done: tokio::sync::oneshot::Receiver<bool>,
+    /// The handler's own number for the request, given back to
+    /// [`Handler::resume`].
+    pub token: u64,
 }
 
 /// The state one connection keeps for itself: made (`Default`) when the

@@ -10,10 +10,17 @@ use std::sync::{Arc, Mutex, TryLockError};
 use tokio::sync::{mpsc, oneshot};
 
 use super::idle::Activity;
-use super::server::{Core, Handler, Slice};
+use super::server::{Core, Handler, Slice, Wait};
 use crate::wire::{Answer, ProtocolError, Request};
 
-type Job = (Request, oneshot::Sender<Answer>);
+/// What the owner task is asked to serve: a request, or the rest of one
+/// whose wait is over.
+pub(crate) enum Work {
+    Request(Request),
+    Resume(u64, bool),
+}
+
+type Job = (Work, oneshot::Sender<Answer>);
 
 /// Most times a request with more slices to go yields to requests
 /// waiting for the lock before it takes the next slice.
@@ -38,7 +45,12 @@ impl<H: Handler> Locked<H> {
         // The count of waiters is touched only when the lock is taken:
         // two shared atomic updates per request cost pipelined traffic
         // about a fifth of its rate.
-        let mut h = match self.handler.try_lock() {
+        self.lock().handle_slice(req)
+    }
+
+    /// The handler, locked (the waiting count kept as in `slice`).
+    fn lock(&self) -> std::sync::MutexGuard<'_, H> {
+        match self.handler.try_lock() {
             Ok(h) => h,
             Err(TryLockError::Poisoned(p)) => p.into_inner(),
             Err(TryLockError::WouldBlock) => {
@@ -47,8 +59,7 @@ impl<H: Handler> Locked<H> {
                 self.waiting.fetch_sub(1, Ordering::AcqRel);
                 h
             }
-        };
-        h.handle_slice(req)
+        }
     }
 
     /// Between two slices: lets the requests waiting for the lock in
@@ -91,7 +102,7 @@ impl<H: Handler> Shared<H> {
             })),
             Core::Owner => {
                 let (tx, rx) = mpsc::channel::<Job>(1024);
-                tokio::spawn(own(handler, rx));
+                tokio::spawn(own(handler, rx, tx.downgrade()));
                 Shared::Owner(tx)
             }
         }
@@ -104,17 +115,25 @@ impl<H: Handler> Shared<H> {
     pub(crate) async fn handle(&self, req: Request, closed: &Activity) -> Answer {
         match self {
             Shared::Lock(m) => {
-                let mut req = req;
+                // No await while locked: one slice is a plain call.
+                let mut slice = m.slice(req);
                 loop {
-                    // No await while locked: one slice is a plain call.
-                    match m.slice(req) {
+                    slice = match slice {
                         Slice::Done(answer) => return answer,
-                        Slice::More(rest) => req = rest,
-                    }
-                    m.let_others_in().await;
-                    if closed.closed().is_some() {
-                        return Answer::Protocol(ProtocolError::Busy);
-                    }
+                        Slice::More(rest) => {
+                            m.let_others_in().await;
+                            if closed.closed().is_some() {
+                                return Answer::Protocol(ProtocolError::Busy);
+                            }
+                            m.slice(rest)
+                        }
+                        // Resumed even if the connection closed meanwhile:
+                        // the handler must learn how its wait ended.
+                        Slice::Wait(Wait { done, token }) => {
+                            let ok = done.await.unwrap_or(false);
+                            m.lock().resume(token, ok)
+                        }
+                    };
                 }
             }
             // Boxed: its state (a channel and a race with the close) would
@@ -125,8 +144,9 @@ impl<H: Handler> Shared<H> {
 }
 
 /// The owner task: serves the jobs of every connection; a job with more
-/// slices to go waits behind the jobs that arrived meanwhile.
-async fn own<H: Handler>(mut h: H, mut rx: mpsc::Receiver<Job>) {
+/// slices to go waits behind the jobs that arrived meanwhile; a job that
+/// waits comes back as a [`Work::Resume`] once its wait is over.
+async fn own<H: Handler>(mut h: H, mut rx: mpsc::Receiver<Job>, me: mpsc::WeakSender<Job>) {
     let mut later: VecDeque<Job> = VecDeque::new();
     let mut fresh = 0;
     loop {
@@ -149,26 +169,43 @@ async fn own<H: Handler>(mut h: H, mut rx: mpsc::Receiver<Job>) {
                 },
             },
         };
-        let (req, answer) = job;
-        match h.handle_slice(req) {
+        let (work, answer) = job;
+        let slice = match work {
+            Work::Request(req) => h.handle_slice(req),
+            Work::Resume(token, ok) => h.resume(token, ok),
+        };
+        match slice {
             Slice::Done(a) => {
                 let _ = answer.send(a);
             }
             // The rest waits its turn, unless its connection is gone.
             Slice::More(rest) if !answer.is_closed() => {
-                later.push_back((rest, answer));
+                later.push_back((Work::Request(rest), answer));
                 tokio::task::yield_now().await;
             }
             Slice::More(_) => {}
+            Slice::Wait(wait) => resume_after(wait, answer, me.clone()),
         }
     }
+}
+
+/// Sends the rest of a waiting job back to the owner task once its wait is
+/// over (even if its connection is gone: the handler must learn how the
+/// wait ended).
+fn resume_after(wait: Wait, answer: oneshot::Sender<Answer>, me: mpsc::WeakSender<Job>) {
+    tokio::spawn(async move {
+        let ok = wait.done.await.unwrap_or(false);
+        if let Some(tx) = me.upgrade() {
+            let _ = tx.send((Work::Resume(wait.token, ok), answer)).await;
+        }
+    });
 }
 
 /// Hands a request to the owner task and waits for its answer, or until
 /// the connection is closed (the owner task then drops the rest of it).
 async fn ask(tx: &mpsc::Sender<Job>, req: Request, closed: &Activity) -> Answer {
     let (atx, arx) = oneshot::channel();
-    if tx.send((req, atx)).await.is_err() {
+    if tx.send((Work::Request(req), atx)).await.is_err() {
         return Answer::Protocol(ProtocolError::Busy);
     }
     let gone = std::future::poll_fn(|cx| closed.poll_closed(cx));
@@ -212,13 +249,14 @@ mod tests {
     async fn a_stream_of_new_jobs_cannot_starve_a_long_one() {
         let slices = Arc::new(AtomicU64::new(0));
         let (tx, rx) = mpsc::channel::<Job>(2048);
-        let owner = tokio::spawn(own(Endless(Arc::clone(&slices)), rx));
+        let owner = tokio::spawn(own(Endless(Arc::clone(&slices)), rx, tx.downgrade()));
         let (long_tx, _long_rx) = oneshot::channel();
-        tx.try_send((read(0), long_tx)).expect("queued");
+        tx.try_send((Work::Request(read(0)), long_tx))
+            .expect("queued");
         let answers: Vec<_> = (0..1000)
             .map(|_| {
                 let (atx, arx) = oneshot::channel();
-                tx.try_send((read(5), atx)).expect("queued");
+                tx.try_send((Work::Request(read(5)), atx)).expect("queued");
                 arx
             })
             .collect();
