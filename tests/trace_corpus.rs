@@ -67,8 +67,11 @@ fn every_object_of_the_map_is_in_a_trace() {
 #[test]
 fn every_access_error_is_expected_somewhere() {
     let traces = corpus();
+    // `Storage` needs a disk that refuses a write: the fault-injection
+    // tests of the tool store provoke it, a trace cannot.
     let missing: Vec<&str> = AccessError::ALL
         .iter()
+        .filter(|e| **e != AccessError::Storage)
         .filter(|e| {
             !traces
                 .iter()

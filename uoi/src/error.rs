@@ -106,6 +106,9 @@ code_enum! {
         /// No room to store it (the spooler is full): try again after the
         /// executor has run.
         Full = 0x0504_0005 => "no room: the spooler is full, or every conformance session is taken",
+        /// The value could not be stored durably (the disk refused it);
+        /// nothing changed.
+        Storage = 0x0800_0020 => "the value could not be stored: nothing changed",
     }
 }
 
@@ -120,7 +123,7 @@ mod tests {
             assert_eq!(AccessError::from_name(e.name()), Some(e));
             assert_eq!(AccessError::from_name(&e.name().to_lowercase()), Some(e));
         }
-        assert_eq!(AccessError::ALL.len(), 8);
+        assert_eq!(AccessError::ALL.len(), 9);
         assert_eq!(AccessError::Full.code(), 0x0504_0005);
         assert_eq!(AccessError::Range.code(), 0x06090030);
         assert_eq!(AccessError::State.name(), "State");
