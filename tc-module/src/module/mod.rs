@@ -22,6 +22,7 @@ use crate::object_map::{object_table, TcKey, GROUP_COUNT};
 use crate::plane::{AxisPos, MainAxes, PlaneAxes, TcPlane, AXES};
 use crate::rotation::Rotation;
 use crate::spooler::{Spooler, MAX_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY};
+use crate::tool_table::ToolTable;
 use uoi::ObjectDesc;
 
 pub use crate::limits::MAX_COORD;
@@ -140,6 +141,15 @@ impl<E: TcExtension> TcModule<E> {
     pub fn group_at(&self, index: u16) -> Option<&Group<E>> {
         let slot = usize::from(index).checked_sub(1)?;
         self.groups.get(slot)?.as_deref()
+    }
+
+    /// The tool table of the group at `index` (1..=32), created on first
+    /// access; `None` outside 1..=32. For tool data kept outside the
+    /// module (the tool files): the module's rules do not apply to it.
+    pub fn tools_mut(&mut self, index: u16) -> Option<&mut ToolTable<E::Tool>> {
+        let slot = usize::from(index).checked_sub(1)?;
+        let g = self.groups.get_mut(slot)?;
+        Some(&mut g.get_or_insert_with(Default::default).tools)
     }
 
     /// The spooler (to switch the log on, or take it).
