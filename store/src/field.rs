@@ -1,0 +1,362 @@
+//! Tool fields, their values and the conversion between the bus unit and
+//! the file unit.
+//!
+//! Radius and length are kept in the file in 0.1 µm and on the bus in
+//! interpolation units (mm): the file text is the bus value with the
+//! decimal point moved four places. The shift is done on the decimal
+//! text, never by a float multiplication, so every value reads back
+//! bit-identical. The other fields have the same unit in both places.
+
+use crate::decimal::{self, Decimal};
+use std::fmt;
+
+/// One field of a tool entry, named as in the tool files (`wz[i].<name>`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ToolField {
+    /// `typ`: tool type, 0 milling, 1 turning, 2 grinding, 3 wire.
+    Typ,
+    /// `radius`: tool radius; file 0.1 µm, bus mm.
+    Radius,
+    /// `laenge`: tool length; file 0.1 µm, bus mm.
+    Laenge,
+    /// `grinding_wear_const`: wear constant in 0.1 µm/m, >= 0.
+    GrindingWearConst,
+    /// `grinding_max_infeed`: largest discrete infeed in 0.1 µm.
+    GrindingMaxInfeed,
+    /// `grinding_disc_tilt_angle`: disc tilt angle in 0.0001°, ±450000.
+    GrindingDiscTiltAngle,
+}
+
+/// The value of one tool field, in the bus unit.
+///
+/// Two values are equal when their bits are: `-0.0` differs from `0.0`.
+#[derive(Debug, Clone, Copy)]
+pub enum ToolValue {
+    /// An integer field (`typ`).
+    I32(i32),
+    /// A floating-point field.
+    F64(f64),
+}
+
+impl PartialEq for ToolValue {
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (Self::I32(a), Self::I32(b)) => a == b,
+            (Self::F64(a), Self::F64(b)) => a.to_bits() == b.to_bits(),
+            _ => false,
+        }
+    }
+}
+
+impl Eq for ToolValue {}
+
+impl fmt::Display for ToolValue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::I32(v) => write!(f, "{v}"),
+            Self::F64(v) => write!(f, "{v:?}"),
+        }
+    }
+}
+
+/// What is wrong with a field's value.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ValueError {
+    /// The text is not a number of the field's kind.
+    #[error("`{text}` is not {expected}")]
+    NotANumber {
+        /// The offending text.
+        text: String,
+        /// What was expected ("an integer", "a decimal number").
+        expected: &'static str,
+    },
+    /// The number lies outside the field's range.
+    #[error("{value} is out of range for {field} (allowed: {range})")]
+    OutOfRange {
+        /// The field.
+        field: ToolField,
+        /// The value as written.
+        value: String,
+        /// The allowed range, in words.
+        range: &'static str,
+    },
+    /// An integer value for a floating-point field or the reverse.
+    #[error("{field} takes {expected}")]
+    WrongKind {
+        /// The field.
+        field: ToolField,
+        /// What the field takes.
+        expected: &'static str,
+    },
+}
+
+impl fmt::Display for ToolField {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl ToolField {
+    /// Every field, in the order the files list them.
+    pub const ALL: [ToolField; 6] = [
+        Self::Typ,
+        Self::Radius,
+        Self::Laenge,
+        Self::GrindingWearConst,
+        Self::GrindingMaxInfeed,
+        Self::GrindingDiscTiltAngle,
+    ];
+
+    /// The field's name in the files (`typ`, `radius`, ...).
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::Typ => "typ",
+            Self::Radius => "radius",
+            Self::Laenge => "laenge",
+            Self::GrindingWearConst => "grinding_wear_const",
+            Self::GrindingMaxInfeed => "grinding_max_infeed",
+            Self::GrindingDiscTiltAngle => "grinding_disc_tilt_angle",
+        }
+    }
+
+    /// The field called `name` in the files.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|f| f.name() == name)
+    }
+
+    /// The value of a field nobody has set: 0.
+    pub const fn default_value(self) -> ToolValue {
+        match self {
+            Self::Typ => ToolValue::I32(0),
+            _ => ToolValue::F64(0.0),
+        }
+    }
+
+    /// The allowed range of the field, in words (the same on bus and file
+    /// side, in the respective unit).
+    pub const fn range_text(self) -> &'static str {
+        match self {
+            Self::Typ => "0..=3",
+            Self::Radius | Self::Laenge | Self::GrindingMaxInfeed => "any finite number",
+            Self::GrindingWearConst => "finite and >= 0",
+            Self::GrindingDiscTiltAngle => "-450000..=450000",
+        }
+    }
+
+    /// Decimal places between the bus value and the file text: 4 for
+    /// radius and length (mm on the bus, 0.1 µm in the file), else 0.
+    pub const fn file_shift(self) -> i32 {
+        match self {
+            Self::Radius | Self::Laenge => 4,
+            _ => 0,
+        }
+    }
+
+    /// Checks a bus value: the right kind and inside the field's range.
+    pub fn check(self, value: ToolValue) -> Result<(), ValueError> {
+        let in_range = match (self, value) {
+            (Self::Typ, ToolValue::I32(v)) => (0..=3).contains(&v),
+            (Self::Typ, ToolValue::F64(_)) => return Err(self.wrong_kind()),
+            (_, ToolValue::I32(_)) => return Err(self.wrong_kind()),
+            (Self::GrindingWearConst, ToolValue::F64(v)) => v.is_finite() && v >= 0.0,
+            (Self::GrindingDiscTiltAngle, ToolValue::F64(v)) => {
+                (-450_000.0..=450_000.0).contains(&v)
+            }
+            (_, ToolValue::F64(v)) => v.is_finite(),
+        };
+        if in_range {
+            Ok(())
+        } else {
+            Err(ValueError::OutOfRange {
+                field: self,
+                value: value.to_string(),
+                range: self.range_text(),
+            })
+        }
+    }
+
+    fn wrong_kind(self) -> ValueError {
+        let expected = match self {
+            Self::Typ => "an integer",
+            _ => "a decimal number",
+        };
+        ValueError::WrongKind {
+            field: self,
+            expected,
+        }
+    }
+
+    /// The file text of a bus value (radius and length shifted by four
+    /// decimal places). The value is not range-checked here.
+    pub fn to_file_text(self, value: ToolValue) -> String {
+        match value {
+            ToolValue::I32(v) => v.to_string(),
+            ToolValue::F64(v) => match Decimal::from_f64(v) {
+                Some(d) => d.shifted(self.file_shift()).to_text(),
+                // Not finite: no file can hold it; `check` refuses it first.
+                None => format!("{v}"),
+            },
+        }
+    }
+
+    /// The bus value written as `text` in a file, range-checked.
+    pub fn parse_file_text(self, text: &str) -> Result<ToolValue, ValueError> {
+        let value = match self {
+            Self::Typ => ToolValue::I32(text.parse().map_err(|_| ValueError::NotANumber {
+                text: text.to_owned(),
+                expected: "an integer",
+            })?),
+            _ => {
+                let not_a_number = || ValueError::NotANumber {
+                    text: text.to_owned(),
+                    expected: "a decimal number",
+                };
+                let d = decimal::Decimal::parse(text).ok_or_else(not_a_number)?;
+                ToolValue::F64(d.shifted(-self.file_shift()).to_f64())
+            }
+        };
+        self.check(value).map_err(|e| match e {
+            ValueError::OutOfRange { field, range, .. } => ValueError::OutOfRange {
+                field,
+                value: text.to_owned(),
+                range,
+            },
+            other => other,
+        })?;
+        Ok(value)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn round_trip(field: ToolField, v: f64) -> f64 {
+        let text = field.to_file_text(ToolValue::F64(v));
+        match field.parse_file_text(&text) {
+            Ok(ToolValue::F64(back)) => back,
+            other => panic!("{v:?} -> {text} -> {other:?}"),
+        }
+    }
+
+    #[test]
+    fn names_round_trip() {
+        for f in ToolField::ALL {
+            assert_eq!(ToolField::from_name(f.name()), Some(f));
+        }
+        assert_eq!(ToolField::from_name("gueltig"), None);
+    }
+
+    #[test]
+    fn radius_file_text_is_bus_value_times_ten_thousand() {
+        let text = |v| ToolField::Radius.to_file_text(ToolValue::F64(v));
+        assert_eq!(text(30.0), "300000");
+        assert_eq!(text(0.1), "1000");
+        assert_eq!(text(123456.789), "1234567890");
+        assert_eq!(text(0.00001), "0.1");
+        assert_eq!(text(-0.0), "-0");
+        assert_eq!(text(1e-300), "1e-296");
+        assert_eq!(
+            ToolField::Radius.parse_file_text("300000"),
+            Ok(ToolValue::F64(30.0))
+        );
+    }
+
+    #[test]
+    fn edge_values_read_back_bit_identical() {
+        let edges = [
+            0.0,
+            -0.0,
+            1e-300,
+            -1e-300,
+            0.1,
+            123456.789,
+            1e9,
+            -1e9,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+            5e-324,
+            0.30000000000000004,
+        ];
+        for v in edges {
+            for f in [ToolField::Radius, ToolField::GrindingMaxInfeed] {
+                assert_eq!(round_trip(f, v).to_bits(), v.to_bits(), "{f} {v:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn ranges_per_field() {
+        let f = |v| ToolValue::F64(v);
+        assert!(ToolField::Typ.check(ToolValue::I32(3)).is_ok());
+        assert!(ToolField::Typ.check(ToolValue::I32(4)).is_err());
+        assert!(ToolField::Typ.check(ToolValue::I32(-1)).is_err());
+        assert!(ToolField::Typ.check(f(2.0)).is_err());
+        assert!(ToolField::Radius.check(ToolValue::I32(2)).is_err());
+        assert!(ToolField::GrindingWearConst.check(f(-1e-9)).is_err());
+        assert!(ToolField::GrindingWearConst.check(f(-0.0)).is_ok());
+        assert!(ToolField::GrindingDiscTiltAngle.check(f(450_000.0)).is_ok());
+        assert!(ToolField::GrindingDiscTiltAngle
+            .check(f(450_000.1))
+            .is_err());
+        assert!(ToolField::Radius.check(f(f64::NAN)).is_err());
+        assert!(ToolField::Laenge.check(f(f64::INFINITY)).is_err());
+    }
+
+    #[test]
+    fn bad_file_text_is_refused() {
+        for text in [
+            "", "abc", "1.2.3", "nan", "inf", "1e", "--1", "0x10", "1_000",
+        ] {
+            assert!(
+                matches!(
+                    ToolField::Radius.parse_file_text(text),
+                    Err(ValueError::NotANumber { .. })
+                ),
+                "{text}"
+            );
+        }
+        assert!(matches!(
+            ToolField::Typ.parse_file_text("2.0"),
+            Err(ValueError::NotANumber { .. })
+        ));
+        assert!(matches!(
+            ToolField::Typ.parse_file_text("7"),
+            Err(ValueError::OutOfRange { .. })
+        ));
+        // 1e312 in 0.1 µm is 1e308 mm, still finite; 1e313 is not.
+        assert!(matches!(
+            ToolField::Radius.parse_file_text("1e312"),
+            Ok(ToolValue::F64(v)) if v == 1e308
+        ));
+        assert!(matches!(
+            ToolField::Radius.parse_file_text("1e313"),
+            Err(ValueError::OutOfRange { .. })
+        ));
+        assert!(matches!(
+            ToolField::Laenge.parse_file_text("1e9999"),
+            Err(ValueError::OutOfRange { .. })
+        ));
+        assert!(matches!(
+            ToolField::GrindingDiscTiltAngle.parse_file_text("-450001"),
+            Err(ValueError::OutOfRange { .. })
+        ));
+    }
+
+    proptest! {
+        #[test]
+        fn any_bus_value_reads_back_bit_identical(v in -1e9f64..=1e9f64) {
+            for f in [ToolField::Radius, ToolField::Laenge, ToolField::GrindingMaxInfeed] {
+                prop_assert_eq!(round_trip(f, v).to_bits(), v.to_bits());
+            }
+        }
+
+        #[test]
+        fn any_finite_bits_read_back_bit_identical(bits in any::<u64>()) {
+            let v = f64::from_bits(bits);
+            prop_assume!(v.is_finite());
+            prop_assert_eq!(round_trip(ToolField::Radius, v).to_bits(), bits);
+        }
+    }
+}

@@ -1,0 +1,189 @@
+use super::*;
+use crate::field::ToolField;
+use proptest::prelude::*;
+
+fn set(group: u8, index: u16, field: ToolField, value: ToolValue) -> Record {
+    Record::Set {
+        group,
+        key: ToolKey::new(index, field).unwrap(),
+        value,
+    }
+}
+
+#[test]
+fn record_text_has_group_assignment_and_checksum() {
+    let r = set(3, 5, ToolField::Radius, ToolValue::F64(30.0));
+    let line = r.encode();
+    let crc = crc32fast::hash(b"g3 wz[5].radius 300000");
+    assert_eq!(line, format!("g3 wz[5].radius 300000 *{crc:08x}\n"));
+    assert_eq!(Record::decode(line.trim_end().as_bytes()), Ok(r));
+}
+
+#[test]
+fn reset_and_clean_records_round_trip() {
+    for r in [Record::ResetGroup { group: 32 }, Record::Clean] {
+        let line = r.encode();
+        assert_eq!(Record::decode(line.trim_end().as_bytes()), Ok(r));
+    }
+    assert!(Record::ResetGroup { group: 1 }
+        .encode()
+        .starts_with("g1 reset *"));
+    assert!(Record::Clean.encode().starts_with("clean *"));
+}
+
+#[test]
+fn check_refuses_bad_group_and_value() {
+    assert!(Record::ResetGroup { group: 0 }.check().is_err());
+    assert!(Record::ResetGroup { group: 33 }.check().is_err());
+    assert!(set(1, 0, ToolField::Typ, ToolValue::I32(4))
+        .check()
+        .is_err());
+    assert!(set(1, 0, ToolField::Radius, ToolValue::F64(f64::NAN))
+        .check()
+        .is_err());
+    assert!(set(1, 0, ToolField::Radius, ToolValue::I32(1))
+        .check()
+        .is_err());
+    assert!(set(32, 1023, ToolField::Typ, ToolValue::I32(3))
+        .check()
+        .is_ok());
+}
+
+#[test]
+fn decode_reports_what_is_wrong() {
+    let with_crc = |body: &str| format!("{body} *{:08x}", crc32fast::hash(body.as_bytes()));
+    assert_eq!(Record::decode(b"g1 reset"), Err(RecordError::NoChecksum));
+    assert_eq!(
+        Record::decode(b"g1 reset *0000000"),
+        Err(RecordError::NoChecksum)
+    );
+    assert_eq!(
+        Record::decode(b"g1 reset *00000000"),
+        Err(RecordError::Checksum)
+    );
+    let bad_group = with_crc("g33 reset");
+    assert!(matches!(
+        Record::decode(bad_group.as_bytes()),
+        Err(RecordError::GroupOutOfRange(_))
+    ));
+    let unknown = with_crc("g1 wz[1].gueltig 1");
+    assert!(matches!(
+        Record::decode(unknown.as_bytes()),
+        Err(RecordError::Line(LineError::UnknownField(_)))
+    ));
+    let garbage = with_crc("hello");
+    assert!(matches!(
+        Record::decode(garbage.as_bytes()),
+        Err(RecordError::Malformed(_))
+    ));
+    assert!(matches!(
+        Record::decode(b"\xff\xfe *00000000"),
+        Err(RecordError::Malformed(_))
+    ));
+}
+
+fn sample() -> Vec<Record> {
+    vec![
+        set(1, 1, ToolField::Typ, ToolValue::I32(2)),
+        set(1, 1, ToolField::Radius, ToolValue::F64(30.0)),
+        Record::ResetGroup { group: 2 },
+        set(2, 7, ToolField::Laenge, ToolValue::F64(-0.0)),
+        Record::Clean,
+        set(
+            4,
+            1023,
+            ToolField::GrindingDiscTiltAngle,
+            ToolValue::F64(-450000.0),
+        ),
+    ]
+}
+
+#[test]
+fn replay_gives_every_record() {
+    let bytes = encode_batch(&sample());
+    let r = replay(&bytes).unwrap();
+    assert_eq!(r.records, sample());
+    assert_eq!(r.torn_tail, None);
+    assert_eq!(r.valid_len, bytes.len() as u64);
+    assert_eq!(replay(b"").unwrap(), Replay::default());
+}
+
+#[test]
+fn torn_tail_at_every_byte_of_the_last_record_is_dropped() {
+    let records = sample();
+    let before = encode_batch(&records[..5]);
+    let full = encode_batch(&records);
+    for cut in before.len() + 1..full.len() {
+        let r = replay(&full[..cut]).unwrap();
+        assert_eq!(r.records, records[..5], "cut at {cut}");
+        let tail = r.torn_tail.unwrap();
+        assert_eq!((tail.line, tail.offset), (6, before.len() as u64));
+        assert_eq!(tail.bytes, (cut - before.len()) as u64);
+        assert_eq!(r.valid_len, before.len() as u64);
+    }
+    // Cut exactly at the record's start: nothing torn.
+    assert_eq!(replay(&full[..before.len()]).unwrap().torn_tail, None);
+}
+
+#[test]
+fn complete_last_line_with_bad_checksum_is_a_torn_tail() {
+    let mut bytes = encode_batch(&sample());
+    let at = bytes.len() - 4;
+    bytes[at] ^= 0x01;
+    let r = replay(&bytes).unwrap();
+    assert_eq!(r.records.len(), 5);
+    assert_eq!(r.torn_tail.map(|t| t.reason), Some(RecordError::Checksum));
+}
+
+#[test]
+fn bad_record_before_the_last_is_corruption_with_line() {
+    let mut bytes = encode_batch(&sample());
+    // Flip a digit in line 2 ("g1 wz[1].radius 300000").
+    let at = bytes.windows(6).position(|w| w == b"300000").unwrap();
+    bytes[at] = b'4';
+    let e = replay(&bytes).unwrap_err();
+    assert_eq!(
+        e,
+        JournalError {
+            line: 2,
+            error: RecordError::Checksum
+        }
+    );
+    assert_eq!(e.to_string(), "line 2: checksum mismatch");
+
+    let lenient = replay_lenient(&bytes);
+    assert_eq!(lenient.skipped, [e]);
+    assert_eq!(lenient.records.len(), 5);
+    assert_eq!(lenient.valid_len, bytes.len() as u64);
+}
+
+fn any_record() -> impl Strategy<Value = Record> {
+    let value = prop_oneof![
+        (0..=3).prop_map(|v| (ToolField::Typ, ToolValue::I32(v))),
+        any::<f64>()
+            .prop_filter("finite", |v| v.is_finite())
+            .prop_map(|v| (ToolField::Radius, ToolValue::F64(v))),
+        (-1e9..1e9f64).prop_map(|v| (ToolField::Laenge, ToolValue::F64(v))),
+        (0.0..1e9f64).prop_map(|v| (ToolField::GrindingWearConst, ToolValue::F64(v))),
+        (-1e9..1e9f64).prop_map(|v| (ToolField::GrindingMaxInfeed, ToolValue::F64(v))),
+        (-450000.0..=450000.0f64)
+            .prop_map(|v| (ToolField::GrindingDiscTiltAngle, ToolValue::F64(v))),
+    ];
+    prop_oneof![
+        8 => (1..=32u8, 0..1024u16, value).prop_map(|(g, i, (f, v))| set(g, i, f, v)),
+        1 => (1..=32u8).prop_map(|group| Record::ResetGroup { group }),
+        1 => Just(Record::Clean),
+    ]
+}
+
+proptest! {
+    #[test]
+    fn append_then_replay_gives_the_same_records(
+        records in proptest::collection::vec(any_record(), 0..30)
+    ) {
+        let bytes = encode_batch(&records);
+        let r = replay(&bytes).unwrap();
+        prop_assert_eq!(r.records, records);
+        prop_assert_eq!(r.torn_tail, None);
+    }
+}

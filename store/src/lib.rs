@@ -1,0 +1,22 @@
+//! Durable tool data of the TC emulator.
+//!
+//! One tool file per compensation group in the `wz[i].field value` style
+//! of the controller manuals, plus an append-only journal of changes with
+//! a checksum per record. [`ToolStore`] loads the files, replays the
+//! journal, appends durably and compacts the journal back into the files.
+//! Only the [`Storage`] trait touches the disk, so tests can inject faults.
+//! The format is described for users in `docs/tool-files.md`.
+
+mod decimal;
+pub mod field;
+
+pub use field::{ToolField, ToolValue, ValueError};
+pub mod file;
+pub mod journal;
+pub mod table;
+
+pub use file::{
+    parse_group_file, parse_group_file_lenient, write_group_file, LineError, ParseError,
+};
+pub use journal::{JournalError, Record, RecordError, Replay, TornTail};
+pub use table::{GroupTable, ToolKey, GROUPS, TOOL_ENTRIES};
