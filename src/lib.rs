@@ -25,6 +25,7 @@ pub mod reference;
 pub mod remote;
 pub mod service;
 pub mod session;
+pub mod tools;
 pub mod trace;
 
 pub use emulator::Emulator;
