@@ -36,9 +36,14 @@ pub struct Config {
     pub allow_remote: bool,
     /// Ask programs on this machine (loopback peers) for the token too.
     pub token_on_loopback: bool,
-    /// Folder of the server's own files (the access token); relative to
-    /// the working directory.
+    /// Folder of the server's own files (the tool files and journal, the
+    /// access token); relative to the working directory.
     pub data_dir: PathBuf,
+    /// Keep tool data on disk (`false`: a throw-away emulator).
+    pub persist: bool,
+    /// Start even when tool files or the journal hold bad lines (they are
+    /// skipped and reported).
+    pub ignore_bad_tools: bool,
     /// Connections served at once.
     pub max_connections: usize,
     /// Connections served at once from one peer address on another
@@ -68,7 +73,9 @@ impl Default for Config {
             listen: "127.0.0.1:1300".into(),
             allow_remote: false,
             token_on_loopback: false,
-            data_dir: PathBuf::from("addipos-data"),
+            data_dir: PathBuf::from("data"),
+            persist: true,
+            ignore_bad_tools: false,
             max_connections: 256,
             max_connections_per_peer: 16,
             evict_after_ms: 1000,

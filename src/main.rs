@@ -12,7 +12,7 @@ use addipos::config::DEFAULT_CONFIG;
 use addipos::remote::{setup_failed, RemoteTarget};
 use addipos::trace::{fresh_emulator, open_trace, replay_stream, trace_files, Target};
 use cli::remote_args::{connect, protocol_hint, token_hint, RemoteArgs};
-use cli::serve::cmd_serve;
+use cli::serve::{cmd_serve, ServeArgs};
 use cli::{EXIT_FAILED, EXIT_HELP, EXIT_TROUBLE};
 use tc_request::text::parse_request;
 use tc_request::Reply;
@@ -41,6 +41,18 @@ enum Command {
         /// Allow listening on a non-loopback address.
         #[arg(long)]
         allow_remote: bool,
+        /// Folder of the server's files (tool data, access token),
+        /// overriding `data_dir` of the settings (default `data`).
+        #[arg(long, value_name = "DIR")]
+        data_dir: Option<PathBuf>,
+        /// Keep tool data in memory only: nothing is read or written on
+        /// disk (a throw-away emulator).
+        #[arg(long)]
+        no_persist: bool,
+        /// Start even when tool files or the tool journal hold bad lines:
+        /// they are skipped and reported instead of refusing to start.
+        #[arg(long)]
+        ignore_bad_tools: bool,
         /// Print the built-in settings and exit.
         #[arg(long)]
         print_default_config: bool,
@@ -254,13 +266,24 @@ fn main() -> ExitCode {
             config,
             listen,
             allow_remote,
+            data_dir,
+            no_persist,
+            ignore_bad_tools,
             print_default_config,
         } => {
             if print_default_config {
                 print!("{DEFAULT_CONFIG}");
                 return ExitCode::SUCCESS;
             }
-            cmd_serve(config.as_deref(), listen.as_deref(), allow_remote)
+            let args = ServeArgs {
+                config,
+                listen,
+                allow_remote,
+                data_dir,
+                no_persist,
+                ignore_bad_tools,
+            };
+            cmd_serve(&args)
         }
         Command::Call {
             addr,

@@ -16,6 +16,7 @@ use uoi::wire::{Answer, Request as WireRequest};
 use uoi::AccessError;
 
 use crate::session::ConformanceSession;
+use crate::tools::durable::ToolPersistence;
 use crate::Emulator;
 
 /// The emulator all connections share, as the TCP server's handler
@@ -23,6 +24,8 @@ use crate::Emulator;
 #[derive(Debug)]
 pub struct EmulatorService<E: TcExtension = OtcExtension> {
     emu: Emulator<E>,
+    /// Where tool data is kept durably; `None`: in memory only.
+    tools: Option<Tools<E>>,
 }
 
 impl EmulatorService {
@@ -35,7 +38,23 @@ impl EmulatorService {
 impl<E: TcExtension + Default> EmulatorService<E> {
     /// Serves `emu`.
     pub fn with_emulator(emu: Emulator<E>) -> Self {
-        Self { emu }
+        Self { emu, tools: None }
+    }
+
+    /// Keeps the tool data through `tools` from now on.
+    pub fn set_tools(&mut self, tools: Box<dyn ToolPersistence<E>>) {
+        self.tools = Some(Tools(Some(tools)));
+    }
+
+    /// The emulator served, mutable (to load its tool data at start).
+    pub fn emulator_mut(&mut self) -> &mut Emulator<E> {
+        &mut self.emu
+    }
+
+    /// Writes every queued tool change and compacts the tool journal (at
+    /// shutdown; the emulator keeps serving without persistence).
+    pub fn close_tools(&mut self) {
+        drop(self.tools.take());
     }
 
     /// The same service with a spooler of `capacity` elements (checked by
@@ -43,6 +62,21 @@ impl<E: TcExtension + Default> EmulatorService<E> {
     pub fn with_spool_capacity(self, capacity: usize) -> Self {
         Self {
             emu: self.emu.with_spool_capacity(capacity),
+            ..self
+        }
+    }
+}
+
+/// The tool persistence of a service; when it goes (the server stopped),
+/// every queued tool change is written and the journal compacted into
+/// the tool files.
+#[derive(Debug)]
+struct Tools<E: TcExtension>(Option<Box<dyn ToolPersistence<E>>>);
+
+impl<E: TcExtension> Drop for Tools<E> {
+    fn drop(&mut self) {
+        if let Some(t) = self.0.take() {
+            t.close();
         }
     }
 }
@@ -115,9 +149,24 @@ impl<E: TcExtension + Default> Handler for EmulatorService<E> {
         serve(&mut self.emu, req).unwrap_or(Answer::Access(AccessError::State))
     }
 
-    /// As `handle`, but a long `EXEC` comes back in slices.
+    /// As `handle`, but a long `EXEC` comes back in slices, and a write
+    /// that changes tool data waits until it is on disk.
     fn handle_slice(&mut self, req: WireRequest) -> Slice {
+        let tools = self.tools.as_mut().and_then(|t| t.0.as_mut());
+        if let (Some(t), WireRequest::Write(a, v)) = (tools, &req) {
+            if let Some(slice) = t.serve(&mut self.emu, *a, *v) {
+                return slice;
+            }
+        }
         serve_slice(&mut self.emu, req).unwrap_or(Slice::Done(Answer::Access(AccessError::State)))
+    }
+
+    /// A tool write is on disk (or refused): applied and answered.
+    fn resume(&mut self, token: u64, ok: bool) -> Slice {
+        match self.tools.as_mut().and_then(|t| t.0.as_mut()) {
+            Some(t) => t.resume(&mut self.emu, token, ok),
+            None => Slice::Done(Answer::Protocol(ProtocolError::Busy)),
+        }
     }
 }
 

@@ -15,7 +15,7 @@ fn bin() -> Command {
 #[test]
 fn serve_call_and_stop() {
     let mut server = bin()
-        .args(["serve", "--listen", "127.0.0.1:0"])
+        .args(["serve", "--no-persist", "--listen", "127.0.0.1:0"])
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -95,7 +95,7 @@ fn serve_call_and_stop() {
 /// Runs `serve` with `args` (expected not to start): exit code, stderr.
 fn serve_fails(args: &[&str]) -> (i32, String) {
     let out = bin()
-        .arg("serve")
+        .args(["serve", "--no-persist"])
         .args(args)
         .stdin(Stdio::null())
         .output()
@@ -162,7 +162,7 @@ fn serve_refuses_bad_settings_clearly() {
     let f = dir.join("bad.toml");
     std::fs::write(&f, "core = \"fast\"\n").expect("write");
     let out = bin()
-        .args(["serve", "--config"])
+        .args(["serve", "--no-persist", "--config"])
         .arg(&f)
         .output()
         .expect("serve");
@@ -174,7 +174,7 @@ fn serve_refuses_bad_settings_clearly() {
     );
 
     let out = bin()
-        .args(["serve", "--listen", "0.0.0.0:0"])
+        .args(["serve", "--no-persist", "--listen", "0.0.0.0:0"])
         .output()
         .expect("serve");
     assert!(!out.status.success());

@@ -3,13 +3,14 @@
 //! cannot start.
 
 use std::net::SocketAddr;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use addipos::access;
 use addipos::address::parse_address;
 use addipos::config::{Config, DEFAULT_CONFIG};
 use addipos::service::EmulatorService;
+use addipos::tools::open::open_tools;
 use uoi::tcp::{AccessToken, Server};
 
 use super::{EXIT_FAILED, EXIT_TROUBLE};
@@ -36,20 +37,36 @@ async fn shutdown_signal() {
     tracing::info!("stop requested");
 }
 
+/// The command line of `serve`.
+#[derive(Debug, Default)]
+pub struct ServeArgs {
+    /// `--config FILE`.
+    pub config: Option<PathBuf>,
+    /// `--listen ADDR`.
+    pub listen: Option<String>,
+    /// `--allow-remote`.
+    pub allow_remote: bool,
+    /// `--data-dir DIR`.
+    pub data_dir: Option<PathBuf>,
+    /// `--no-persist`.
+    pub no_persist: bool,
+    /// `--ignore-bad-tools`.
+    pub ignore_bad_tools: bool,
+}
+
 /// What `serve` runs with.
 struct ServeSettings {
     server: uoi::tcp::ServerConfig,
     service: EmulatorService,
+    /// The lock on the tool folder, held while serving.
+    _tools_lock: Option<std::fs::File>,
 }
 
-/// The settings file (or the built-in settings) with `--listen` and
-/// `--allow-remote` applied, checked; every error names where the bad
-/// value came from.
-fn serve_settings(
-    config: Option<&Path>,
-    listen: Option<&str>,
-    allow_remote: bool,
-) -> Result<ServeSettings, String> {
+/// The settings file (or the built-in settings) with the command line
+/// applied, checked, and the tool data opened; every error names where
+/// the bad value came from.
+fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
+    let (config, listen) = (args.config.as_deref(), args.listen.as_deref());
     let source = config.map_or_else(|| "built-in settings".into(), |p| p.display().to_string());
     let text = match config {
         None => DEFAULT_CONFIG.to_string(),
@@ -62,14 +79,33 @@ fn serve_settings(
             .map_err(|e| format!("--listen: {e}"))?
             .to_string();
     }
-    cfg.allow_remote |= allow_remote;
+    cfg.allow_remote |= args.allow_remote;
+    if let Some(d) = &args.data_dir {
+        cfg.data_dir = d.clone();
+    }
+    cfg.persist &= !args.no_persist;
+    cfg.ignore_bad_tools |= args.ignore_bad_tools;
     let mut server = cfg.server().map_err(in_source)?;
-    let service = cfg.service().map_err(in_source)?;
+    let mut service = cfg.service().map_err(in_source)?;
     if cfg.wants_token() {
         let token = server_token(&cfg.data_dir).map_err(|e| format!("access token: {e}"))?;
         server.access.token = Some(token);
     }
-    Ok(ServeSettings { server, service })
+    let lock = if cfg.persist {
+        Some(open_tools(
+            &mut service,
+            &cfg.data_dir,
+            cfg.ignore_bad_tools,
+        )?)
+    } else {
+        tracing::info!("tool data kept in memory only (--no-persist)");
+        None
+    };
+    Ok(ServeSettings {
+        server,
+        service,
+        _tools_lock: lock,
+    })
 }
 
 /// The server's access token, read or generated; the log names its file
@@ -101,8 +137,8 @@ fn listen_error(addr: SocketAddr, e: &std::io::Error) -> String {
 }
 
 /// Runs `serve` until a stop signal; the exit status says how it ended.
-pub fn cmd_serve(config: Option<&Path>, listen: Option<&str>, allow_remote: bool) -> ExitCode {
-    let settings = match serve_settings(config, listen, allow_remote) {
+pub fn cmd_serve(args: &ServeArgs) -> ExitCode {
+    let settings = match serve_settings(args) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("error: {e}");
@@ -121,6 +157,7 @@ pub fn cmd_serve(config: Option<&Path>, listen: Option<&str>, allow_remote: bool
     };
     let addr = settings.server.listen;
     // The server logs its one start line (address, limits) once bound.
+    let lock = settings._tools_lock;
     let server = match rt.block_on(Server::bind(settings.server, settings.service)) {
         Ok(s) => s,
         Err(e) => {
@@ -128,11 +165,16 @@ pub fn cmd_serve(config: Option<&Path>, listen: Option<&str>, allow_remote: bool
             return ExitCode::from(EXIT_TROUBLE);
         }
     };
-    match rt.block_on(server.run(shutdown_signal())) {
+    let end = match rt.block_on(server.run(shutdown_signal())) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(EXIT_FAILED)
         }
-    }
+    };
+    // The emulator (and with it the tool writer, which compacts the
+    // journal into the tool files) goes with the runtime; the lock after.
+    drop(rt);
+    drop(lock);
+    end
 }

@@ -2,5 +2,7 @@
 //! to the tool store's records, and the writer that makes them durable
 //! before a write is answered.
 
+pub mod durable;
 pub mod entries;
+pub mod open;
 pub mod writer;

@@ -24,6 +24,31 @@ pub trait Journal: Send + 'static {
     /// After a batch: housekeeping such as compaction (its failure is
     /// logged, the journal stays valid).
     fn maintain(&mut self) {}
+    /// At shutdown, after the last batch (compaction).
+    fn close(&mut self) {}
+}
+
+impl<S: tool_store::Storage + Send + std::fmt::Debug + 'static> Journal
+    for tool_store::ToolStore<S>
+{
+    fn append(&mut self, records: &[Record]) -> Result<(), String> {
+        tool_store::ToolStore::append(self, records).map_err(|e| e.to_string())
+    }
+
+    fn maintain(&mut self) {
+        if self.needs_compaction() {
+            if let Err(e) = self.compact() {
+                warn!(error = %e, "tool journal not compacted");
+            }
+        }
+    }
+
+    fn close(&mut self) {
+        match self.compact() {
+            Ok(()) => tracing::info!("tool data saved to the tool files"),
+            Err(e) => warn!(error = %e, "tool files not rewritten; the journal keeps every change"),
+        }
+    }
 }
 
 /// How a submitter hears of its batch: from async code, or by blocking.

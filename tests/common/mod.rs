@@ -107,11 +107,14 @@ pub struct ServeProcess {
 }
 
 impl ServeProcess {
-    /// Starts `addipos serve` with `args` and `env`, and waits for its
-    /// start line.
+    /// Starts `addipos serve` with `args` and `env` (with `--no-persist`
+    /// unless `args` name a `--data-dir`), and waits for its start line.
     pub fn start(args: &[&str], env: &[(&str, &str)]) -> Self {
+        // Tool data in memory unless the test gives a data directory.
+        let persist = args.contains(&"--data-dir");
         let mut child = bin()
             .arg("serve")
+            .args((!persist).then_some("--no-persist"))
             .args(args)
             .envs(env.iter().copied())
             .stdout(Stdio::null())

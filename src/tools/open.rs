@@ -1,0 +1,106 @@
+//! Opening the tool data for `serve`: the data directory locked for this
+//! server, the tool files loaded and the journal replayed (refusing bad
+//! lines, or skipping them when asked), the values loaded into the
+//! emulator, and the journal's writer started.
+
+use std::fs::{File, TryLockError};
+use std::path::{Path, PathBuf};
+
+use tc_module::WkzIndex;
+use tool_store::{FsStorage, OpenReport, Strictness, ToolStore};
+use tracing::{info, warn};
+
+use super::durable::Durable;
+use super::entries::{entry_mut, set_value};
+use super::writer::Writer;
+use crate::service::EmulatorService;
+
+/// The folder of the tool files inside the data directory.
+pub const TOOLS_DIR: &str = "tools";
+
+/// The lock file that marks the tool folder as used by a running server.
+pub const LOCK_FILE: &str = ".lock";
+
+/// The tool folder of data directory `data_dir`.
+pub fn tools_dir(data_dir: &Path) -> PathBuf {
+    data_dir.join(TOOLS_DIR)
+}
+
+/// Locks `dir` for this process: the lock lasts as long as the file
+/// handle. Refused while another server (or `addipos tools import`) holds
+/// it.
+pub fn lock_tools_dir(dir: &Path) -> Result<File, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let path = dir.join(LOCK_FILE);
+    let file = File::create(&path).map_err(|e| format!("cannot open {}: {e}", path.display()))?;
+    match file.try_lock() {
+        Ok(()) => Ok(file),
+        Err(TryLockError::WouldBlock) => Err(format!(
+            "{} is in use by another server or an import (its lock {} is held)",
+            dir.display(),
+            path.display()
+        )),
+        Err(TryLockError::Error(e)) => Err(format!("cannot lock {}: {e}", path.display())),
+    }
+}
+
+/// Logs what opening found besides the values.
+fn log_report(dir: &Path, report: &OpenReport) {
+    info!(
+        folder = %dir.display(),
+        files = report.files_loaded.len(),
+        journal_records = report.replayed,
+        "tool data loaded"
+    );
+    if let Some(t) = &report.torn_tail {
+        warn!(
+            line = t.line,
+            bytes = t.bytes,
+            "dropped the torn last record of the tool journal"
+        );
+    }
+    for e in &report.file_errors {
+        warn!("skipped a bad tool file line: {e}");
+    }
+    for e in &report.journal_errors {
+        warn!("skipped a bad tool journal line: {e}");
+    }
+}
+
+/// Opens the tool data in `data_dir` for `service`: locks the folder,
+/// loads it into the emulator and makes every later tool write durable.
+/// Returns the lock, to hold while serving. The error names the file and
+/// the line of a bad tool file or journal record.
+pub fn open_tools(
+    service: &mut EmulatorService,
+    data_dir: &Path,
+    ignore_bad: bool,
+) -> Result<File, String> {
+    let dir = tools_dir(data_dir);
+    let lock = lock_tools_dir(&dir)?;
+    let strictness = if ignore_bad {
+        Strictness::Lenient
+    } else {
+        Strictness::Strict
+    };
+    let (store, report) = ToolStore::open(FsStorage::new(&dir), strictness).map_err(|e| {
+        format!(
+            "tool data in {}: {e} (fix or remove the line, or start with --ignore-bad-tools)",
+            dir.display()
+        )
+    })?;
+    log_report(&dir, &report);
+    let tc = service.emulator_mut().tc_mut();
+    for (group, key, value) in store.values() {
+        let Some(w) = WkzIndex::new(i32::from(key.index)) else {
+            continue;
+        };
+        if let Some(e) = entry_mut(tc, group, w) {
+            set_value(e, key.field, value);
+        }
+    }
+    let writer = Writer::start(store).map_err(|e| format!("cannot start the tool writer: {e}"))?;
+    let tools = Box::new(Durable::new(writer));
+    service.set_tools(tools);
+    Ok(lock)
+}
