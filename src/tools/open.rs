@@ -83,13 +83,20 @@ pub fn open_tools(
     } else {
         Strictness::Strict
     };
-    let (store, report) = ToolStore::open(FsStorage::new(&dir), strictness).map_err(|e| {
+    let (mut store, report) = ToolStore::open(FsStorage::new(&dir), strictness).map_err(|e| {
         format!(
             "tool data in {}: {e} (fix or remove the line, or start with --ignore-bad-tools)",
             dir.display()
         )
     })?;
     log_report(&dir, &report);
+    if !(report.file_errors.is_empty() && report.journal_errors.is_empty()) {
+        // The skipped lines leave the files and the journal now, so they
+        // are not reported again at every start.
+        store
+            .compact()
+            .map_err(|e| format!("tool data in {}: {e}", dir.display()))?;
+    }
     let tc = service.emulator_mut().tc_mut();
     for (group, key, value) in store.values() {
         let Some(w) = WkzIndex::new(i32::from(key.index)) else {

@@ -10,6 +10,10 @@
 use crate::decimal::{self, Decimal};
 use std::fmt;
 
+/// Largest radius or length on the bus, mm: the emulator's coordinate
+/// limit, which RADIUS and WkzLen keep to.
+pub const MAX_LENGTH_MM: f64 = 1e9;
+
 /// One field of a tool entry, named as in the tool files (`wz[i].<name>`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum ToolField {
@@ -137,7 +141,8 @@ impl ToolField {
     pub const fn range_text(self) -> &'static str {
         match self {
             Self::Typ => "0..=3",
-            Self::Radius | Self::Laenge | Self::GrindingMaxInfeed => "any finite number",
+            Self::Radius | Self::Laenge => "-1e9..=1e9 mm (the bus range of RADIUS and WkzLen)",
+            Self::GrindingMaxInfeed => "any finite number",
             Self::GrindingWearConst => "finite and >= 0",
             Self::GrindingDiscTiltAngle => "-450000..=450000",
         }
@@ -161,6 +166,9 @@ impl ToolField {
             (Self::GrindingWearConst, ToolValue::F64(v)) => v.is_finite() && v >= 0.0,
             (Self::GrindingDiscTiltAngle, ToolValue::F64(v)) => {
                 (-450_000.0..=450_000.0).contains(&v)
+            }
+            (Self::Radius | Self::Laenge, ToolValue::F64(v)) => {
+                (-MAX_LENGTH_MM..=MAX_LENGTH_MM).contains(&v)
             }
             (_, ToolValue::F64(v)) => v.is_finite(),
         };
@@ -281,6 +289,9 @@ mod tests {
         ];
         for v in edges {
             for f in [ToolField::Radius, ToolField::GrindingMaxInfeed] {
+                if f == ToolField::Radius && v.abs() > MAX_LENGTH_MM {
+                    continue;
+                }
                 assert_eq!(round_trip(f, v).to_bits(), v.to_bits(), "{f} {v:?}");
             }
         }
@@ -325,10 +336,14 @@ mod tests {
             ToolField::Typ.parse_file_text("7"),
             Err(ValueError::OutOfRange { .. })
         ));
-        // 1e312 in 0.1 µm is 1e308 mm, still finite; 1e313 is not.
+        // 1e13 in 0.1 µm is 1e9 mm, the bus limit; beyond is refused.
         assert!(matches!(
-            ToolField::Radius.parse_file_text("1e312"),
-            Ok(ToolValue::F64(v)) if v == 1e308
+            ToolField::Radius.parse_file_text("1e13"),
+            Ok(ToolValue::F64(v)) if v == 1e9
+        ));
+        assert!(matches!(
+            ToolField::Radius.parse_file_text("1.0000000001e13"),
+            Err(ValueError::OutOfRange { .. })
         ));
         assert!(matches!(
             ToolField::Radius.parse_file_text("1e313"),
@@ -355,7 +370,9 @@ mod tests {
         #[test]
         fn any_finite_bits_read_back_bit_identical(bits in any::<u64>()) {
             let v = f64::from_bits(bits);
-            prop_assume!(v.is_finite());
+            // Every finite value within the bus range (tiny and subnormal
+            // ones included: the shift works on their decimal text).
+            prop_assume!(v.is_finite() && v.abs() <= MAX_LENGTH_MM);
             prop_assert_eq!(round_trip(ToolField::Radius, v).to_bits(), bits);
         }
     }
