@@ -2,9 +2,9 @@
 //! is acknowledged, each line ending in a CRC-32 of its text.
 //!
 //! ```text
-//! g3 wz[5].radius 300000 *1c291ca3
-//! g3 reset *5e8b4c5a
-//! clean *a7bd6f13
+//! g3 wz[5].radius 300000 *26a0b7f4
+//! g3 reset *b7948462
+//! clean *f1b0ad49
 //! ```
 //!
 //! A record counts only with its newline and a matching checksum. A bad

@@ -20,3 +20,8 @@ pub use file::{
 };
 pub use journal::{JournalError, Record, RecordError, Replay, TornTail};
 pub use table::{GroupTable, ToolKey, GROUPS, TOOL_ENTRIES};
+pub mod storage;
+pub mod store;
+
+pub use storage::{FaultKind, FaultyStorage, FsStorage, MemStorage, Op, Storage, JOURNAL_FILE};
+pub use store::{group_file_name, CompactionBound, OpenReport, StoreError, Strictness, ToolStore};

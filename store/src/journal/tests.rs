@@ -187,3 +187,14 @@ proptest! {
         prop_assert_eq!(r.torn_tail, None);
     }
 }
+
+#[test]
+fn documented_examples_decode() {
+    for line in [
+        "g3 wz[5].radius 300000 *26a0b7f4",
+        "g3 reset *b7948462",
+        "clean *f1b0ad49",
+    ] {
+        assert!(Record::decode(line.as_bytes()).is_ok(), "{line}");
+    }
+}

@@ -1,0 +1,348 @@
+use super::*;
+use crate::field::ToolField;
+use crate::storage::{FaultKind, FaultyStorage, MemStorage, Op};
+use proptest::prelude::*;
+
+type Model = BTreeMap<(u8, ToolKey), ToolValue>;
+
+fn key(i: u16, f: ToolField) -> ToolKey {
+    ToolKey::new(i, f).unwrap()
+}
+
+fn set(group: u8, index: u16, field: ToolField, value: ToolValue) -> Record {
+    Record::Set {
+        group,
+        key: key(index, field),
+        value,
+    }
+}
+
+fn radius(group: u8, index: u16, mm: f64) -> Record {
+    set(group, index, ToolField::Radius, ToolValue::F64(mm))
+}
+
+fn open<S: Storage>(s: S) -> (ToolStore<S>, OpenReport) {
+    ToolStore::open(s, Strictness::Strict).unwrap()
+}
+
+fn snapshot<S: Storage>(store: &ToolStore<S>) -> Model {
+    store.values().map(|(g, k, v)| ((g, k), v)).collect()
+}
+
+/// Applies records to a model the way the store should.
+fn model_apply(model: &mut Model, records: &[Record]) {
+    for r in records {
+        match *r {
+            Record::Set { group, key, value } if value == key.field.default_value() => {
+                model.remove(&(group, key));
+            }
+            Record::Set { group, key, value } => {
+                model.insert((group, key), value);
+            }
+            Record::ResetGroup { group } => model.retain(|(g, _), _| *g != group),
+            Record::Clean => model.clear(),
+        }
+    }
+}
+
+#[test]
+fn empty_storage_opens_with_defaults() {
+    let (store, report) = open(MemStorage::new());
+    assert_eq!(store.values().count(), 0);
+    assert_eq!(store.get(1, key(0, ToolField::Typ)), ToolValue::I32(0));
+    assert!(store.group(1).is_none());
+    assert_eq!(report, OpenReport::default());
+}
+
+#[test]
+fn hand_written_group_file_loads() {
+    let mut mem = MemStorage::new();
+    let text = "# grinding disc\nwz[1].typ 2\nwz[1].radius 300000\nwz[1].grinding_wear_const 100000 # 10 mm/m\n";
+    mem.put_file("group03.wz", text);
+    let (store, report) = open(mem);
+    assert_eq!(report.files_loaded, [3]);
+    assert_eq!(store.get(3, key(1, ToolField::Typ)), ToolValue::I32(2));
+    assert_eq!(
+        store.get(3, key(1, ToolField::Radius)),
+        ToolValue::F64(30.0)
+    );
+    let wear = store.get(3, key(1, ToolField::GrindingWearConst));
+    assert_eq!(wear, ToolValue::F64(100000.0));
+    assert_eq!(store.group(3).map(GroupTable::len), Some(3));
+}
+
+#[test]
+fn bad_group_file_refuses_strict_open_with_file_and_line() {
+    let mut mem = MemStorage::new();
+    mem.put_file("group02.wz", "wz[1].typ 2\nwz[1].typ 3\n");
+    let e = ToolStore::open(mem.clone(), Strictness::Strict).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "group02.wz:2: duplicate key wz[1].typ (first set on line 1)"
+    );
+    let (store, report) = ToolStore::open(mem, Strictness::Lenient).unwrap();
+    assert_eq!(report.file_errors.len(), 1);
+    assert_eq!(store.get(2, key(1, ToolField::Typ)), ToolValue::I32(2));
+}
+
+#[test]
+fn appended_records_survive_reopen() {
+    let (mut store, _) = open(MemStorage::new());
+    store
+        .append(&[radius(1, 5, 30.0), radius(2, 0, -0.0)])
+        .unwrap();
+    store
+        .append(&[set(1, 5, ToolField::Typ, ToolValue::I32(2))])
+        .unwrap();
+    let before = snapshot(&store);
+    let (again, report) = open(store.into_storage());
+    assert_eq!(report.replayed, 3);
+    assert_eq!(snapshot(&again), before);
+    assert_eq!(
+        again.get(2, key(0, ToolField::Radius)),
+        ToolValue::F64(-0.0)
+    );
+}
+
+#[test]
+fn invalid_record_writes_nothing() {
+    let (mut store, _) = open(MemStorage::new());
+    let bad = [radius(1, 1, 1.0), Record::ResetGroup { group: 40 }];
+    let e = store.append(&bad).unwrap_err();
+    assert!(matches!(e, StoreError::Invalid { index: 1, .. }), "{e}");
+    assert!(store.storage().journal().is_empty());
+    assert_eq!(store.values().count(), 0);
+}
+
+#[test]
+fn reset_and_clean_survive_compaction_and_reopen() {
+    let (mut store, _) = open(MemStorage::new());
+    store
+        .append(&[radius(1, 1, 1.0), radius(2, 2, 2.0), radius(3, 3, 3.0)])
+        .unwrap();
+    store.compact().unwrap();
+    store.append(&[Record::ResetGroup { group: 2 }]).unwrap();
+    let (mut store, _) = open(store.into_storage());
+    assert_eq!(store.values().count(), 2);
+    store.compact().unwrap();
+    assert!(store.storage().journal().is_empty());
+    let text = store.storage().file("group02.wz").map(<[u8]>::to_vec);
+    assert!(
+        text.is_some_and(|t| t.split(|&b| b == b'\n').all(|l| !l.starts_with(b"wz"))),
+        "reset group keeps a header-only file"
+    );
+    store.append(&[Record::Clean]).unwrap();
+    store.compact().unwrap();
+    let (store, report) = open(store.into_storage());
+    assert_eq!(store.values().count(), 0);
+    assert_eq!(report.files_loaded, [1, 2, 3]);
+}
+
+#[test]
+fn torn_tail_is_dropped_reported_and_cut_off() {
+    let (mut store, _) = open(MemStorage::new());
+    store
+        .append(&[radius(1, 1, 1.0), radius(1, 2, 2.0)])
+        .unwrap();
+    let good = snapshot(&store);
+    let good_len = store.storage().journal().len();
+    store.append(&[radius(1, 3, 3.0)]).unwrap();
+    let full = store.into_storage();
+    for cut in good_len + 1..full.journal().len() {
+        let mut mem = full.clone();
+        mem.journal_mut().truncate(cut);
+        let (mut store, report) = open(mem);
+        assert_eq!(snapshot(&store), good, "cut at {cut}");
+        let tail = report.torn_tail.unwrap();
+        assert_eq!((tail.line, tail.offset), (3, good_len as u64));
+        assert_eq!(
+            store.storage().journal().len(),
+            good_len,
+            "torn bytes cut off"
+        );
+        // Appending after the cut tail gives a journal that replays cleanly.
+        store.append(&[radius(1, 4, 4.0)]).unwrap();
+        let (again, report) = open(store.into_storage());
+        assert_eq!((report.torn_tail, again.values().count()), (None, 3));
+    }
+}
+
+#[test]
+fn corrupt_record_before_the_end_refuses_open_with_line() {
+    let (mut store, _) = open(MemStorage::new());
+    store
+        .append(&[radius(1, 1, 1.0), radius(1, 2, 2.0), radius(1, 3, 3.0)])
+        .unwrap();
+    let mut mem = store.into_storage();
+    let at = mem.journal().iter().position(|&b| b == b'\n').unwrap() + 5;
+    mem.journal_mut()[at] = b'9'; // line 2: "g1 wz[9].radius ..."
+    let e = ToolStore::open(mem.clone(), Strictness::Strict).unwrap_err();
+    assert_eq!(e.to_string(), "journal.wzj:2: checksum mismatch");
+    let (store, report) = ToolStore::open(mem, Strictness::Lenient).unwrap();
+    assert_eq!(report.journal_errors.len(), 1);
+    assert_eq!(store.values().count(), 2);
+}
+
+#[test]
+fn needs_compaction_past_the_bound() {
+    let bound = CompactionBound {
+        bytes: 1 << 20,
+        records: 3,
+    };
+    let (store, _) = open(MemStorage::new());
+    let mut store = store.with_compaction_bound(bound);
+    store
+        .append(&[radius(1, 1, 1.0), radius(1, 2, 2.0)])
+        .unwrap();
+    assert!(!store.needs_compaction());
+    store.append(&[radius(1, 3, 3.0)]).unwrap();
+    assert!(store.needs_compaction());
+    store.compact().unwrap();
+    assert!(!store.needs_compaction());
+    assert_eq!(store.journal_size(), (0, 0));
+    let default = CompactionBound::default();
+    assert_eq!((default.bytes, default.records), (4 << 20, 100_000));
+}
+
+/// The store on a real directory, wrapped in fault injection.
+fn faulty_dir(
+    dir: &std::path::Path,
+    faults: impl FnOnce(FaultyStorage<FsStorage>) -> FaultyStorage<FsStorage>,
+) -> ToolStore<FaultyStorage<FsStorage>> {
+    let storage = faults(FaultyStorage::new(FsStorage::new(dir)));
+    ToolStore::open(storage, Strictness::Strict).unwrap().0
+}
+
+/// Three appends, the second one failing as `faults` says: the error is
+/// returned, memory stays, and reopening the directory shows exactly the
+/// first and third.
+fn failed_append_leaves_no_trace(
+    faults: impl FnOnce(FaultyStorage<FsStorage>) -> FaultyStorage<FsStorage>,
+) {
+    let dir = tempfile::tempdir().unwrap();
+    let mut store = faulty_dir(dir.path(), faults);
+    store.append(&[radius(1, 1, 1.0)]).unwrap();
+    let before = snapshot(&store);
+    let err = store.append(&[radius(1, 1, 9.0), radius(1, 2, 9.0)]);
+    assert!(matches!(err, Err(StoreError::Io { .. })), "{err:?}");
+    assert_eq!(snapshot(&store), before, "memory not ahead of disk");
+    store.append(&[radius(1, 3, 3.0)]).unwrap();
+    let expected = snapshot(&store);
+    let (reopened, report) = ToolStore::open_dir(dir.path(), Strictness::Strict).unwrap();
+    assert_eq!(snapshot(&reopened), expected);
+    assert_eq!(report.torn_tail, None);
+    assert_eq!(expected.len(), 2);
+}
+
+#[test]
+fn failing_write_is_an_error_and_leaves_no_trace() {
+    failed_append_leaves_no_trace(|s| s.fail_at(Op::Append, 2, FaultKind::Fail));
+}
+
+#[test]
+fn failing_fsync_is_an_error_and_leaves_no_trace() {
+    failed_append_leaves_no_trace(|s| s.fail_at(Op::Sync, 2, FaultKind::Fail));
+}
+
+#[test]
+fn short_write_is_an_error_and_leaves_no_trace() {
+    for n in [0, 1, 10, 30, 40] {
+        failed_append_leaves_no_trace(|s| s.fail_at(Op::Append, 2, FaultKind::Short(n)));
+    }
+}
+
+#[test]
+fn short_write_that_cannot_be_undone_poisons_until_compaction() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut store = faulty_dir(dir.path(), |s| {
+        s.fail_at(Op::Append, 2, FaultKind::Short(12))
+            .fail_at(Op::Truncate, 1, FaultKind::Fail)
+    });
+    store.append(&[radius(1, 1, 1.0)]).unwrap();
+    let expected = snapshot(&store);
+    assert!(store.append(&[radius(1, 2, 2.0)]).is_err());
+    assert!(matches!(
+        store.append(&[radius(1, 3, 3.0)]),
+        Err(StoreError::Poisoned)
+    ));
+    // A crash now: the half record is a torn tail on the next start.
+    let (reopened, report) = ToolStore::open_dir(dir.path(), Strictness::Strict).unwrap();
+    assert_eq!(snapshot(&reopened), expected);
+    assert_eq!(report.torn_tail.map(|t| t.bytes), Some(12));
+    // Or compaction repairs it in place.
+    store.compact().unwrap();
+    store.append(&[radius(1, 3, 3.0)]).unwrap();
+    let (reopened, _) = ToolStore::open_dir(dir.path(), Strictness::Strict).unwrap();
+    assert_eq!(snapshot(&reopened), snapshot(&store));
+}
+
+#[test]
+fn compaction_cut_short_loses_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut store = faulty_dir(dir.path(), |s| {
+        s.fail_at(Op::WriteFile, 2, FaultKind::Fail)
+            .fail_at(Op::Truncate, 1, FaultKind::Fail)
+    });
+    store
+        .append(&[radius(1, 1, 1.0), radius(2, 2, 2.0), radius(3, 3, 3.0)])
+        .unwrap();
+    store
+        .append(&[Record::ResetGroup { group: 1 }, radius(1, 4, 4.0)])
+        .unwrap();
+    let expected = snapshot(&store);
+    assert!(store.compact().is_err(), "second file write fails");
+    let (reopened, _) = ToolStore::open_dir(dir.path(), Strictness::Strict).unwrap();
+    assert_eq!(snapshot(&reopened), expected);
+    assert!(
+        store.compact().is_err(),
+        "files written, journal not emptied"
+    );
+    let (reopened, report) = ToolStore::open_dir(dir.path(), Strictness::Strict).unwrap();
+    assert_eq!(
+        snapshot(&reopened),
+        expected,
+        "journal replayed over new files"
+    );
+    assert_eq!(report.files_loaded, [1, 2, 3]);
+    store.compact().unwrap();
+    let (reopened, report) = ToolStore::open_dir(dir.path(), Strictness::Strict).unwrap();
+    assert_eq!((snapshot(&reopened), report.replayed), (expected, 0));
+}
+
+fn any_record() -> impl Strategy<Value = Record> {
+    let value = prop_oneof![
+        (0..=3).prop_map(|v| (ToolField::Typ, ToolValue::I32(v))),
+        prop_oneof![Just(0.0), Just(-0.0), -1e9..1e9f64]
+            .prop_map(|v| (ToolField::Radius, ToolValue::F64(v))),
+        (-1e9..1e9f64).prop_map(|v| (ToolField::Laenge, ToolValue::F64(v))),
+        (0.0..1e9f64).prop_map(|v| (ToolField::GrindingWearConst, ToolValue::F64(v))),
+    ];
+    prop_oneof![
+        12 => (1..=4u8, 0..4u16, value).prop_map(|(g, i, (f, v))| set(g, i, f, v)),
+        1 => (1..=4u8).prop_map(|group| Record::ResetGroup { group }),
+        1 => Just(Record::Clean),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn appends_and_compactions_reopen_to_the_model(
+        steps in proptest::collection::vec(
+            (proptest::collection::vec(any_record(), 0..6), any::<bool>()), 0..12)
+    ) {
+        let (mut store, _) = open(MemStorage::new());
+        let mut model = Model::new();
+        for (batch, compact) in steps {
+            store.append(&batch).unwrap();
+            model_apply(&mut model, &batch);
+            if compact {
+                store.compact().unwrap();
+            }
+        }
+        prop_assert_eq!(&snapshot(&store), &model);
+        let (reopened, _) = open(store.into_storage());
+        prop_assert_eq!(snapshot(&reopened), model);
+    }
+}
