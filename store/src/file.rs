@@ -197,6 +197,16 @@ wz[1].grinding_disc_tilt_angle 0
     }
 
     #[test]
+    fn example_of_the_user_docs_loads() {
+        let docs = include_str!("../../docs/tool-files.md");
+        let start = docs.find("```\n# grinding disc").unwrap() + 4;
+        let len = docs[start..].find("```").unwrap();
+        let t = parse_group_file("docs", &docs[start..start + len]).unwrap();
+        assert_eq!(t.get(key(1, ToolField::Radius)), ToolValue::F64(30.0));
+        assert_eq!(t.len(), 5, "the tilt angle 0 is the default");
+    }
+
+    #[test]
     fn unknown_field_is_reported_with_line() {
         let e = error_of("wz[1].typ 2\n\nwz[1].gueltig 1\n");
         assert_eq!(e.line, 3);
