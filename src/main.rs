@@ -91,6 +91,12 @@ enum Command {
     /// its address, type, access, range and meaning, the access errors and
     /// the register bits. `docs/objects.md` is this output.
     Objects,
+    /// Show, export or import the tool data a server keeps in its data
+    /// directory (offline, on the tool files themselves).
+    Tools {
+        #[command(subcommand)]
+        command: cli::tools::ToolsCommand,
+    },
 }
 /// The trace files the arguments name: files as given, folders as their
 /// `*.trace` files. A path that does not exist, or a folder without
@@ -300,5 +306,6 @@ fn main() -> ExitCode {
             print!("{}", addipos::reference::object_reference());
             ExitCode::SUCCESS
         }
+        Command::Tools { command } => cli::tools::cmd_tools(command),
     }
 }

@@ -3,6 +3,7 @@
 
 pub mod remote_args;
 pub mod serve;
+pub mod tools;
 
 /// Exit status when the command ran and found a failure: a trace that
 /// differs, an error answer to `call`, a server that failed while serving.

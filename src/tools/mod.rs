@@ -4,5 +4,6 @@
 
 pub mod durable;
 pub mod entries;
+pub mod lock;
 pub mod open;
 pub mod writer;

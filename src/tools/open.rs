@@ -3,8 +3,8 @@
 //! lines, or skipping them when asked), the values loaded into the
 //! emulator, and the journal's writer started.
 
-use std::fs::{File, TryLockError};
-use std::path::{Path, PathBuf};
+use std::fs::File;
+use std::path::Path;
 
 use tc_module::WkzIndex;
 use tool_store::{FsStorage, OpenReport, Strictness, ToolStore};
@@ -12,37 +12,9 @@ use tracing::{info, warn};
 
 use super::durable::Durable;
 use super::entries::{entry_mut, set_value};
+use super::lock::{lock_exclusive, tools_dir};
 use super::writer::Writer;
 use crate::service::EmulatorService;
-
-/// The folder of the tool files inside the data directory.
-pub const TOOLS_DIR: &str = "tools";
-
-/// The lock file that marks the tool folder as used by a running server.
-pub const LOCK_FILE: &str = ".lock";
-
-/// The tool folder of data directory `data_dir`.
-pub fn tools_dir(data_dir: &Path) -> PathBuf {
-    data_dir.join(TOOLS_DIR)
-}
-
-/// Locks `dir` for this process: the lock lasts as long as the file
-/// handle. Refused while another server (or `addipos tools import`) holds
-/// it.
-pub fn lock_tools_dir(dir: &Path) -> Result<File, String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let path = dir.join(LOCK_FILE);
-    let file = File::create(&path).map_err(|e| format!("cannot open {}: {e}", path.display()))?;
-    match file.try_lock() {
-        Ok(()) => Ok(file),
-        Err(TryLockError::WouldBlock) => Err(format!(
-            "{} is in use by another server or an import (its lock {} is held)",
-            dir.display(),
-            path.display()
-        )),
-        Err(TryLockError::Error(e)) => Err(format!("cannot lock {}: {e}", path.display())),
-    }
-}
 
 /// Logs what opening found besides the values.
 fn log_report(dir: &Path, report: &OpenReport) {
@@ -77,7 +49,8 @@ pub fn open_tools(
     ignore_bad: bool,
 ) -> Result<File, String> {
     let dir = tools_dir(data_dir);
-    let lock = lock_tools_dir(&dir)?;
+    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let lock = lock_exclusive(&dir).map_err(|e| e.to_string())?;
     let strictness = if ignore_bad {
         Strictness::Lenient
     } else {

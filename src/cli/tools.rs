@@ -1,0 +1,316 @@
+//! The `addipos tools` command: show, export and import the tool data a
+//! server keeps in its data directory, offline, on the files themselves
+//! (format in docs/tool-files.md).
+
+mod json;
+mod snapshot;
+mod table;
+mod text;
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, Subcommand};
+use tool_store::{Record, Strictness, ToolKey, ToolStore, ToolValue};
+
+use addipos::config::{Config, DEFAULT_CONFIG};
+
+use super::{EXIT_FAILED, EXIT_TROUBLE};
+
+/// Exit statuses of the `tools` commands, for `--help`.
+pub const TOOLS_EXIT_HELP: &str = "Exit status: 0 success; 1 the file to import is invalid \
+(every bad line is listed; nothing was changed); 2 could not run (bad arguments or settings, \
+a file that cannot be read or written, bad tool data in the data directory, a server holding \
+the data directory).";
+
+/// One tool value: group, entry and field, value in the bus unit.
+pub type ToolSet = (u8, ToolKey, ToolValue);
+
+/// The checked content of an import file.
+#[derive(Debug, Default)]
+pub struct Import {
+    /// The values to set, in file order.
+    values: Vec<ToolSet>,
+    /// Values (or JSON entries) of groups other than `--group`, left out.
+    other_groups: usize,
+}
+
+/// The `tools` subcommands.
+#[derive(Subcommand)]
+pub enum ToolsCommand {
+    /// Print the tool entries that differ from their defaults.
+    ///
+    /// One row per entry with every field in the bus unit (radius and
+    /// laenge in mm).
+    #[command(after_help = TOOLS_EXIT_HELP)]
+    Show {
+        #[command(flatten)]
+        dir: DirArgs,
+        /// Only this compensation group (1..=32).
+        #[arg(long, value_name = "G", value_parser = clap::value_parser!(u8).range(1..=32))]
+        group: Option<u8>,
+        /// Print JSON for scripts: {"entries": [{"group", "entry", every
+        /// field}]}, values in the bus unit.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Write every group's tool values into one file.
+    ///
+    /// One line `g<group> wz[<index>].<field> <value>` per value that
+    /// differs from its default, in the tool files' units (radius and
+    /// laenge in 0.1 µm); `#` starts a comment. Values read back
+    /// bit-identical with `tools import`.
+    #[command(after_help = TOOLS_EXIT_HELP)]
+    Export {
+        #[command(flatten)]
+        dir: DirArgs,
+        /// The file to write (replaced if it exists); standard output if
+        /// none.
+        file: Option<PathBuf>,
+        /// Only this compensation group (1..=32).
+        #[arg(long, value_name = "G", value_parser = clap::value_parser!(u8).range(1..=32))]
+        group: Option<u8>,
+        /// Write JSON instead (as `tools show --json`).
+        #[arg(long)]
+        json: bool,
+    },
+    /// Set tool values from a file; values it does not name keep theirs.
+    ///
+    /// The file is as `tools export` writes it, or a group's tool file in
+    /// the manual's style (`wz[1].radius 300000`, with --group). The whole
+    /// file is checked first; if any line is bad, every bad line is listed
+    /// and nothing is changed. Then all values are written durably at once
+    /// and the tool files rewritten. Entries and fields the file does not
+    /// name keep their values (unless --replace). Refused while a server
+    /// uses the data directory (stop it first).
+    #[command(after_help = TOOLS_EXIT_HELP)]
+    Import {
+        #[command(flatten)]
+        dir: DirArgs,
+        /// The file to read.
+        file: PathBuf,
+        /// Only this compensation group (1..=32): lines without a
+        /// `g<group>` prefix belong to it, lines of other groups are
+        /// checked but left out.
+        #[arg(long, value_name = "G", value_parser = clap::value_parser!(u8).range(1..=32))]
+        group: Option<u8>,
+        /// The file is JSON (as `tools export --json` writes it).
+        #[arg(long)]
+        json: bool,
+        /// Make the file the whole tool data: every value it does not name
+        /// goes back to its default (with --group: only in that group).
+        /// Also recovers a data directory whose tool data cannot be read
+        /// (without --group).
+        #[arg(long)]
+        replace: bool,
+    },
+}
+
+/// Where the tool data is.
+#[derive(Args)]
+pub struct DirArgs {
+    /// The server's data directory (its tool files are in DIR/tools)
+    /// [default: data_dir of --config, or of the built-in settings].
+    #[arg(long, value_name = "DIR")]
+    data_dir: Option<PathBuf>,
+    /// Settings file (as for `serve --config`) whose data_dir to use.
+    #[arg(long, value_name = "FILE")]
+    config: Option<PathBuf>,
+}
+
+impl DirArgs {
+    /// The tool folder: `--data-dir`, or the settings' data_dir, + tools.
+    fn tools_dir(&self) -> Result<PathBuf, String> {
+        if let Some(d) = &self.data_dir {
+            return Ok(addipos::tools::lock::tools_dir(d));
+        }
+        let (source, text) = match &self.config {
+            None => ("built-in settings".to_owned(), DEFAULT_CONFIG.to_owned()),
+            Some(p) => (
+                p.display().to_string(),
+                std::fs::read_to_string(p)
+                    .map_err(|e| format!("cannot read {}: {e}", p.display()))?,
+            ),
+        };
+        let cfg = Config::parse(&text).map_err(|e| format!("{source}: {e}"))?;
+        Ok(addipos::tools::lock::tools_dir(&cfg.data_dir))
+    }
+}
+
+/// Runs a `tools` subcommand.
+pub fn cmd_tools(command: ToolsCommand) -> ExitCode {
+    let result = match command {
+        ToolsCommand::Show { dir, group, json } => {
+            read_values(&dir, group).map(|values| print(&render(&values, json, true)))
+        }
+        ToolsCommand::Export {
+            dir,
+            file,
+            group,
+            json,
+        } => read_values(&dir, group)
+            .and_then(|values| export(&render(&values, json, false), file.as_deref())),
+        ToolsCommand::Import {
+            dir,
+            file,
+            group,
+            json,
+            replace,
+        } => {
+            return cmd_import(&dir, &file, group, json, replace);
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(EXIT_TROUBLE)
+        }
+    }
+}
+
+/// The values that differ from their defaults (of `group` only, if
+/// given), read without the lock; notes about the data on stderr.
+fn read_values(dir: &DirArgs, group: Option<u8>) -> Result<Vec<ToolSet>, String> {
+    let dir = dir.tools_dir()?;
+    let (store, report) = snapshot::load(&dir)?;
+    snapshot::report_notes(&dir, &report)
+        .iter()
+        .for_each(|n| eprintln!("{n}"));
+    Ok(store
+        .values()
+        .filter(|(g, _, _)| group.is_none_or(|want| want == *g))
+        .collect())
+}
+
+/// The show table, or the export text, or JSON.
+fn render(values: &[ToolSet], json: bool, for_people: bool) -> String {
+    match (json, for_people) {
+        (true, _) => json::write(values),
+        (false, true) if values.is_empty() => {
+            "no tool values set: every entry is at its defaults\n".into()
+        }
+        (false, true) => table::write(values),
+        (false, false) => text::write(values),
+    }
+}
+
+fn print(text: &str) {
+    print!("{text}");
+}
+
+fn export(text: &str, file: Option<&Path>) -> Result<(), String> {
+    match file {
+        None => {
+            print(text);
+            Ok(())
+        }
+        Some(p) => {
+            std::fs::write(p, text).map_err(|e| format!("cannot write {}: {e}", p.display()))
+        }
+    }
+}
+
+fn cmd_import(
+    dir: &DirArgs,
+    file: &Path,
+    group: Option<u8>,
+    json: bool,
+    replace: bool,
+) -> ExitCode {
+    let name = file.display().to_string();
+    let content = match std::fs::read_to_string(file) {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("error: cannot read {name}: {e}");
+            return ExitCode::from(EXIT_TROUBLE);
+        }
+    };
+    let parsed = match json {
+        true => json::parse(&name, &content, group),
+        false => text::parse(&name, &content, group),
+    };
+    let import = match parsed {
+        Ok(i) => i,
+        Err(errors) => {
+            errors.iter().for_each(|e| eprintln!("{e}"));
+            eprintln!(
+                "error: {name}: {} bad line(s); nothing was changed",
+                errors.len()
+            );
+            return ExitCode::from(EXIT_FAILED);
+        }
+    };
+    match dir
+        .tools_dir()
+        .and_then(|d| apply(&d, &import, group, replace))
+    {
+        Ok(summary) => {
+            println!("{summary}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(EXIT_TROUBLE)
+        }
+    }
+}
+
+/// Writes the checked values into the tool folder `dir` under its lock:
+/// one durable journal batch, then compaction into the tool files.
+fn apply(dir: &Path, import: &Import, group: Option<u8>, replace: bool) -> Result<String, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let _lock = addipos::tools::lock::lock_exclusive(dir).map_err(|e| e.to_string())?;
+    // Replacing everything need not read the old data: bad lines in it
+    // are skipped (and listed) instead of refusing.
+    let strictness = match (replace, group) {
+        (true, None) => Strictness::Lenient,
+        _ => Strictness::Strict,
+    };
+    let (mut store, report) =
+        ToolStore::open_dir(dir, strictness).map_err(|e| snapshot::store_error(dir, &e))?;
+    snapshot::report_notes(dir, &report)
+        .iter()
+        .for_each(|n| eprintln!("{n}"));
+    let reset = match (replace, group) {
+        (false, _) => None,
+        (true, Some(group)) => Some(Record::ResetGroup { group }),
+        (true, None) => Some(Record::Clean),
+    };
+    let sets = import
+        .values
+        .iter()
+        .map(|&(group, key, value)| Record::Set { group, key, value });
+    let records: Vec<Record> = reset.into_iter().chain(sets).collect();
+    store
+        .append(&records)
+        .map_err(|e| snapshot::store_error(dir, &e))?;
+    if let Err(e) = store.compact() {
+        eprintln!(
+            "warning: the values are saved in the journal but the tool files were not rewritten: {}",
+            snapshot::store_error(dir, &e)
+        );
+    }
+    Ok(summary(dir, import, replace))
+}
+
+/// What an import did, in one line.
+fn summary(dir: &Path, import: &Import, replace: bool) -> String {
+    let mut s = format!(
+        "imported {} tool value(s) into {}",
+        import.values.len(),
+        dir.display()
+    );
+    s.push_str(if replace {
+        "; every other value is back at its default"
+    } else {
+        "; values not in the file kept theirs"
+    });
+    if import.other_groups > 0 {
+        s.push_str(&format!(
+            "; {} of other groups left out",
+            import.other_groups
+        ));
+    }
+    s
+}
