@@ -53,7 +53,8 @@ fn awkward_records() -> Vec<Record> {
         set(3, 0, GrindingMaxInfeed, ToolValue::F64(5e-324)),
         set(3, 1023, Laenge, ToolValue::F64(1.0 / 3.0)),
         set(32, 7, GrindingDiscTiltAngle, ToolValue::F64(-450000.0)),
-        set(32, 7, Radius, ToolValue::F64(f64::MAX)),
+        set(32, 7, Radius, ToolValue::F64(1e9)),
+        set(32, 7, GrindingMaxInfeed, ToolValue::F64(f64::MAX)),
     ]
 }
 
@@ -108,7 +109,8 @@ fn show_lists_changed_entries_in_bus_units() {
     assert_eq!(entries.len(), 1);
     assert_eq!(entries[0]["group"], 32);
     assert_eq!(entries[0]["grinding_disc_tilt_angle"], -450000.0);
-    assert_eq!(entries[0]["radius"].as_f64(), Some(f64::MAX));
+    assert_eq!(entries[0]["radius"].as_f64(), Some(1e9));
+    assert_eq!(entries[0]["grinding_max_infeed"].as_f64(), Some(f64::MAX));
 }
 
 #[test]
