@@ -7,7 +7,7 @@ use std::fs::File;
 use std::path::Path;
 
 use tc_module::WkzIndex;
-use tool_store::{FsStorage, OpenReport, Strictness, ToolStore};
+use tool_store::{FsStorage, OpenReport, Strictness, ToolStore, JOURNAL_FILE};
 use tracing::{info, warn};
 
 use super::durable::Durable;
@@ -35,7 +35,10 @@ fn log_report(dir: &Path, report: &OpenReport) {
         warn!("skipped a bad tool file line: {e}");
     }
     for e in &report.journal_errors {
-        warn!("skipped a bad tool journal line: {e}");
+        warn!(
+            "skipped a bad tool journal line: {JOURNAL_FILE}:{}: {}",
+            e.line, e.error
+        );
     }
 }
 

@@ -31,8 +31,18 @@ pub trait Journal: Send + 'static {
 impl<S: tool_store::Storage + Send + std::fmt::Debug + 'static> Journal
     for tool_store::ToolStore<S>
 {
+    /// A journal left with a half record that could not be cut off
+    /// (poisoned) is compacted first: the tool files are rewritten from
+    /// the values in memory (all durable) and the journal emptied, so the
+    /// writes work again once the disk does.
     fn append(&mut self, records: &[Record]) -> Result<(), String> {
-        tool_store::ToolStore::append(self, records).map_err(|e| e.to_string())
+        match tool_store::ToolStore::append(self, records) {
+            Err(tool_store::StoreError::Poisoned) => {
+                self.compact().map_err(|e| e.to_string())?;
+                tool_store::ToolStore::append(self, records).map_err(|e| e.to_string())
+            }
+            other => other.map_err(|e| e.to_string()),
+        }
     }
 
     fn maintain(&mut self) {

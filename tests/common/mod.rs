@@ -156,6 +156,29 @@ impl ServeProcess {
         self.child.id()
     }
 
+    /// Stops the server gracefully (SIGTERM) and waits for its end, at most
+    /// `guard`; returns its exit status and log.
+    pub fn terminate(mut self, guard: Duration) -> (std::process::ExitStatus, String) {
+        let term = Command::new("kill")
+            .args(["-TERM", &self.child.id().to_string()])
+            .status()
+            .expect("kill");
+        assert!(term.success(), "kill -TERM failed");
+        let t0 = std::time::Instant::now();
+        let status = loop {
+            if let Some(status) = self.child.try_wait().expect("wait") {
+                break status;
+            }
+            assert!(t0.elapsed() < guard, "serve did not stop on SIGTERM");
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        if let Some(d) = self.drain.take() {
+            let _ = d.join();
+        }
+        let log = self.log.lock().expect("log").clone();
+        (status, log)
+    }
+
     /// Stops the server and returns its log.
     pub fn stop(mut self) -> String {
         let _ = self.child.kill();

@@ -1,0 +1,338 @@
+//! Durable before acknowledged, with a disk that fails on purpose (issue
+//! 10): the emulator served over TCP keeps its tool data in a tool store
+//! on a `FaultyStorage`. A write the disk refuses is answered `Storage`
+//! and changes nothing; later writes work; after a restart (the store
+//! reopened from what the disk holds, after a crash or a clean stop) no
+//! acknowledged write is lost and no refused write is visible.
+
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
+mod common;
+
+use std::io;
+use std::sync::{Arc, Barrier, Mutex};
+use std::time::Duration;
+
+use addipos::service::EmulatorService;
+use addipos::tools::durable::Durable;
+use addipos::tools::writer::Writer;
+use common::{loopback, TestServer};
+use tc_module::CycleTime;
+use tool_store::journal::replay;
+use tool_store::{
+    FaultKind, FaultyStorage, MemStorage, Op, Record, Storage, Strictness, ToolField, ToolKey,
+    ToolStore, ToolValue,
+};
+use uoi::tcp::{BlockingClient, Core};
+use uoi::wire::{Answer, Request};
+use uoi::{AccessError, ObjectAddress, Value, ValueType};
+
+/// The disk: storage in memory that outlives the server using it, so the
+/// store can be reopened from it ("restart").
+#[derive(Debug, Clone, Default)]
+struct Disk(Arc<Mutex<MemStorage>>, Duration);
+
+impl Disk {
+    /// What the disk holds now: what a restart after a crash sees.
+    fn snapshot(&self) -> MemStorage {
+        self.0.lock().unwrap().clone()
+    }
+}
+
+impl Storage for Disk {
+    fn read_file(&mut self, name: &str) -> io::Result<Option<Vec<u8>>> {
+        self.0.lock().unwrap().read_file(name)
+    }
+    fn write_file_atomic(&mut self, name: &str, bytes: &[u8]) -> io::Result<()> {
+        self.0.lock().unwrap().write_file_atomic(name, bytes)
+    }
+    fn read_journal(&mut self) -> io::Result<Vec<u8>> {
+        self.0.lock().unwrap().read_journal()
+    }
+    fn append_journal(&mut self, bytes: &[u8]) -> io::Result<()> {
+        self.0.lock().unwrap().append_journal(bytes)
+    }
+    fn sync_journal(&mut self) -> io::Result<()> {
+        // A disk whose flush takes time: changes pile up for one batch.
+        std::thread::sleep(self.1);
+        self.0.lock().unwrap().sync_journal()
+    }
+    fn truncate_journal(&mut self, len: u64) -> io::Result<()> {
+        self.0.lock().unwrap().truncate_journal(len)
+    }
+}
+
+/// A server of a fresh emulator whose tool data goes to `disk` through
+/// `faults` (a `FaultyStorage` around the disk).
+fn serve(core: Core, faults: impl FnOnce(FaultyStorage<Disk>) -> FaultyStorage<Disk>) -> Rig {
+    serve_on(Disk::default(), core, faults)
+}
+
+/// As [`serve`], on `disk`.
+fn serve_on(
+    disk: Disk,
+    core: Core,
+    faults: impl FnOnce(FaultyStorage<Disk>) -> FaultyStorage<Disk>,
+) -> Rig {
+    let storage = faults(FaultyStorage::new(disk.clone()));
+    let (store, _) = ToolStore::open(storage, Strictness::Strict).expect("open");
+    let mut service = EmulatorService::new([0.0; 8], CycleTime::DEFAULT);
+    service.set_tools(Box::new(Durable::new(
+        Writer::start(store).expect("writer"),
+    )));
+    let server = TestServer::with(loopback(core), service);
+    let client = BlockingClient::connect(&server.addr.to_string()).expect("connect");
+    Rig {
+        server: Some(server),
+        disk,
+        client,
+    }
+}
+
+struct Rig {
+    server: Option<TestServer>,
+    disk: Disk,
+    client: BlockingClient,
+}
+
+fn tc(device: u16, index: u16, sub: u16) -> ObjectAddress {
+    ObjectAddress::new(1300, device, index, sub)
+}
+
+const RADIUS: u16 = 6;
+const LENGTH: u16 = 12;
+
+impl Rig {
+    fn write(&mut self, addr: ObjectAddress, v: Value) -> Answer {
+        self.client.call(&Request::Write(addr, v)).expect("write")
+    }
+
+    /// Sets `sub` (RADIUS, WkzLen) of entry `index` of group `g`.
+    fn set(&mut self, g: u16, index: i32, sub: u16, v: f64) -> Answer {
+        assert_eq!(self.write(tc(1, g, 8), Value::I32(index)), Answer::Ok);
+        self.write(tc(1, g, sub), Value::F64(v))
+    }
+
+    /// `sub` of entry `index` of group `g`, as the server holds it.
+    fn get(&mut self, g: u16, index: i32, sub: u16) -> f64 {
+        assert_eq!(self.write(tc(1, g, 8), Value::I32(index)), Answer::Ok);
+        match self
+            .client
+            .read(tc(1, g, sub), ValueType::F64)
+            .expect("read")
+        {
+            Value::F64(v) => v,
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// Stops the server cleanly (the journal compacted into the files)
+    /// and gives back the disk.
+    fn stop(mut self) -> MemStorage {
+        drop(self.server.take());
+        self.disk.snapshot()
+    }
+}
+
+/// The store reopened from `disk` (a restart): strict, so the journal and
+/// the files must be sound.
+fn reopen(disk: MemStorage) -> ToolStore<MemStorage> {
+    ToolStore::open(disk, Strictness::Strict).expect("reopen").0
+}
+
+fn stored(store: &ToolStore<MemStorage>, g: u8, index: u16, field: ToolField) -> f64 {
+    match store.get(g, ToolKey::new(index, field).unwrap()) {
+        ToolValue::F64(v) => v,
+        ToolValue::I32(v) => f64::from(v),
+    }
+}
+
+/// No record of the journal on `disk` sets `field` of (`g`, `index`) to `v`.
+fn never_journalled(disk: &MemStorage, g: u8, index: u16, field: ToolField, v: f64) {
+    let records = replay(disk.journal()).expect("journal").records;
+    let refused = Record::Set {
+        group: g,
+        key: ToolKey::new(index, field).unwrap(),
+        value: ToolValue::F64(v),
+    };
+    assert!(!records.contains(&refused), "{refused:?} in the journal");
+}
+
+/// The second tool write meets `op` failing as `kind`: `Storage`, the old
+/// value stays, the next write works; after a crash and after a clean
+/// stop the store holds exactly the acknowledged writes.
+fn refused_write_changes_nothing(op: Op, kind: FaultKind) {
+    let mut rig = serve(Core::Lock, |s| s.fail_at(op, 2, kind));
+    assert_eq!(rig.set(1, 5, RADIUS, 1.5), Answer::Ok);
+    assert_eq!(
+        rig.set(1, 5, RADIUS, 2.5),
+        Answer::Access(AccessError::Storage),
+        "{op:?} {kind:?}"
+    );
+    assert_eq!(rig.get(1, 5, RADIUS), 1.5, "memory ran ahead of the disk");
+    assert_eq!(rig.set(1, 5, LENGTH, 7.25), Answer::Ok);
+    assert_eq!(rig.set(1, 6, RADIUS, 3.5), Answer::Ok);
+    assert_eq!((rig.get(1, 5, LENGTH), rig.get(1, 6, RADIUS)), (7.25, 3.5));
+
+    let crashed = rig.disk.snapshot();
+    never_journalled(&crashed, 1, 5, ToolField::Radius, 2.5);
+    let stopped = rig.stop();
+    for disk in [crashed, stopped] {
+        let store = reopen(disk);
+        assert_eq!(
+            stored(&store, 1, 5, ToolField::Radius),
+            1.5,
+            "{op:?} {kind:?}"
+        );
+        assert_eq!(stored(&store, 1, 5, ToolField::Laenge), 7.25);
+        assert_eq!(stored(&store, 1, 6, ToolField::Radius), 3.5);
+        assert_eq!(store.values().count(), 3);
+    }
+}
+
+#[test]
+fn a_failed_append_is_answered_storage_and_changes_nothing() {
+    refused_write_changes_nothing(Op::Append, FaultKind::Fail);
+}
+
+#[test]
+fn a_failed_fsync_is_answered_storage_and_changes_nothing() {
+    refused_write_changes_nothing(Op::Sync, FaultKind::Fail);
+}
+
+#[test]
+fn a_short_write_is_answered_storage_and_changes_nothing() {
+    // Part of the record reaches the journal; it is cut off again.
+    for bytes in [1, 10, 30] {
+        refused_write_changes_nothing(Op::Append, FaultKind::Short(bytes));
+    }
+}
+
+/// Group 1 with values at entries 5 and 7, all acknowledged.
+fn tools_in_group_1(rig: &mut Rig) {
+    assert_eq!(rig.set(1, 5, RADIUS, 1.5), Answer::Ok);
+    assert_eq!(rig.set(1, 5, LENGTH, 20.0), Answer::Ok);
+    assert_eq!(rig.set(1, 7, RADIUS, 4.0), Answer::Ok);
+}
+
+fn group_1_kept(rig: &mut Rig) {
+    assert_eq!(rig.get(1, 5, RADIUS), 1.5);
+    assert_eq!(rig.get(1, 5, LENGTH), 20.0);
+    assert_eq!(rig.get(1, 7, RADIUS), 4.0);
+}
+
+#[test]
+fn a_reset_or_clean_the_disk_refuses_keeps_the_tools() {
+    // Appends 1..=3: the tools; 4: the RESET; 5: the Clean.
+    let mut rig = serve(Core::Lock, |s| {
+        s.fail_at(Op::Append, 4, FaultKind::Fail)
+            .fail_at(Op::Sync, 4, FaultKind::Fail)
+    });
+    tools_in_group_1(&mut rig);
+    let reset = tc(1, 1, 2);
+    assert_eq!(
+        rig.write(reset, Value::I32(1)),
+        Answer::Access(AccessError::Storage)
+    );
+    group_1_kept(&mut rig);
+    assert_eq!(
+        rig.write(tc(0, 1, 0), Value::I32(1)),
+        Answer::Access(AccessError::Storage)
+    );
+    group_1_kept(&mut rig);
+    let crashed = reopen(rig.disk.snapshot());
+    assert_eq!(crashed.values().count(), 3);
+    assert_eq!(stored(&crashed, 1, 7, ToolField::Radius), 4.0);
+
+    // The disk works again: RESET clears the group, durably.
+    assert_eq!(rig.write(reset, Value::I32(1)), Answer::Ok);
+    assert_eq!(rig.get(1, 5, RADIUS), 0.0);
+    assert_eq!(rig.get(1, 7, RADIUS), 0.0);
+    assert_eq!(reopen(rig.disk.snapshot()).values().count(), 0);
+    assert_eq!(reopen(rig.stop()).values().count(), 0);
+}
+
+/// Two connections write the same field at once, round after round:
+/// whatever order the server applied them in, the journal has the same
+/// order, so the value in memory is the one a restart loads. The disk's
+/// flush takes a while, so the writes of both connections share batches
+/// and their answers race.
+fn same_field_from_two_connections(core: Core) {
+    const ROUNDS: u32 = 150;
+    let disk = Disk(Arc::default(), Duration::from_micros(200));
+    let mut rig = serve_on(disk, core, |s| s);
+    let addr = rig.server.as_ref().unwrap().addr.to_string();
+    assert_eq!(rig.write(tc(1, 3, 8), Value::I32(9)), Answer::Ok);
+    let step = Arc::new(Barrier::new(3));
+    let writers: Vec<_> = (0..2)
+        .map(|c| {
+            let (addr, step) = (addr.clone(), Arc::clone(&step));
+            std::thread::spawn(move || {
+                let mut client = BlockingClient::connect(&addr).expect("connect");
+                for round in 0..ROUNDS {
+                    let reqs: Vec<Request> = (0..4)
+                        .map(|k| {
+                            let v = f64::from(round * 100 + c * 10 + k) + 0.5;
+                            Request::Write(tc(1, 3, RADIUS), Value::F64(v))
+                        })
+                        .collect();
+                    step.wait();
+                    let answers = client.pipeline(&reqs).expect("pipeline");
+                    assert!(answers.iter().all(|a| *a == Answer::Ok), "{answers:?}");
+                    step.wait();
+                }
+            })
+        })
+        .collect();
+    for round in 0..ROUNDS {
+        step.wait();
+        step.wait();
+        let memory = rig.get(3, 9, RADIUS);
+        let on_disk = stored(&reopen(rig.disk.snapshot()), 3, 9, ToolField::Radius);
+        assert_eq!(memory, on_disk, "{core:?} round {round}");
+    }
+    for w in writers {
+        w.join().expect("writer");
+    }
+    let memory = rig.get(3, 9, RADIUS);
+    let stopped = reopen(rig.stop());
+    assert_eq!(
+        stored(&stopped, 3, 9, ToolField::Radius),
+        memory,
+        "{core:?}"
+    );
+    assert!(stopped.storage().journal().is_empty(), "compacted at stop");
+}
+
+#[test]
+fn memory_and_journal_agree_on_concurrent_writes_of_one_field() {
+    same_field_from_two_connections(Core::Lock);
+    same_field_from_two_connections(Core::Owner);
+}
+
+#[test]
+fn writes_work_again_once_a_journal_that_could_not_be_repaired_is_compacted() {
+    // Append 2 leaves half a record and cutting it off fails too: the
+    // journal ends in a torn record the store cannot remove.
+    let mut rig = serve(Core::Lock, |s| {
+        s.fail_at(Op::Append, 2, FaultKind::Short(12))
+            .fail_at(Op::Truncate, 1, FaultKind::Fail)
+    });
+    assert_eq!(rig.set(2, 1, RADIUS, 1.5), Answer::Ok);
+    assert_eq!(
+        rig.set(2, 1, RADIUS, 2.5),
+        Answer::Access(AccessError::Storage)
+    );
+    assert_eq!(rig.get(2, 1, RADIUS), 1.5);
+    let crashed = rig.disk.snapshot();
+    let (store, report) = ToolStore::open(crashed, Strictness::Strict).expect("reopen");
+    assert!(report.torn_tail.is_some(), "the half record is a torn tail");
+    assert_eq!(stored(&store, 2, 1, ToolField::Radius), 1.5);
+
+    // The disk works again: so does the next write.
+    assert_eq!(rig.set(2, 1, RADIUS, 3.5), Answer::Ok);
+    assert_eq!(rig.get(2, 1, RADIUS), 3.5);
+    let crashed = reopen(rig.disk.snapshot());
+    assert_eq!(stored(&crashed, 2, 1, ToolField::Radius), 3.5);
+    assert_eq!(stored(&reopen(rig.stop()), 2, 1, ToolField::Radius), 3.5);
+}

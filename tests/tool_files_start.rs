@@ -1,0 +1,217 @@
+//! Starting `addipos serve` on damaged tool data (issue 10): a bad line of
+//! a tool file or of the journal (other than its torn last record) refuses
+//! the start, naming the file and the line; `--ignore-bad-tools` starts
+//! anyway and logs every skipped line; a torn last journal record is
+//! dropped with a log line and the server starts.
+
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Stdio;
+use std::time::{Duration, Instant};
+
+use common::{bin, ServeProcess};
+use tool_store::{Record, ToolField, ToolKey, ToolValue};
+use uoi::tcp::BlockingClient;
+use uoi::{ObjectAddress, Value, ValueType};
+
+/// A fresh data directory for `name` holding `files` in its tool folder.
+fn data_dir(name: &str, files: &[(&str, &str)]) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("tool-start-{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("tools")).unwrap();
+    for (file, text) in files {
+        std::fs::write(dir.join("tools").join(file), text).unwrap();
+    }
+    dir
+}
+
+/// Runs `serve` on `dir` expecting it not to start: its exit code and
+/// stderr (bounded: a server that does start is killed and fails).
+fn refused(dir: &Path) -> (i32, String) {
+    let mut child = bin()
+        .args(["serve", "--listen", "127.0.0.1:0", "--data-dir"])
+        .arg(dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("serve");
+    let t0 = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().expect("wait") {
+            break s;
+        }
+        if t0.elapsed() > Duration::from_secs(15) {
+            let _ = child.kill();
+            panic!("serve started on bad tool data");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let out = child.wait_with_output().expect("output");
+    (
+        status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn start(dir: &Path, extra: &[&str]) -> ServeProcess {
+    let d = dir.to_str().unwrap();
+    let mut args = vec!["--data-dir", d, "--listen", "127.0.0.1:0"];
+    args.extend_from_slice(extra);
+    ServeProcess::start(&args, &[])
+}
+
+/// RADIUS of entry `index` of group `g`, read from the server.
+fn radius(addr: &str, g: u16, index: i32) -> f64 {
+    let mut c = BlockingClient::connect(addr).expect("connect");
+    c.write(ObjectAddress::new(1300, 1, g, 8), Value::I32(index))
+        .expect("WKZINDEX");
+    match c.read(ObjectAddress::new(1300, 1, g, 6), ValueType::F64) {
+        Ok(Value::F64(v)) => v,
+        other => panic!("{other:?}"),
+    }
+}
+
+/// The journal line (with its newline) setting RADIUS of (`g`, `index`) to `mm`.
+fn radius_record(g: u8, index: u16, mm: f64) -> String {
+    Record::Set {
+        group: g,
+        key: ToolKey::new(index, ToolField::Radius).unwrap(),
+        value: ToolValue::F64(mm),
+    }
+    .encode()
+}
+
+const GOOD: &str = "# hand-written\nwz[1].radius 300000\n";
+
+/// A damage: its name, the tool folder's files, the place the error must
+/// name and a word of what is wrong.
+type Damage = (
+    &'static str,
+    Vec<(&'static str, String)>,
+    &'static str,
+    &'static str,
+);
+
+/// Each damage, the file it is in, the line that must be named, and a
+/// word of what is wrong.
+fn damages() -> Vec<Damage> {
+    let good = |extra: &str| format!("{GOOD}{extra}");
+    let journal = format!(
+        "{}{}\n{}",
+        radius_record(2, 1, 1.0),
+        // A record cut off in the middle of the journal.
+        &radius_record(2, 2, 2.0)[..12],
+        radius_record(2, 3, 3.0)
+    );
+    vec![
+        (
+            "garbage",
+            vec![("group01.wz", good("this is not a tool line\n"))],
+            "group01.wz:3",
+            "value",
+        ),
+        (
+            "duplicate",
+            vec![("group01.wz", good("wz[2].typ 2\nwz[1].radius 1\n"))],
+            "group01.wz:4",
+            "duplicate",
+        ),
+        (
+            "range",
+            vec![("group01.wz", good("wz[2].typ 7\n"))],
+            "group01.wz:3",
+            "range",
+        ),
+        (
+            "unknown",
+            vec![("group01.wz", good("wz[2].gueltig 1\n"))],
+            "group01.wz:3",
+            "unknown field",
+        ),
+        (
+            "truncated",
+            vec![("group01.wz", good("wz[2].radius\n"))],
+            "group01.wz:3",
+            "no value",
+        ),
+        (
+            "journal",
+            vec![("group01.wz", good("")), ("journal.wzj", journal)],
+            "journal.wzj:2",
+            "checksum",
+        ),
+    ]
+}
+
+#[test]
+fn damaged_tool_data_refuses_the_start_with_file_and_line() {
+    for (name, files, place, what) in damages() {
+        let dir = data_dir(
+            name,
+            &files
+                .iter()
+                .map(|(f, t)| (*f, t.as_str()))
+                .collect::<Vec<_>>(),
+        );
+        let (code, err) = refused(&dir);
+        assert_eq!(code, 2, "{name}: {err}");
+        assert!(err.contains(place), "{name}: {place} not named: {err}");
+        assert!(err.contains(what), "{name}: `{what}` not said: {err}");
+        assert!(
+            err.contains("--ignore-bad-tools"),
+            "{name}: no way out: {err}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+#[test]
+fn ignore_bad_tools_starts_and_logs_each_skipped_line() {
+    for (name, files, place, _) in damages() {
+        let name = format!("{name}-ignored");
+        let dir = data_dir(
+            &name,
+            &files
+                .iter()
+                .map(|(f, t)| (*f, t.as_str()))
+                .collect::<Vec<_>>(),
+        );
+        let server = start(&dir, &["--ignore-bad-tools"]);
+        assert_eq!(radius(&server.addr, 1, 1), 30.0, "{name}: good line lost");
+        if place.starts_with("journal") {
+            // The records around the bad one count.
+            assert_eq!(radius(&server.addr, 2, 1), 1.0, "{name}");
+            assert_eq!(radius(&server.addr, 2, 3), 3.0, "{name}");
+        }
+        let log = server.stop();
+        assert!(
+            log.contains("skipped a bad tool") && log.contains(place),
+            "{name}: {place} not logged: {log}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+#[test]
+fn a_torn_last_journal_record_is_dropped_and_logged() {
+    let journal = format!(
+        "{}{}",
+        radius_record(3, 4, 12.5),
+        &radius_record(3, 5, 1.0)[..15]
+    );
+    let dir = data_dir("torn", &[("journal.wzj", &journal)]);
+    let server = start(&dir, &[]);
+    assert_eq!(radius(&server.addr, 3, 4), 12.5);
+    assert_eq!(radius(&server.addr, 3, 5), 0.0);
+    let log = server.stop();
+    assert!(
+        log.contains("dropped the torn last record") && log.contains("line=2"),
+        "{log}"
+    );
+    let left = std::fs::read_to_string(dir.join("tools").join("journal.wzj")).unwrap();
+    assert_eq!(left, radius_record(3, 4, 12.5), "torn tail cut off");
+    let _ = std::fs::remove_dir_all(&dir);
+}
