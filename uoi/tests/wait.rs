@@ -100,3 +100,33 @@ fn lock_core_serves_others_while_a_request_waits() {
 fn owner_core_serves_others_while_a_request_waits() {
     waits_resume_without_holding_the_handler(Core::Owner);
 }
+
+/// Pipelined requests that wait: the answers already made leave before a
+/// request waits, so the client is not kept waiting for them (lock core).
+#[test]
+fn answers_made_leave_before_a_request_waits() {
+    let (wtx, wrx) = mpsc::channel();
+    let handler = Waiting {
+        next: 0,
+        waits: Arc::new(Mutex::new(wtx)),
+    };
+    let (addr, _stop) = serve_with(local(), handler);
+    let mut c = connect(addr);
+    let frames: Vec<u8> = (0..20).flat_map(|_| read_frame(9)).collect();
+    c.write_all(&frames).expect("send");
+    // The first wait ends at once; the second only once the client has
+    // its first answer (it would never come if answers waited for the
+    // whole pipeline).
+    let (t1, done1) = wrx.recv().expect("first waits");
+    done1.send(true).unwrap();
+    let (_, done2) = wrx.recv().expect("second waits");
+    assert_eq!(read_answer(&mut c), (9, 1000 + t1 as i32));
+    done2.send(true).unwrap();
+    for _ in 2..20 {
+        let (_, done) = wrx.recv().expect("waits");
+        done.send(true).unwrap();
+    }
+    for _ in 1..20 {
+        assert_eq!(read_answer(&mut c).0, 9);
+    }
+}

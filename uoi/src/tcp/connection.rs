@@ -5,8 +5,10 @@
 //! answers not taken, evicted to make room for a new connection when the
 //! server is full, or the server stopping).
 
+use std::future::Future;
 use std::net::SocketAddr;
 use std::sync::Arc;
+use std::task::Poll;
 
 use futures_util::{SinkExt, StreamExt};
 use tokio::io::AsyncWriteExt;
@@ -180,11 +182,28 @@ impl<H: Handler> Connection<H> {
     async fn served(&mut self, req: Request) -> Option<Answer> {
         match self.session.handle(req) {
             Served::Here(ans) => Some(ans),
+            Served::Shared(req) if self.shared.is_lock() => self.waited_answer(req).await,
             Served::Shared(req) => shared_answer(&self.shared, &self.activity, req).await,
             // Rare (a long request of a session): boxed, so that its state
             // does not enlarge every request's future.
             Served::More(rest) => Box::pin(self.session_rest(rest)).await,
         }
+    }
+
+    /// The shared handler's answer (lock core). An answer that is not
+    /// ready at once (a request that waits for the disk, a long `EXEC`)
+    /// first sends the answers already made, so that a pipelining client
+    /// is not kept waiting for them behind a slow request.
+    async fn waited_answer(&mut self, req: Request) -> Option<Answer> {
+        let (shared, activity, writer) = (&self.shared, &self.activity, &mut self.writer);
+        let mut fut = std::pin::pin!(shared_answer(shared, activity, req));
+        let now = std::future::poll_fn(|cx| Poll::Ready(fut.as_mut().poll(cx))).await;
+        if let Poll::Ready(ans) = now {
+            return ans;
+        }
+        // A failed flush shows again at the next send, which closes.
+        let _ = writer.flush().await;
+        fut.await
     }
 
     /// The rest of a session's request, slice by slice, letting other tasks

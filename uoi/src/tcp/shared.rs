@@ -92,6 +92,12 @@ impl<H> Clone for Shared<H> {
 }
 
 impl<H: Handler> Shared<H> {
+    /// Whether the handler is behind a lock (its slices run in the
+    /// connection's own task).
+    pub(crate) fn is_lock(&self) -> bool {
+        matches!(self, Shared::Lock(_))
+    }
+
     /// The handler shared as `core` says: behind a lock, or owned by a
     /// task spawned here (so called within the server's runtime).
     pub(crate) fn new(core: Core, handler: H) -> Self {
