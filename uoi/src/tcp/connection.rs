@@ -5,10 +5,8 @@
 //! answers not taken, evicted to make room for a new connection when the
 //! server is full, or the server stopping).
 
-use std::future::Future;
 use std::net::SocketAddr;
 use std::sync::Arc;
-use std::task::Poll;
 
 use futures_util::{SinkExt, StreamExt};
 use tokio::io::AsyncWriteExt;
@@ -33,14 +31,18 @@ const WRITE_BATCH: usize = 64 * 1024;
 /// A decoded request with its id, or what to answer a frame that is not one.
 type Incoming = Result<(u32, Request), Rejected>;
 
+/// Where a connection's answers go.
+pub(crate) type AnswerSink = FramedWrite<ClosableWrite<OwnedWriteHalf>, ServerCodec>;
+
 /// The shared handler's answer, unless the connection was closed
 /// meanwhile.
 async fn shared_answer<H: Handler>(
     shared: &Shared<H>,
     activity: &Activity,
     req: Request,
+    sink: Option<&mut AnswerSink>,
 ) -> Option<Answer> {
-    let ans = shared.handle(req, activity).await;
+    let ans = shared.handle(req, activity, sink).await;
     activity.closed().is_none().then_some(ans)
 }
 
@@ -114,7 +116,7 @@ pub(crate) async fn serve_connection<H: Handler>(
 /// The state of one connection.
 struct Connection<H: Handler> {
     reader: FramedRead<ClosableRead<OwnedReadHalf>, ServerCodec>,
-    writer: FramedWrite<ClosableWrite<OwnedWriteHalf>, ServerCodec>,
+    writer: AnswerSink,
     shared: Shared<H>,
     /// This connection's own state; ends with it.
     session: H::Session,
@@ -182,28 +184,14 @@ impl<H: Handler> Connection<H> {
     async fn served(&mut self, req: Request) -> Option<Answer> {
         match self.session.handle(req) {
             Served::Here(ans) => Some(ans),
-            Served::Shared(req) if self.shared.is_lock() => self.waited_answer(req).await,
-            Served::Shared(req) => shared_answer(&self.shared, &self.activity, req).await,
+            Served::Shared(req) => {
+                let sink = Some(&mut self.writer);
+                shared_answer(&self.shared, &self.activity, req, sink).await
+            }
             // Rare (a long request of a session): boxed, so that its state
             // does not enlarge every request's future.
             Served::More(rest) => Box::pin(self.session_rest(rest)).await,
         }
-    }
-
-    /// The shared handler's answer (lock core). An answer that is not
-    /// ready at once (a request that waits for the disk, a long `EXEC`)
-    /// first sends the answers already made, so that a pipelining client
-    /// is not kept waiting for them behind a slow request.
-    async fn waited_answer(&mut self, req: Request) -> Option<Answer> {
-        let (shared, activity, writer) = (&self.shared, &self.activity, &mut self.writer);
-        let mut fut = std::pin::pin!(shared_answer(shared, activity, req));
-        let now = std::future::poll_fn(|cx| Poll::Ready(fut.as_mut().poll(cx))).await;
-        if let Poll::Ready(ans) = now {
-            return ans;
-        }
-        // A failed flush shows again at the next send, which closes.
-        let _ = writer.flush().await;
-        fut.await
     }
 
     /// The rest of a session's request, slice by slice, letting other tasks
@@ -218,7 +206,8 @@ impl<H: Handler> Connection<H> {
             match self.session.handle(req) {
                 Served::Here(ans) => return Some(ans),
                 Served::Shared(req) => {
-                    return shared_answer(&self.shared, &self.activity, req).await
+                    let sink = Some(&mut self.writer);
+                    return shared_answer(&self.shared, &self.activity, req, sink).await;
                 }
                 Served::More(rest) => req = rest,
             }

@@ -7,8 +7,10 @@ use std::collections::VecDeque;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, TryLockError};
 
+use futures_util::SinkExt;
 use tokio::sync::{mpsc, oneshot};
 
+use super::connection::AnswerSink;
 use super::idle::Activity;
 use super::server::{Core, Handler, Slice, Wait};
 use crate::wire::{Answer, ProtocolError, Request};
@@ -92,12 +94,6 @@ impl<H> Clone for Shared<H> {
 }
 
 impl<H: Handler> Shared<H> {
-    /// Whether the handler is behind a lock (its slices run in the
-    /// connection's own task).
-    pub(crate) fn is_lock(&self) -> bool {
-        matches!(self, Shared::Lock(_))
-    }
-
     /// The handler shared as `core` says: behind a lock, or owned by a
     /// task spawned here (so called within the server's runtime).
     pub(crate) fn new(core: Core, handler: H) -> Self {
@@ -118,7 +114,16 @@ impl<H: Handler> Shared<H> {
     /// connection is closed meanwhile (`closed`: idle, evicted, stopping)
     /// the rest of the request is dropped and `Busy` comes back (nobody
     /// reads it), so a closed connection never keeps the handler busy.
-    pub(crate) async fn handle(&self, req: Request, closed: &Activity) -> Answer {
+    /// With the lock core, the answers already queued in `sink` are sent
+    /// before the request waits for something outside the handler
+    /// ([`Slice::Wait`]): a pipelining client is not kept waiting for them
+    /// behind it.
+    pub(crate) async fn handle(
+        &self,
+        req: Request,
+        closed: &Activity,
+        mut sink: Option<&mut AnswerSink>,
+    ) -> Answer {
         match self {
             Shared::Lock(m) => {
                 // No await while locked: one slice is a plain call.
@@ -136,6 +141,11 @@ impl<H: Handler> Shared<H> {
                         // Resumed even if the connection closed meanwhile:
                         // the handler must learn how its wait ended.
                         Slice::Wait(Wait { done, token }) => {
+                            if let Some(sink) = sink.as_deref_mut() {
+                                // A failed flush shows again at the next
+                                // send, which closes the connection.
+                                let _ = sink.flush().await;
+                            }
                             let ok = done.await.unwrap_or(false);
                             m.lock().resume(token, ok)
                         }
