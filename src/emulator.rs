@@ -12,7 +12,7 @@ pub type Tc = TcModule<OtcExtension>;
 
 /// One emulated controller: the TC module with extension `E` (OTC; a
 /// test model in tests).
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Emulator<E: TcExtension = OtcExtension> {
     tc: TcModule<E>,
 }

@@ -336,3 +336,62 @@ fn writes_work_again_once_a_journal_that_could_not_be_repaired_is_compacted() {
     assert_eq!(stored(&crashed, 2, 1, ToolField::Radius), 3.5);
     assert_eq!(stored(&reopen(rig.stop()), 2, 1, ToolField::Radius), 3.5);
 }
+
+/// A refused write with side effects changes nothing at all: the RESET
+/// leaves the running correction and its side; OTC OFF leaves OTC on and
+/// its wear, which a later OFF books.
+#[test]
+fn a_refused_reset_or_otc_off_changes_nothing_at_all() {
+    // Appends: 1 RADIUS, 2 typ, 3 wear constant; 4 the RESET; 5 OTC OFF.
+    let mut rig = serve(Core::Lock, |s| {
+        s.fail_at(Op::Append, 4, FaultKind::Fail)
+            .fail_at(Op::Append, 5, FaultKind::Fail)
+    });
+    assert_eq!(rig.set(1, 1, RADIUS, 3.0), Answer::Ok);
+    for (sub, v) in [(30, Value::I32(2)), (31, Value::F64(100_000.0))] {
+        assert_eq!(rig.write(tc(3, 1, sub), v), Answer::Ok);
+    }
+    // LENGTH, CONT: 0.01 of wear per unit of path, 10 units run.
+    for (addr, v) in [
+        (tc(3, 1, 3), Value::I32(1)),
+        (tc(3, 1, 1), Value::I32(1)),
+        (tc(1, 1, 9), Value::I32(0)),
+        (tc(1, 1, 3), Value::I32(1)),
+    ] {
+        assert_eq!(rig.write(addr, v), Answer::Ok);
+    }
+    let status = |rig: &mut Rig| match rig.client.read(tc(1, 1, 3), ValueType::I32) {
+        Ok(Value::I32(v)) => v,
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(status(&mut rig), 1);
+    let refused = Answer::Access(AccessError::Storage);
+    assert_eq!(rig.write(tc(1, 1, 2), Value::I32(1)), refused);
+    assert_eq!(
+        status(&mut rig),
+        1,
+        "the refused RESET ended the correction"
+    );
+    assert_eq!(rig.write(tc(1, 1, 3), Value::I32(0)), Answer::Ok);
+    let wire = |r: &str| tc_request::text::parse_request(r).unwrap().to_wire();
+    for r in ["LIN X10 F600", "EXEC"] {
+        let ans = rig.client.call(&wire(r)).expect("motion");
+        assert!(matches!(ans, Answer::Ext(_) | Answer::Ok), "{r}: {ans:?}");
+    }
+    assert_eq!(rig.write(tc(3, 1, 1), Value::I32(0)), refused);
+    let on = rig.client.read(tc(3, 1, 1), ValueType::I32).expect("read");
+    assert_eq!(on, Value::I32(1), "the refused OFF switched OTC off");
+    // The disk works again: the OFF books the whole wear.
+    assert_eq!(rig.write(tc(3, 1, 1), Value::I32(0)), Answer::Ok);
+    match rig.client.read(tc(3, 1, 22), ValueType::F64).expect("read") {
+        Value::F64(w) => assert!((w - 0.1).abs() < 1e-9, "WearAxis2 {w}"),
+        other => panic!("{other:?}"),
+    }
+    // Booked on entry 1's length (−0.1), durably.
+    let stored = reopen(rig.stop());
+    let length = stored.get(1, tool_store::ToolKey::new(1, ToolField::Laenge).unwrap());
+    match length {
+        tool_store::ToolValue::F64(l) => assert!((l + 0.1).abs() < 1e-9, "length {l}"),
+        other => panic!("{other:?}"),
+    }
+}

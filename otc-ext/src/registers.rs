@@ -12,7 +12,7 @@ use crate::switching::check_units;
 
 /// The OTC extension: its own state is the PLC units of the machine axes
 /// (device 4); the state of each group and tool entry lives in them.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub struct OtcExtension {
     pub(crate) axes: [PlcUnit; AXES],
     /// The group whose OTC is on (kept by switching, so that a cycle need

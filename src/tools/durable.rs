@@ -11,15 +11,16 @@
 //!   change older than the one a field already holds is not applied.
 //! * A write that may change tool data on the side (Clean, Reset, a group
 //!   RESET, OTC switched off) is rare: it is applied, its tool changes are
-//!   made durable while the emulator waits, and undone if the disk refused
-//!   them (answer `Storage`).
+//!   made durable while the emulator waits, and if the disk refused them
+//!   the emulator is put back as it was before the write (answer
+//!   `Storage`: nothing changed).
 
 use std::collections::HashMap;
 
 use otc_ext::OtcExtension;
 use tc_module::{TcExtension, WkzIndex};
 use tokio::sync::oneshot;
-use tool_store::{GroupTable, Record, ToolField, ToolKey, ToolValue};
+use tool_store::{Record, ToolField, ToolKey, ToolValue};
 use uoi::tcp::{Slice, Wait};
 use uoi::wire::{Answer, ProtocolError};
 use uoi::{AccessError, ObjectAddress, Value};
@@ -101,7 +102,7 @@ impl<J: Journal> Durable<J> {
         if let Some(field) = direct_field(addr) {
             return Some(self.direct(emu, addr, value, field));
         }
-        may_change_tools(addr).then(|| Slice::Done(self.indirect(emu, addr, value)))
+        may_change_tools(addr, value).then(|| Slice::Done(self.indirect(emu, addr, value)))
     }
 
     /// A direct tool write: checked, undone, and sent to the disk.
@@ -172,9 +173,12 @@ impl<J: Journal> Durable<J> {
     }
 
     /// A write that may change tool data on the side: applied; its tool
-    /// changes made durable before the answer, or undone.
+    /// changes made durable before the answer, or the whole write undone
+    /// (the emulator as it was before it: these writes are rare, a copy of
+    /// the emulator is affordable).
     fn indirect(&mut self, emu: &mut Emulator, addr: ObjectAddress, value: Value) -> Answer {
         let before = all_tables(emu.tc());
+        let saved = emu.clone();
         if let Err(e) = emu.write(addr, value) {
             return Answer::Access(e);
         }
@@ -195,7 +199,7 @@ impl<J: Journal> Durable<J> {
         }
         self.last += 1;
         if !self.writer.write_blocking(records.clone()) {
-            restore(emu, &before, &records);
+            *emu = saved;
             return Answer::Access(AccessError::Storage);
         }
         for r in &records {
@@ -225,21 +229,4 @@ fn current(
 /// The answer to a write.
 fn answer(r: Result<(), AccessError>) -> Answer {
     r.map_or_else(Answer::Access, |()| Answer::Ok)
-}
-
-/// Puts back the values `records` changed, from `before`.
-fn restore(emu: &mut Emulator, before: &[GroupTable], records: &[Record]) {
-    for r in records {
-        let Record::Set { group, key, .. } = r else {
-            continue;
-        };
-        let old = before
-            .get(usize::from(*group) - 1)
-            .map_or(key.field.default_value(), |t| t.get(*key));
-        if let Some(w) = WkzIndex::new(i32::from(key.index)) {
-            if let Some(e) = entry_mut(emu.tc_mut(), *group, w) {
-                set_value(e, key.field, old);
-            }
-        }
-    }
 }

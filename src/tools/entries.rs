@@ -5,7 +5,7 @@
 use otc_ext::{OtcExtension, OtcTool};
 use tc_module::{TcModule, ToolEntry, WkzIndex};
 use tool_store::{GroupTable, Record, ToolField, ToolKey, ToolValue, TOOL_ENTRIES};
-use uoi::ObjectAddress;
+use uoi::{ObjectAddress, Value};
 
 /// The tool field a write to `addr` sets in the entry at the group's
 /// WKZINDEX (RADIUS, WkzLen and the OTC tool fields 30..33), if any.
@@ -24,15 +24,16 @@ pub fn direct_field(addr: ObjectAddress) -> Option<ToolField> {
     }
 }
 
-/// Whether a write to `addr` may change tool data other than through one
-/// field: Clean (0/1), Reset (0/12), a group RESET (1/g/2) and OTC
-/// switched off (3/g/1, the wear booked on the tool).
-pub fn may_change_tools(addr: ObjectAddress) -> bool {
+/// Whether writing `value` to `addr` may change tool data other than
+/// through one field: Clean (0/1), Reset (0/12), a group RESET (1/g/2)
+/// and OTC switched off (3/g/1 = 0, the wear booked on the tool).
+pub fn may_change_tools(addr: ObjectAddress, value: Value) -> bool {
     addr.bus == tc_module::TC_BUS
-        && matches!(
-            (addr.device, addr.index, addr.sub),
-            (0, 1, 0) | (0, 12, 0) | (1, _, 2) | (3, _, 1)
-        )
+        && match (addr.device, addr.index, addr.sub) {
+            (0, 1, 0) | (0, 12, 0) | (1, _, 2) => true,
+            (3, _, 1) => value != Value::I32(1),
+            _ => false,
+        }
 }
 
 /// The value of `field` in entry `e`.

@@ -45,7 +45,7 @@ pub struct Mark {
 }
 
 /// The spooler queue and its log.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Spooler {
     queue: VecDeque<SpoolElement>,
     capacity: usize,

@@ -47,7 +47,7 @@ pub enum ExecLeft {
 pub const DEFAULT_AXIS_NR: [u8; 3] = [0, 1, 2];
 
 /// The TC module with extension `E`.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct TcModule<E: TcExtension = NoExtension> {
     axis_nr: [u8; 3],
     plane: TcPlane,
