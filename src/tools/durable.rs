@@ -20,10 +20,10 @@ use std::collections::HashMap;
 use otc_ext::OtcExtension;
 use tc_module::{TcExtension, WkzIndex};
 use tokio::sync::oneshot;
-use tool_store::{Record, ToolField, ToolKey, ToolValue};
+use tool_store::{GroupTable, Record, ToolField, ToolKey, ToolValue};
 use uoi::tcp::{Slice, Wait};
 use uoi::wire::{Answer, ProtocolError};
-use uoi::{AccessError, ObjectAddress, Value};
+use uoi::{AccessError, ObjectAddress, Value, ValueType};
 
 use super::entries::{all_tables, changes, direct_field, entry_mut, may_change_tools, set_value};
 use super::writer::{Done, Journal, Writer};
@@ -177,14 +177,9 @@ impl<J: Journal> Durable<J> {
     /// (the emulator as it was before it: these writes are rare, a copy of
     /// the emulator is affordable).
     fn indirect(&mut self, emu: &mut Emulator, addr: ObjectAddress, value: Value) -> Answer {
-        let before = all_tables(emu.tc());
-        let saved = emu.clone();
-        if let Err(e) = emu.write(addr, value) {
-            return Answer::Access(e);
-        }
         // Compared with the memory plus the changes still on their way, so
         // that the journal ends as memory does.
-        let mut expected = before.clone();
+        let mut expected = all_tables(emu.tc());
         for p in self.pending.values() {
             if let (Some(t), Some(key)) = (
                 expected.get_mut(usize::from(p.group) - 1),
@@ -192,6 +187,13 @@ impl<J: Journal> Durable<J> {
             ) {
                 t.set(key, p.value);
             }
+        }
+        if !may_touch_tools(emu, addr, &expected) {
+            return answer(emu.write(addr, value));
+        }
+        let saved = emu.clone();
+        if let Err(e) = emu.write(addr, value) {
+            return Answer::Access(e);
         }
         let records = changes(emu.tc(), &expected);
         if records.is_empty() {
@@ -214,6 +216,19 @@ impl<J: Journal> Durable<J> {
     /// journal back.
     pub fn stop(self) -> Option<J> {
         self.writer.stop()
+    }
+}
+
+/// Whether the side-effect write to `addr` can change tool data, given
+/// the tool data `expected` (memory plus changes on their way): a RESET or
+/// Clean of tables that hold nothing cannot, nor can OTC OFF of a group
+/// whose OTC is off. Such writes then need no copy of the emulator.
+fn may_touch_tools(emu: &mut Emulator, addr: ObjectAddress, expected: &[GroupTable]) -> bool {
+    let group = |i: u16| expected.get(usize::from(i).wrapping_sub(1));
+    match (addr.device, addr.sub) {
+        (1, 2) => group(addr.index).is_some_and(|t| !t.is_empty()),
+        (3, 1) => emu.read(addr, ValueType::I32) == Ok(Value::I32(1)),
+        _ => expected.iter().any(|t| !t.is_empty()),
     }
 }
 
