@@ -31,28 +31,8 @@ enum Command {
     /// Without --config the built-in settings apply (127.0.0.1:1300).
     #[command(after_help = EXIT_HELP)]
     Serve {
-        /// Settings file (TOML, keys as in config/default.toml).
-        #[arg(long, value_name = "FILE")]
-        config: Option<PathBuf>,
-        /// Listen address, overriding the settings: HOST:PORT,
-        /// localhost:PORT, or a bare PORT (on 127.0.0.1).
-        #[arg(long, value_name = "ADDR")]
-        listen: Option<String>,
-        /// Allow listening on a non-loopback address.
-        #[arg(long)]
-        allow_remote: bool,
-        /// Folder of the server's files (tool data, access token),
-        /// overriding `data_dir` of the settings (default `data`).
-        #[arg(long, value_name = "DIR")]
-        data_dir: Option<PathBuf>,
-        /// Keep tool data in memory only: nothing is read or written on
-        /// disk (a throw-away emulator).
-        #[arg(long)]
-        no_persist: bool,
-        /// Start even when tool files or the tool journal hold bad lines:
-        /// they are skipped and reported instead of refusing to start.
-        #[arg(long)]
-        ignore_bad_tools: bool,
+        #[command(flatten)]
+        args: ServeArgs,
         /// Print the built-in settings and exit.
         #[arg(long)]
         print_default_config: bool,
@@ -269,26 +249,13 @@ fn main() -> ExitCode {
     init_log();
     match cli.command {
         Command::Serve {
-            config,
-            listen,
-            allow_remote,
-            data_dir,
-            no_persist,
-            ignore_bad_tools,
+            args,
             print_default_config,
         } => {
             if print_default_config {
                 print!("{DEFAULT_CONFIG}");
                 return ExitCode::SUCCESS;
             }
-            let args = ServeArgs {
-                config,
-                listen,
-                allow_remote,
-                data_dir,
-                no_persist,
-                ignore_bad_tools,
-            };
             cmd_serve(&args)
         }
         Command::Call {

@@ -37,20 +37,30 @@ async fn shutdown_signal() {
     tracing::info!("stop requested");
 }
 
-/// The command line of `serve`.
-#[derive(Debug, Default)]
+/// The command line of `serve` (its help texts are these comments).
+#[derive(Debug, Default, clap::Args)]
 pub struct ServeArgs {
-    /// `--config FILE`.
+    /// Settings file (TOML, keys as in config/default.toml).
+    #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
-    /// `--listen ADDR`.
+    /// Listen address, overriding the settings: HOST:PORT,
+    /// localhost:PORT, or a bare PORT (on 127.0.0.1).
+    #[arg(long, value_name = "ADDR")]
     pub listen: Option<String>,
-    /// `--allow-remote`.
+    /// Allow listening on a non-loopback address.
+    #[arg(long)]
     pub allow_remote: bool,
-    /// `--data-dir DIR`.
+    /// Folder of the server's files (tool data, access token),
+    /// overriding `data_dir` of the settings (default `data`).
+    #[arg(long, value_name = "DIR")]
     pub data_dir: Option<PathBuf>,
-    /// `--no-persist`.
+    /// Keep tool data in memory only: nothing is read or written on
+    /// disk (a throw-away emulator).
+    #[arg(long)]
     pub no_persist: bool,
-    /// `--ignore-bad-tools`.
+    /// Start even when tool files or the tool journal hold bad lines:
+    /// they are skipped and reported instead of refusing to start.
+    #[arg(long)]
     pub ignore_bad_tools: bool,
 }
 
