@@ -1,0 +1,148 @@
+//! Streaming: one block at a time from a reader, with the check that
+//! `$FOR/$IF/$WHILE` and their ends pair up.
+
+use std::io::BufRead;
+
+use crate::block::parse_line;
+use crate::error::NcError;
+use crate::model::{Block, Item};
+
+/// A control structure still open, with where it was opened.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Open {
+    For,
+    If,
+    Else,
+    While,
+}
+
+/// The blocks of a program read from `reader`, one at a time, in bounded
+/// memory: only the current line is held.
+///
+/// Yields `Ok(block)` for each block and `Err` for each line in error (the
+/// reader then moves on to the next line); at the end, one `Err` per
+/// control structure left open.
+pub struct Blocks<R> {
+    reader: R,
+    buffer: Vec<u8>,
+    line: usize,
+    open: Vec<(Open, usize, Option<u32>)>,
+    done: bool,
+}
+
+impl<R: BufRead> Blocks<R> {
+    /// Blocks of the program that `reader` delivers.
+    pub fn new(reader: R) -> Self {
+        Blocks {
+            reader,
+            buffer: Vec::new(),
+            line: 0,
+            open: Vec::new(),
+            done: false,
+        }
+    }
+
+    fn next_line(&mut self) -> Option<Result<Block, NcError>> {
+        loop {
+            self.buffer.clear();
+            match self.reader.read_until(b'\n', &mut self.buffer) {
+                Ok(0) => return None,
+                Ok(_) => self.line += 1,
+                Err(e) => {
+                    self.done = true;
+                    return Some(Err(self.error(
+                        self.line + 1,
+                        None,
+                        format!("read error: {e}"),
+                    )));
+                }
+            }
+            let raw = self.buffer.strip_suffix(b"\n").unwrap_or(&self.buffer);
+            let Ok(text) = std::str::from_utf8(raw) else {
+                let msg = "line is not valid UTF-8 text".to_string();
+                return Some(Err(self.error(self.line, None, msg)));
+            };
+            if let Some(result) = parse_line(text, self.line) {
+                return Some(result);
+            }
+        }
+    }
+
+    fn error(&self, line: usize, block_number: Option<u32>, message: String) -> NcError {
+        NcError {
+            line,
+            block_number,
+            column: 1,
+            message,
+        }
+    }
+
+    /// Follows `$FOR/$IF/$WHILE` nesting; an end without its start is an error.
+    fn check_nesting(&mut self, block: &Block) -> Result<(), NcError> {
+        for item in &block.items {
+            let (closes, opens): (&[Open], Option<Open>) = match item {
+                Item::For { .. } => (&[], Some(Open::For)),
+                Item::If(_) => (&[], Some(Open::If)),
+                Item::While(_) => (&[], Some(Open::While)),
+                Item::Else => (&[Open::If], Some(Open::Else)),
+                Item::EndFor => (&[Open::For], None),
+                Item::EndIf => (&[Open::If, Open::Else], None),
+                Item::EndWhile => (&[Open::While], None),
+                _ => continue,
+            };
+            if !closes.is_empty() {
+                match self.open.last() {
+                    Some((kind, _, _)) if closes.contains(kind) => {
+                        self.open.pop();
+                    }
+                    _ => {
+                        let msg = format!("{} without its opening statement", end_name(item));
+                        return Err(self.error(block.line, block.number, msg));
+                    }
+                }
+            }
+            if let Some(kind) = opens {
+                self.open.push((kind, block.line, block.number));
+            }
+        }
+        Ok(())
+    }
+}
+
+fn end_name(item: &Item) -> &'static str {
+    match item {
+        Item::Else => "$ELSE",
+        Item::EndFor => "$ENDFOR",
+        Item::EndIf => "$ENDIF",
+        _ => "$ENDWHILE",
+    }
+}
+
+fn open_name(kind: Open) -> &'static str {
+    match kind {
+        Open::For => "$FOR without $ENDFOR",
+        Open::If | Open::Else => "$IF without $ENDIF",
+        Open::While => "$WHILE without $ENDWHILE",
+    }
+}
+
+impl<R: BufRead> Iterator for Blocks<R> {
+    type Item = Result<Block, NcError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if !self.done {
+            match self.next_line() {
+                Some(Ok(block)) => {
+                    return Some(self.check_nesting(&block).map(|()| block));
+                }
+                Some(Err(e)) => return Some(Err(e)),
+                None => self.done = true,
+            }
+        }
+        if self.open.is_empty() {
+            return None;
+        }
+        let (kind, line, number) = self.open.remove(0);
+        Some(Err(self.error(line, number, open_name(kind).to_string())))
+    }
+}

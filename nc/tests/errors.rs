@@ -1,0 +1,120 @@
+//! Errors: where (line, block number, column) and that all are reported.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
+use nc::{parse_program, NcError};
+
+fn errors(text: &str) -> Vec<NcError> {
+    parse_program(text).1
+}
+
+fn only(text: &str) -> NcError {
+    let mut e = errors(text);
+    assert_eq!(e.len(), 1, "{text}: {e:?}");
+    e.remove(0)
+}
+
+fn at(e: &NcError) -> (usize, Option<u32>, usize) {
+    (e.line, e.block_number, e.column)
+}
+
+#[test]
+fn unknown_g_code_with_line_block_and_column() {
+    let e = only("N1 X0\nN20 G1 G236 X5");
+    assert_eq!(at(&e), (2, Some(20), 8));
+    assert!(e.message.contains("`G236`"), "{}", e.message);
+    assert_eq!(
+        e.to_string(),
+        format!("line 2, block N20, column 8: {}", e.message)
+    );
+}
+
+#[test]
+fn unknown_address_and_malformed_values() {
+    assert_eq!(at(&only("N5 X1 Q7")), (1, Some(5), 7));
+    assert_eq!(at(&only("X1.2.3")), (1, None, 5));
+    assert_eq!(at(&only("N7 Y")), (1, Some(7), 4));
+    assert_eq!(at(&only("N7 X[1+]")), (1, Some(7), 4));
+    assert_eq!(at(&only("N7 G")), (1, Some(7), 4));
+    assert_eq!(at(&only("N7 M")), (1, Some(7), 4));
+    assert_eq!(at(&only("Nx X1")), (1, None, 1));
+    assert_eq!(at(&only("N1 X1 N2")), (1, Some(1), 7));
+}
+
+#[test]
+fn typographic_dash_of_the_manual_is_refused_with_a_hint() {
+    let e = only("N150 V.G.WZ_AKT.R = V.G.WZ_AKT.R \u{2013} V.P.VERSCHLEISS");
+    assert_eq!(at(&e), (1, Some(150), 6));
+    assert!(e.message.contains("write '-'"), "{}", e.message);
+}
+
+#[test]
+fn malformed_commands_and_statements() {
+    for bad in [
+        "#OTC",
+        "#OTC ON [RADIUS",
+        "#OTC ON [GRIND]",
+        "#OTC [ACC_WEIGHT=0]",
+        "#set ToolParam(1; 2; 3)",
+        "#get ToolParam(1; 2; 3)#",
+        "#KIN 4",
+        "#TRAFO",
+        "#FOO",
+        "$FOR = 1, 2",
+        "$LOOP",
+        "R1 10",
+        "V.Q.X = 1",
+        "(no end",
+    ] {
+        let e = only(bad);
+        assert_eq!((e.line, e.column), (1, 1), "{bad}: {e:?}");
+    }
+}
+
+#[test]
+fn header_without_name() {
+    assert_eq!(at(&only("%")), (1, None, 2));
+}
+
+#[test]
+fn several_errors_are_all_reported_and_good_blocks_kept() {
+    let text = "N1 G1 X0\nN2 Q1\nN3 X1\nN4 G999\nN5 #OTC ON [RADIUS\nN6 Y2\n";
+    let (blocks, errors) = parse_program(text);
+    let numbers: Vec<_> = blocks.iter().map(|b| b.number).collect();
+    assert_eq!(numbers, [Some(1), Some(3), Some(6)]);
+    let lines: Vec<_> = errors.iter().map(|e| (e.line, e.block_number)).collect();
+    assert_eq!(lines, [(2, Some(2)), (4, Some(4)), (5, Some(5))]);
+}
+
+#[test]
+fn unpaired_control_statements() {
+    let e = errors("N1 $ENDFOR\nN2 $FOR P1=0,1,1\nN3 $IF R1\nN4 $ENDWHILE\n");
+    let got: Vec<_> = e.iter().map(|e| (e.line, e.message.as_str())).collect();
+    assert_eq!(
+        got,
+        [
+            (1, "$ENDFOR without its opening statement"),
+            (4, "$ENDWHILE without its opening statement"),
+            (2, "$FOR without $ENDFOR"),
+            (3, "$IF without $ENDIF"),
+        ]
+    );
+}
+
+#[test]
+fn invalid_utf8_and_nbsp_are_errors() {
+    let (_, e) = (
+        0,
+        nc::Blocks::new(&b"N1 X1\nN2 \xff\n"[..]).collect::<Vec<_>>(),
+    );
+    assert!(e[0].is_ok());
+    assert_eq!(e[1].as_ref().unwrap_err().line, 2);
+    assert_eq!(at(&only("N200 G40 X300\u{a0}\u{a0}")), (1, Some(200), 14));
+}
+
+#[test]
+fn deep_nesting_is_an_error_not_a_stack_overflow() {
+    let deep = format!("R1 = {}1{}", "(".repeat(100_000), ")".repeat(100_000));
+    assert_eq!(errors(&deep).len(), 1);
+    let signs = format!("R1 = {}1", "- ".repeat(100_000));
+    assert_eq!(errors(&signs).len(), 1);
+}

@@ -1,0 +1,6 @@
+N10 G0 X0 Y0 Z0
+N20 G01 X100 F60000
+N30 R1=10 R2=4
+N40 #get ToolParam(10; 0; R5)# #getToolParam(10;1;R20)#
+N50 #get ToolParam(R1; R2; R3)#
+N60 G41 X200 Y D10

@@ -1,0 +1,6 @@
+N10 G0 X0 Y0 Z0
+N20 G01 X100 F60000
+N30 R1=10 R2=4 R3=20.3
+N40 #set ToolParam(10; 0; 5)# #set ToolParam(10;1;20)#
+N50 #set ToolParam(R1; R2; R3)#
+N60 G41 X200 Y D10
