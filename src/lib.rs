@@ -20,6 +20,7 @@ pub mod address;
 pub mod config;
 pub mod emulator;
 pub mod fuzz_checks;
+pub mod nc_run;
 pub mod picture;
 pub mod reference;
 pub mod remote;

@@ -12,6 +12,7 @@ use addipos::config::DEFAULT_CONFIG;
 use addipos::remote::{setup_failed, RemoteTarget};
 use addipos::trace::{fresh_emulator, open_trace, replay_stream, trace_files, Target};
 use cli::remote_args::{connect, protocol_hint, token_hint, RemoteArgs};
+use cli::run::{cmd_run, RunArgs};
 use cli::serve::{cmd_serve, ServeArgs};
 use cli::{EXIT_FAILED, EXIT_HELP, EXIT_TROUBLE};
 use tc_request::text::parse_request;
@@ -66,6 +67,15 @@ enum Command {
         verbose: bool,
         #[command(flatten)]
         remote: RemoteArgs,
+    },
+    /// Run an NC program (ISG / DIN 66025 subset) on a fresh emulator: print
+    /// the spooled elements in trace `<` syntax, the final position and the
+    /// V.G. wear values; warnings and errors (with line and block) go to
+    /// stderr. Exits 1 on a parse error, a run error or an OTC error.
+    #[command(after_help = EXIT_HELP)]
+    Run {
+        #[command(flatten)]
+        args: RunArgs,
     },
     /// Print the object reference of bus 1300 (Markdown): every object with
     /// its address, type, access, range and meaning, the access errors and
@@ -269,6 +279,7 @@ fn main() -> ExitCode {
             verbose,
             remote,
         } => cmd_replay(&files, server.as_deref(), verbose, &remote),
+        Command::Run { args } => cmd_run(&args),
         Command::Objects => {
             print!("{}", addipos::reference::object_reference());
             ExitCode::SUCCESS

@@ -19,9 +19,14 @@
 //! block number and column; parsing goes on with the next line, so a program
 //! reports all its errors. Nothing panics on any input.
 //!
-//! **Not yet.** No execution (no modal state, no loops run, no variables
-//! evaluated), no geometry, no requests to the TC engine, no CLI, no plot:
-//! those come later on top of this model.
+//! **Running.** [`run::run_program`] interprets a parsed program into the
+//! requests of `tc-request` (object writes, motion commands, a final
+//! `EXEC`) sent to a [`run::Controller`]: modal state, parameters and
+//! variables, loops and conditions, the D table, `#OTC`. It has no
+//! geometry: the correction is the controller's.
+//!
+//! **Not yet.** No plot, no streaming run (the interpreter holds the block
+//! list so that loops can jump back).
 
 mod block;
 mod commands;
@@ -29,6 +34,7 @@ mod control;
 mod error;
 mod expr;
 mod model;
+pub mod run;
 mod stream;
 mod words;
 

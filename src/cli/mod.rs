@@ -2,6 +2,7 @@
 //! `replay --server` reach a server, and how `serve` starts and stops.
 
 pub mod remote_args;
+pub mod run;
 pub mod serve;
 pub mod tools;
 

@@ -12,7 +12,7 @@ use std::io::BufReader;
 use std::path::{Path, PathBuf};
 
 pub use model::{Expect, Header, SpoolExpect, SpoolKind, Step, Trace, TraceError};
-pub use parse::{parse_trace, TraceReader, MAX_LINE_BYTES};
+pub use parse::{parse_trace, TraceReader, DEFAULT_TOL, MAX_LINE_BYTES};
 pub use replay::{
     format_record, fresh_emulator, replay, replay_on, replay_stream, Mismatch, Replayed, Target,
 };

@@ -1,0 +1,267 @@
+//! One block: its words gathered into a plan, then carried out in the
+//! controller's order: plane, transitions, tool, `#OTC`, TRC, motion.
+
+use tc_request::{ArcDir, AxisWords, Motion, Request, AXES};
+use uoi::Value;
+
+use super::eval::eval;
+use super::objects;
+use super::otc::whole;
+use super::{Interpreter, MotionKind, Side};
+use crate::model::{Axis, Block, CentreAxis, GCode, Item, OtcCommand};
+
+/// TRC change a block asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Trc {
+    Off,
+    On(Side),
+}
+
+/// What one block asks for, gathered from its words.
+#[derive(Default)]
+struct Plan<'b> {
+    words: AxisWords,
+    centre: [Option<f64>; 3],
+    plane: Option<i32>,
+    transition: Option<i32>,
+    tool: Option<u32>,
+    trc: Option<Trc>,
+    otc: Vec<&'b OtcCommand>,
+    end: bool,
+}
+
+fn axis_index(a: Axis) -> usize {
+    match a {
+        Axis::X => 0,
+        Axis::Y => 1,
+        Axis::Z => 2,
+        Axis::A => 3,
+        Axis::B => 4,
+        Axis::C => 5,
+        Axis::U => 6,
+        Axis::V => 7,
+    }
+}
+
+impl Interpreter<'_> {
+    /// Carries out a block (no control statement); true at the program's end.
+    pub(super) fn block(&mut self, block: &Block) -> Result<bool, String> {
+        let mut plan = Plan::default();
+        for item in &block.items {
+            self.gather(item, &mut plan)?;
+        }
+        self.apply(&plan)?;
+        Ok(plan.end)
+    }
+
+    fn warn(&mut self, message: String) {
+        let w = self.error(message);
+        self.report.warnings.push(w);
+    }
+
+    fn gather<'b>(&mut self, item: &'b Item, plan: &mut Plan<'b>) -> Result<(), String> {
+        match item {
+            Item::ProgramName(_) | Item::Kinematic(_) | Item::Trafo(_) | Item::Hsc { .. } => {}
+            Item::G(g) => self.g_code(*g, plan)?,
+            Item::Axis(a, e) => plan.words[axis_index(*a)] = Some(eval(e, self)?),
+            Item::Centre(c, e) => {
+                let k = match c {
+                    CentreAxis::I => 0,
+                    CentreAxis::J => 1,
+                    CentreAxis::K => 2,
+                };
+                plan.centre[k] = Some(eval(e, self)?);
+            }
+            Item::Feed(e) => self.feed_pending = Some(eval(e, self)?),
+            Item::ToolData(e) => {
+                let d = whole(eval(e, self)?, "D")?;
+                plan.tool = Some(
+                    u32::try_from(d)
+                        .ok()
+                        .filter(|d| *d <= 255)
+                        .ok_or_else(|| format!("D{d} is not a data set 0..255"))?,
+                );
+            }
+            Item::Tool(_) => self.warn(
+                "T accepted without effect: the TC module has no tool magazine; D selects \
+                 the tool data"
+                    .into(),
+            ),
+            Item::M(30) => plan.end = true,
+            Item::M(m) => return Err(format!("M{m} is not implemented (only M30)")),
+            Item::Assign(var, e) => {
+                let v = eval(e, self)?;
+                self.assign(var, v)?;
+            }
+            Item::Otc(cmd) => plan.otc.push(cmd),
+            Item::SetToolParam {
+                line,
+                column,
+                value,
+            } => self.set_tool_param(line, column, value)?,
+            Item::GetToolParam {
+                line,
+                column,
+                target,
+            } => {
+                let (l, c) = (eval(line, self)?, eval(column, self)?);
+                let v = self.dtable.get(l, c)?;
+                self.assign(target, v)?;
+            }
+            _ => return Err("a $ control statement must stand alone in its block".into()),
+        }
+        Ok(())
+    }
+
+    fn set_tool_param(
+        &mut self,
+        line: &crate::Expr,
+        column: &crate::Expr,
+        value: &crate::Expr,
+    ) -> Result<(), String> {
+        let (l, c, v) = (eval(line, self)?, eval(column, self)?, eval(value, self)?);
+        if self.trc.is_some() && self.tool.is_some_and(|d| f64::from(d) == l) {
+            return Err(format!(
+                "#set ToolParam: data set D{l} is in use by the running TRC (G40 first)"
+            ));
+        }
+        self.dtable.set(l, c, v)
+    }
+
+    fn g_code(&mut self, g: GCode, plan: &mut Plan) -> Result<(), String> {
+        use GCode::*;
+        match g {
+            Rapid => self.motion = Some(MotionKind::Rapid),
+            Linear => self.motion = Some(MotionKind::Linear),
+            ArcCw => self.motion = Some(MotionKind::Cw),
+            ArcCcw => self.motion = Some(MotionKind::Ccw),
+            Absolute => self.incremental = false,
+            Incremental => self.incremental = true,
+            PlaneXy => plan.plane = Some(17),
+            PlaneZx => plan.plane = Some(18),
+            PlaneYz => plan.plane = Some(19),
+            TransitionLinear => plan.transition = Some(1),
+            TransitionCircular => plan.transition = Some(0),
+            TrcOff => plan.trc = Some(Trc::Off),
+            TrcLeft => plan.trc = Some(Trc::On(Side::Left)),
+            TrcRight => plan.trc = Some(Trc::On(Side::Right)),
+            // The engine's one selection rule is G138's; constant feed and
+            // no masking are what it does anyway.
+            TrcDirect | FeedConstant | MaskingOff => {}
+            TrcIndirect | TrcTangential => self.warn(format!(
+                "{} runs as G138: the TC engine has one selection rule",
+                if g == TrcIndirect { "G139" } else { "G05" }
+            )),
+            FeedAdapted => self.warn("G11 runs as G10: feed adaption is not modelled".into()),
+            MaskingOn => return Err("G141 (contour masking) is not implemented".into()),
+        }
+        Ok(())
+    }
+
+    fn apply(&mut self, plan: &Plan) -> Result<(), String> {
+        if let Some(p) = plan.plane.filter(|p| self.plane != Some(*p)) {
+            self.write(objects::TC_PLANE, Value::I32(p))?;
+            self.plane = Some(p);
+        }
+        if let Some(t) = plan.transition.filter(|t| self.transition != Some(*t)) {
+            self.write(objects::TRANSITION_MODE, Value::I32(t))?;
+            self.transition = Some(t);
+        }
+        if let Some(d) = plan.tool {
+            self.select_tool(d)?;
+        }
+        for cmd in &plan.otc {
+            self.otc(cmd)?;
+        }
+        match plan.trc {
+            Some(Trc::Off) if self.trc.is_some() => {
+                self.write(objects::STATUS, Value::I32(0))?;
+                self.trc = None;
+            }
+            Some(Trc::On(side)) if self.trc != Some(side) => self.start_trc(side)?,
+            _ => {}
+        }
+        self.motion_of(plan)
+    }
+
+    fn start_trc(&mut self, side: Side) -> Result<(), String> {
+        if self.trc.is_some() {
+            self.write(objects::STATUS, Value::I32(0))?;
+        }
+        let addr = match side {
+            Side::Left => objects::LEFT,
+            Side::Right => objects::RIGHT,
+        };
+        self.write(addr, Value::I32(1))?;
+        self.write(objects::STATUS, Value::I32(1))?;
+        self.trc = Some(side);
+        Ok(())
+    }
+
+    /// `D n`: the tool entry, and the D table's radius and length.
+    fn select_tool(&mut self, d: u32) -> Result<(), String> {
+        let data = if d == 0 {
+            Some((0.0, 0.0))
+        } else {
+            self.dtable.tool(d)
+        };
+        if self.trc.is_none() {
+            // d <= 255 was checked.
+            self.write(objects::WKZINDEX, Value::I32(d as i32))?;
+        } else if data.is_none() {
+            self.warn(format!(
+                "D{d} while TRC runs: the tool entry cannot change, and the D table has no \
+                 values for D{d}; the running radius stays"
+            ));
+        }
+        if let Some((radius, length)) = data {
+            self.write(objects::RADIUS, Value::F64(radius))?;
+            self.write(objects::WKZ_LEN, Value::F64(length))?;
+        }
+        self.tool = Some(d);
+        Ok(())
+    }
+
+    /// The block's motion, if it has axis words (or an arc's centre).
+    fn motion_of(&mut self, plan: &Plan) -> Result<(), String> {
+        let has_words = plan.words.iter().any(Option::is_some);
+        let has_centre = plan.centre.iter().any(Option::is_some);
+        if !has_words && !has_centre {
+            return Ok(());
+        }
+        let Some(kind) = self.motion else {
+            return Err("axis words before any motion kind (G0, G1, G2, G3)".into());
+        };
+        let mut words: AxisWords = [None; AXES];
+        for (k, w) in plan.words.iter().enumerate() {
+            if let Some(v) = w {
+                let target = if self.incremental {
+                    self.pos[k] + v
+                } else {
+                    *v
+                };
+                words[k] = Some(target);
+                self.pos[k] = target;
+            }
+        }
+        let feed = self.feed_pending.take();
+        let motion = match kind {
+            MotionKind::Rapid | MotionKind::Linear if has_centre => {
+                return Err("I, J, K need G2 or G3".into());
+            }
+            MotionKind::Rapid => Motion::Rap { words, feed },
+            MotionKind::Linear => Motion::Lin { words, feed },
+            MotionKind::Cw | MotionKind::Ccw => Motion::Cir {
+                dir: if kind == MotionKind::Cw {
+                    ArcDir::Cw
+                } else {
+                    ArcDir::Ccw
+                },
+                words,
+                centre: plan.centre,
+                feed,
+            },
+        };
+        self.request(&Request::Motion(motion)).map(|_| ())
+    }
+}

@@ -1,0 +1,84 @@
+//! `#OTC`: options and switching written to the OTC objects (device 3),
+//! and the OTC error bits read back after switching.
+
+use uoi::{Value, ValueType};
+
+use super::eval::eval;
+use super::objects;
+use super::Interpreter;
+use crate::model::{OtcCommand, OtcKind, OtcMode, OtcOption};
+
+/// A whole number as an `i` value.
+pub(super) fn whole(v: f64, what: &str) -> Result<i32, String> {
+    if v.fract() == 0.0 && v >= f64::from(i32::MIN) && v <= f64::from(i32::MAX) {
+        // Checked to be a whole number in range.
+        Ok(v as i32)
+    } else {
+        Err(format!("{what} must be a whole number, not {v}"))
+    }
+}
+
+impl Interpreter<'_> {
+    /// Carries out one `#OTC` command.
+    pub(super) fn otc(&mut self, cmd: &OtcCommand) -> Result<(), String> {
+        if cmd.switch == Some(false) {
+            self.write(objects::OTC_ON, Value::I32(0))?;
+            self.check_otc_error()?;
+        }
+        for option in &cmd.options {
+            self.otc_option(option)?;
+        }
+        if cmd.switch == Some(true) {
+            self.write(objects::OTC_ON, Value::I32(1))?;
+            self.check_otc_error()?;
+        }
+        Ok(())
+    }
+
+    fn otc_option(&mut self, option: &OtcOption) -> Result<(), String> {
+        let (addr, value) = match option {
+            OtcOption::Kind(k) => (
+                objects::OTC_PROC_TYPE,
+                Value::I32(match k {
+                    OtcKind::Radius => 0,
+                    OtcKind::Length => 1,
+                    OtcKind::ToolDir => 2,
+                    OtcKind::SurfNormDir => 3,
+                }),
+            ),
+            OtcOption::Mode(m) => (
+                objects::OTC_MODE,
+                Value::I32(match m {
+                    OtcMode::Disc => 0,
+                    OtcMode::Cont => 1,
+                    OtcMode::Auto => 2,
+                }),
+            ),
+            OtcOption::WearConst(e) => (objects::OTC_WEAR_CONST, Value::F64(eval(e, self)?)),
+            OtcOption::WearConstTool => (objects::OTC_WEAR_CONST_TOOL, Value::I32(1)),
+            OtcOption::AccWeight(e) => {
+                let w = whole(eval(e, self)?, "ACC_WEIGHT")?;
+                (objects::OTC_ACC_WEIGHT, Value::I32(w))
+            }
+        };
+        self.write(addr, value)?;
+        self.check_otc_error()
+    }
+
+    /// Reads OtcError; each bit newly set is a fault of this block.
+    fn check_otc_error(&mut self) -> Result<(), String> {
+        let bits = whole(
+            self.read_object(objects::OTC_ERROR, ValueType::I32)?,
+            "OtcError",
+        )?;
+        let new = bits & !self.otc_seen;
+        self.otc_seen = bits;
+        for (bit, text) in objects::OTC_ERROR_BITS {
+            if new & bit != 0 {
+                let fault = self.error(format!("OTC error {text}"));
+                self.report.faults.push(fault);
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,160 @@
+//! The interpreter: blocks in, requests out, against a controller that
+//! records what it is asked.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
+use nc::parse_program;
+use nc::run::{run_program, At, Controller, Report, MAX_EXECUTED_BLOCKS};
+use tc_request::{Reply, Request};
+use uoi::Value;
+
+/// Answers everything `ok` (reads: 0), keeps the requests as text.
+#[derive(Default)]
+struct Log(Vec<String>);
+
+impl Controller for Log {
+    fn call(&mut self, req: &Request, _at: At) -> Reply {
+        self.0.push(req.to_string());
+        match req {
+            Request::Pos => Reply::Pos([0.0; 8]),
+            Request::Read(_, uoi::ValueType::I32) => Reply::Value(Value::I32(0)),
+            Request::Read(..) => Reply::Value(Value::F64(0.0)),
+            _ => Reply::Ok,
+        }
+    }
+}
+
+fn run(text: &str) -> (Vec<String>, Report, Result<(), nc::NcError>) {
+    let (blocks, errors) = parse_program(text);
+    assert!(errors.is_empty(), "{errors:?}");
+    let mut log = Log::default();
+    let mut report = Report::default();
+    let r = run_program(&blocks, &mut log, &mut report);
+    (log.0, report, r)
+}
+
+fn requests(text: &str) -> Vec<String> {
+    let (log, _, r) = run(text);
+    r.unwrap();
+    log
+}
+
+#[test]
+fn modal_motion_incremental_and_feed() {
+    let log = requests("N1 G1 X10 Y5 F600\nN2 G91 X5\nN3 G0 Y-5\nN4 G90 G3 X0 Y0 I-7.5 J0\n");
+    assert_eq!(
+        log,
+        [
+            "POS",
+            "LIN X10 Y5 F600",
+            "LIN X15",
+            "RAP Y0",
+            "CIR CCW X0 Y0 I-7.5 J0",
+            "EXEC"
+        ]
+    );
+}
+
+#[test]
+fn plane_tool_trc_and_transitions_come_before_the_motion() {
+    let text = "#set ToolParam(3; 4; 9)# #set ToolParam(3; 7; -0.5)#\n\
+                #set ToolParam(3; 2; 100)#\n\
+                N10 G18 D3 G25 G42 G1 X1 F100\nN20 G40 X2\nN30 G41 G26 X3\nN40 M30\nN50 X9\n";
+    let log = requests(text);
+    assert_eq!(
+        log,
+        [
+            "POS",
+            "W 1300/0/3/0 i 18",
+            "W 1300/2/1/1 i 1",
+            "W 1300/1/1/8 i 3",
+            "W 1300/1/1/6 d 8.5",
+            "W 1300/1/1/12 d 100",
+            "W 1300/1/1/10 i 1",
+            "W 1300/1/1/3 i 1",
+            "LIN X1 F100",
+            "W 1300/1/1/3 i 0",
+            "LIN X2",
+            "W 1300/2/1/1 i 0",
+            "W 1300/1/1/9 i 1",
+            "W 1300/1/1/3 i 1",
+            "LIN X3",
+            "EXEC"
+        ]
+    );
+}
+
+#[test]
+fn loops_conditions_and_variables() {
+    let text = "R1 = 0\n$FOR P1 = 1, 3, 1\nR1 = R1 + P1\n$ENDFOR\n\
+                $IF R1 == 6\nV.P.A = 1\n$ELSE\nV.P.A = 2\n$ENDIF\n\
+                $WHILE V.P.A < 4\nV.P.A = V.P.A + 1\nG1 X[V.P.A * 10]\n$ENDWHILE\n";
+    let log = requests(text);
+    assert_eq!(log, ["POS", "LIN X20", "LIN X30", "LIN X40", "EXEC"]);
+}
+
+#[test]
+fn dynamic_radius_and_otc_are_object_writes() {
+    let text = "V.G.WZ_AKT.R = V.G.WZ_AKT.R - 0.01\n#OTC ON [RADIUS, CONT, WEAR_CONST=5, \
+                ACC_WEIGHT=50]\n#OTC OFF\n";
+    let log = requests(text);
+    assert_eq!(
+        log,
+        [
+            "POS",
+            "R 1300/1/1/6 d",
+            "W 1300/1/1/6 d -0.01",
+            "W 1300/3/1/2 i 0",
+            "R 1300/3/1/7 i",
+            "W 1300/3/1/3 i 1",
+            "R 1300/3/1/7 i",
+            "W 1300/3/1/4 d 5",
+            "R 1300/3/1/7 i",
+            "W 1300/3/1/6 i 50",
+            "R 1300/3/1/7 i",
+            "W 1300/3/1/1 i 1",
+            "R 1300/3/1/7 i",
+            "W 1300/3/1/1 i 0",
+            "R 1300/3/1/7 i",
+            "EXEC"
+        ]
+    );
+}
+
+#[test]
+fn tool_param_get_reads_the_d_table() {
+    let log = requests("#set ToolParam(10; 4; 2.5)#\n#get ToolParam(10; 4; R7)#\nG1 X[R7]\n");
+    assert_eq!(log, ["POS", "LIN X2.5", "EXEC"]);
+}
+
+#[test]
+fn unimplemented_constructs_are_errors_with_their_block() {
+    for (text, what) in [
+        ("N1 G1 X1\nN5 M3\n", "M3"),
+        ("N1 G141\n", "G141"),
+        ("N7 G1 X[V.P.NOPE]\n", "V.P.NOPE"),
+        ("N7 X1\n", "motion kind"),
+        ("N7 G1 X1 I2\n", "G2 or G3"),
+        ("N7 R1 = 1 / 0\n", "division by zero"),
+    ] {
+        let (_, _, r) = run(text);
+        let e = r.unwrap_err();
+        assert!(e.message.contains(what), "{text}: {e}");
+        assert!(e.block_number.is_some(), "{text}: {e}");
+    }
+}
+
+#[test]
+fn an_endless_loop_stops_at_the_bound() {
+    let (log, _, r) = run("N5 $WHILE 1\nN6 R1 = R1 + 1\nN7 $ENDWHILE\n");
+    let e = r.unwrap_err();
+    assert!(e.message.contains(&MAX_EXECUTED_BLOCKS.to_string()), "{e}");
+    assert_eq!(log, ["POS"]);
+}
+
+#[test]
+fn g139_and_g05_run_as_g138_with_a_warning() {
+    let (_, report, r) = run("N1 G139 G41\nN2 G05 G40\nN3 T1\n");
+    r.unwrap();
+    assert_eq!(report.warnings.len(), 3);
+    assert_eq!(report.warnings[0].block_number, Some(1));
+}

@@ -1,0 +1,75 @@
+//! `addipos run PROG.nc`: run an NC program on a fresh emulator, print
+//! what it spooled, the final position and the wear; `--trace` writes the
+//! equivalent conformance trace.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Args;
+
+use addipos::nc_run::{axis_text, run_nc, NcRun};
+
+use super::{EXIT_FAILED, EXIT_TROUBLE};
+
+/// Arguments of `addipos run`.
+#[derive(Args, Debug)]
+pub struct RunArgs {
+    /// The NC program (ISG / DIN 66025 subset).
+    pub program: PathBuf,
+    /// Also write the run as a conformance trace (requests, their answers
+    /// as expectations, the spooled elements) that `addipos replay` passes.
+    #[arg(long, value_name = "OUT.trace")]
+    pub trace: Option<PathBuf>,
+}
+
+/// Runs `addipos run`.
+pub fn cmd_run(args: &RunArgs) -> ExitCode {
+    let name = args.program.display().to_string();
+    let text = match std::fs::read_to_string(&args.program) {
+        Ok(t) => t,
+        Err(e) => {
+            eprintln!("error: {name}: cannot read: {e}");
+            return ExitCode::from(EXIT_TROUBLE);
+        }
+    };
+    let run = run_nc(&text);
+    print_run(&run);
+    report_problems(&run, &name);
+    if let Some(out) = args.trace.as_ref().filter(|_| run.parse_errors.is_empty()) {
+        if let Err(e) = std::fs::write(out, run.trace(&name)) {
+            eprintln!("error: {}: cannot write: {e}", out.display());
+            return ExitCode::from(EXIT_TROUBLE);
+        }
+    }
+    if run.failed() {
+        ExitCode::from(EXIT_FAILED)
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+fn print_run(run: &NcRun) {
+    for line in run.spool_lines() {
+        println!("{line}");
+    }
+    if let Some(p) = &run.position {
+        println!("POS {}", axis_text(p));
+    }
+    for (name, v) in &run.wear {
+        println!("{name} = {v}");
+    }
+}
+
+fn report_problems(run: &NcRun, name: &str) {
+    for w in &run.report.warnings {
+        eprintln!("warning: {name}: {w}");
+    }
+    let errors = run
+        .parse_errors
+        .iter()
+        .chain(&run.error)
+        .chain(&run.report.faults);
+    for e in errors {
+        eprintln!("error: {name}: {e}");
+    }
+}

@@ -1,0 +1,204 @@
+//! `addipos run`: an NC program parsed, interpreted into requests and run
+//! on a fresh emulator, every request kept with its answer and the
+//! elements it spooled, so that the run can be printed and written as an
+//! equivalent conformance trace.
+
+use std::fmt::Write as _;
+
+use nc::run::{run_program, wear_axis, At, Controller, Report, WEAR_RADIUS, WEAR_RADIUS_CONT};
+use nc::{parse_program, NcError};
+use tc_request::{AxisPos, Reply, Request, SpoolRecord, AXIS_NAMES};
+use uoi::{Value, ValueType};
+
+use crate::trace::{format_record, fresh_emulator};
+use crate::Emulator;
+
+/// One request of the run, its answer and what it spooled.
+#[derive(Debug, Clone)]
+pub struct Exchange {
+    /// The block it came from.
+    pub at: At,
+    /// The request.
+    pub request: Request,
+    /// The answer.
+    pub reply: Reply,
+    /// Elements it spooled.
+    pub spooled: Vec<SpoolRecord>,
+}
+
+/// A whole run: the exchanges, and what went wrong.
+#[derive(Debug, Clone, Default)]
+pub struct NcRun {
+    /// Every request in order.
+    pub exchanges: Vec<Exchange>,
+    /// The parser's errors (nothing runs when there is one).
+    pub parse_errors: Vec<NcError>,
+    /// The error that stopped the run, if one did.
+    pub error: Option<NcError>,
+    /// Warnings and controller faults of the run.
+    pub report: Report,
+    /// The machine axes used as X, Y, Z (for `I J K` of arcs).
+    pub axis_nr: [u8; 3],
+    /// The executed position at the end.
+    pub position: Option<AxisPos>,
+    /// The V.G. wear values read at the end: name and value.
+    pub wear: Vec<(String, f64)>,
+}
+
+/// The emulator with a record of everything it was asked.
+struct Recorder {
+    emu: Emulator,
+    exchanges: Vec<Exchange>,
+}
+
+impl Controller for Recorder {
+    fn call(&mut self, req: &Request, at: At) -> Reply {
+        let reply = self.emu.run(req);
+        let spooled = self.emu.take_spool_log();
+        self.exchanges.push(Exchange {
+            at,
+            request: req.clone(),
+            reply: reply.clone(),
+            spooled,
+        });
+        reply
+    }
+}
+
+/// The V.G. wear variables read at the end of a run.
+fn wear_objects() -> Vec<(String, uoi::ObjectAddress)> {
+    let mut out = vec![
+        ("V.G.WZ_AKT.WEAR_RADIUS".to_string(), WEAR_RADIUS),
+        ("V.G.WZ_AKT.WEAR_RADIUS_CONT".to_string(), WEAR_RADIUS_CONT),
+    ];
+    out.extend((0..8).map(|a| (format!("V.G.WZ_AKT.WEAR[{a}]"), wear_axis(a))));
+    out
+}
+
+/// Parses `text` and runs it on a fresh emulator (the one a trace without
+/// header options replays on).
+pub fn run_nc(text: &str) -> NcRun {
+    let (blocks, parse_errors) = parse_program(text);
+    if !parse_errors.is_empty() {
+        return NcRun {
+            parse_errors,
+            ..NcRun::default()
+        };
+    }
+    let mut rec = Recorder {
+        emu: fresh_emulator(&default_header()),
+        exchanges: Vec::new(),
+    };
+    let mut report = Report::default();
+    let error = run_program(&blocks, &mut rec, &mut report).err();
+    if error.is_some() {
+        // Run what was spooled before the error, so that the position and
+        // the wear show where the machine stopped.
+        let at = error.as_ref().map_or(At::default(), |e| At {
+            line: e.line,
+            number: e.block_number,
+        });
+        rec.call(&Request::Exec(None), at);
+    }
+    let end = At {
+        line: blocks.last().map_or(0, |b| b.line),
+        number: None,
+    };
+    let position = match rec.call(&Request::Pos, end) {
+        Reply::Pos(p) => Some(p),
+        _ => None,
+    };
+    let mut wear = Vec::new();
+    for (name, addr) in wear_objects() {
+        if let Reply::Value(Value::F64(v)) = rec.call(&Request::Read(addr, ValueType::F64), end) {
+            wear.push((name, v));
+        }
+    }
+    NcRun {
+        axis_nr: rec.emu.tc().axis_nr(),
+        exchanges: rec.exchanges,
+        parse_errors,
+        error,
+        report,
+        position,
+        wear,
+    }
+}
+
+/// The header of a trace with no options: what `run_nc` runs on.
+fn default_header() -> crate::trace::Header {
+    crate::trace::Header {
+        file: "nc".into(),
+        name: None,
+        tol: crate::trace::DEFAULT_TOL,
+        start: [0.0; tc_request::AXES],
+        cycle: tc_module::CycleTime::DEFAULT,
+        spool_capacity: tc_module::spooler::DEFAULT_SPOOL_CAPACITY,
+    }
+}
+
+/// `=> ...`: the answer as a trace expectation.
+fn expectation(reply: &Reply) -> Option<String> {
+    Some(match reply {
+        Reply::Ok => "ok".into(),
+        Reply::Value(v) => v.to_string(),
+        Reply::Pos(p) => axis_text(p),
+        Reply::Queue(n) => n.to_string(),
+        Reply::Access(e) => format!("err {}", e.name()),
+        Reply::Spool(..) | Reply::Protocol(_) => return None,
+    })
+}
+
+/// `X.. Y.. ..` of all axes.
+pub fn axis_text(p: &AxisPos) -> String {
+    let words: Vec<String> = AXIS_NAMES
+        .iter()
+        .zip(p)
+        .map(|(n, v)| format!("{n}{v}"))
+        .collect();
+    words.join(" ")
+}
+
+fn block_comment(at: At) -> String {
+    match at.number {
+        Some(n) => format!("# N{n} (line {})", at.line),
+        None => format!("# line {}", at.line),
+    }
+}
+
+impl NcRun {
+    /// Whether the run failed: a parse error, an error that stopped it or
+    /// a controller fault.
+    pub fn failed(&self) -> bool {
+        !self.parse_errors.is_empty() || self.error.is_some() || !self.report.faults.is_empty()
+    }
+
+    /// Every spooled element in trace `<` syntax, with its block.
+    pub fn spool_lines(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        for x in &self.exchanges {
+            for rec in &x.spooled {
+                let el = format_record(rec, self.axis_nr);
+                out.push(format!("< {el}    {}", block_comment(x.at)));
+            }
+        }
+        out
+    }
+
+    /// The run as a conformance trace named `name`: every request with its
+    /// answer as the expectation and the elements it spooled.
+    pub fn trace(&self, name: &str) -> String {
+        let mut t = format!("@name NC program {name}\n");
+        for x in &self.exchanges {
+            let _ = write!(t, "{}", x.request);
+            if let Some(e) = expectation(&x.reply) {
+                let _ = write!(t, " => {e}");
+            }
+            let _ = writeln!(t, "    {}", block_comment(x.at));
+            for rec in &x.spooled {
+                let _ = writeln!(t, "< {}", format_record(rec, self.axis_nr));
+            }
+        }
+        t
+    }
+}

@@ -1,0 +1,244 @@
+//! `addipos run`: the seed NC programs run on the emulator, their
+//! corrected paths, the dynamic radius, the OTC type check, and the
+//! equivalent traces replayed.
+
+// Test helpers may stop loudly on a broken setup.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
+use std::path::PathBuf;
+use std::process::Command;
+
+mod common;
+
+use addipos::nc_run::{run_nc, NcRun};
+use addipos::remote::{replay_remote, RemoteTarget};
+use addipos::trace::{parse_trace, replay};
+use tc_request::{Origin, SpoolRecord};
+use uoi::tcp::Core;
+
+fn program_path(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("nc/tests/programs")
+        .join(name)
+}
+
+fn program(name: &str) -> String {
+    std::fs::read_to_string(program_path(name)).unwrap()
+}
+
+/// The program with a line of tool data inserted after its first line.
+fn with_tool_data(name: &str, line: &str) -> String {
+    let text = program(name);
+    let (first, rest) = text.split_once('\n').unwrap();
+    format!("{first}\n{line}\n{rest}")
+}
+
+const RUNNING: [&str; 9] = [
+    "wzkg25.nc",
+    "wzkg26.nc",
+    "dynamic_radius.nc",
+    "wr_quad_disc.nc",
+    "otc_general.nc",
+    "otc_length.nc",
+    "otc_tool_dir.nc",
+    "otc_surf_norm_dir.nc",
+    "tool_data_change.nc",
+];
+
+fn spooled(run: &NcRun) -> Vec<SpoolRecord> {
+    let all = run.exchanges.iter().flat_map(|x| x.spooled.iter().copied());
+    all.collect()
+}
+
+fn corrected(run: &NcRun) -> Vec<SpoolRecord> {
+    let all = spooled(run).into_iter();
+    all.filter(|r| r.origin == Origin::Corrected).collect()
+}
+
+/// Signed distance of `p` from segment `a`→`b` (positive: left of it)
+/// and the unsigned distance from the segment.
+fn from_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> (f64, f64) {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let len2 = dx * dx + dy * dy;
+    let t = (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0);
+    let (cx, cy) = (a[0] + t * dx, a[1] + t * dy);
+    let side = dx * (p[1] - a[1]) - dy * (p[0] - a[0]);
+    let dist = (p[0] - cx).hypot(p[1] - cy);
+    (side.signum() * dist, dist)
+}
+
+/// %WZKG25/26's contour, traversed from (20,20).
+const CONTOUR: [[f64; 2]; 5] = [
+    [20.0, 20.0],
+    [30.0, 20.0],
+    [35.0, 15.0],
+    [35.0, 10.0],
+    [30.0, 7.0],
+];
+
+fn check_left_at_10(name: &str) {
+    let run = run_nc(&with_tool_data(name, "#set ToolParam(1; 4; 10)#"));
+    assert!(
+        !run.failed(),
+        "{name}: {:?} {:?}",
+        run.error,
+        run.report.faults
+    );
+    let elements = corrected(&run);
+    assert!(
+        elements.len() >= 12,
+        "{name}: {} corrected elements",
+        elements.len()
+    );
+    for e in elements.iter().filter(|e| e.arc.is_none()) {
+        for p in [e.start, e.end] {
+            let (signed, _) = CONTOUR
+                .windows(2)
+                .map(|s| from_segment([p[0], p[1]], s[0], s[1]))
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .unwrap();
+            assert!((signed - 10.0).abs() < 1e-9, "{name}: {e:?}: {signed}");
+        }
+    }
+}
+
+#[test]
+fn wzkg25_and_wzkg26_keep_10_left_of_the_contour() {
+    check_left_at_10("wzkg25.nc");
+    check_left_at_10("wzkg26.nc");
+}
+
+#[test]
+fn grinding_cycle_radius_shrinks_by_0_010_for_11_passes() {
+    // The data set before N00 selects it.
+    let text = format!("#set ToolParam(6; 4; 5)#\n{}", program("dynamic_radius.nc"));
+    let run = run_nc(&text);
+    assert!(!run.failed(), "{:?}", run.error);
+    // The top edge Y250 to X300, run in +X with G41: it ends at 250 + r
+    // (from the second pass on, it starts on the last pass's offset).
+    let tops: Vec<f64> = spooled(&run)
+        .iter()
+        .filter(|e| e.arc.is_none() && e.end[0] == 300.0 && e.end[1] > 250.0)
+        .map(|e| e.end[1] - 250.0)
+        .collect();
+    assert_eq!(tops.len(), 11, "{tops:?}");
+    for (k, r) in tops.iter().enumerate() {
+        assert!(
+            (r - (5.0 - 0.01 * k as f64)).abs() < 1e-9,
+            "pass {k}: {tops:?}"
+        );
+    }
+}
+
+#[test]
+fn otc_on_with_a_milling_tool_is_p_err_21391() {
+    let run = run_nc(&program("otc_general.nc"));
+    assert!(run.error.is_none(), "{:?}", run.error);
+    assert_eq!(run.report.faults.len(), 1, "{:?}", run.report.faults);
+    let f = &run.report.faults[0];
+    assert!(f.message.contains("P-ERR-21391"), "{f}");
+    assert_eq!((f.line, f.block_number), (5, Some(50)));
+    assert!(run.failed());
+}
+
+#[test]
+fn every_seed_program_runs_and_its_trace_replays() {
+    for name in RUNNING {
+        let run = run_nc(&program(name));
+        assert!(run.parse_errors.is_empty(), "{name}");
+        assert!(run.position.is_some(), "{name}");
+        assert_eq!(run.wear.len(), 10, "{name}");
+        assert!(!run.spool_lines().is_empty(), "{name}");
+        let trace = parse_trace(name, &run.trace(name)).unwrap();
+        assert!(trace.steps.len() > 5, "{name}");
+        let mismatches = replay(&trace);
+        assert!(mismatches.is_empty(), "{name}: {mismatches:?}");
+    }
+}
+
+/// The printed tool-data example's second circle does not close (start
+/// 15 from its centre, end 11.2): the engine flags CenterError and the run
+/// stops there with the block named.
+#[test]
+fn tool_data_change_stops_at_the_circle_that_does_not_close() {
+    let run = run_nc(&program("tool_data_change.nc"));
+    let e = run.error.expect("an error");
+    assert_eq!(e.block_number, Some(150));
+    assert!(e.message.contains("CenterError"), "{e}");
+}
+
+fn addipos(args: &[&std::ffi::OsStr]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_addipos"))
+        .args(args)
+        .output()
+        .expect("run addipos");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn run_command_prints_spool_position_wear_and_writes_a_replayable_trace() {
+    let dir = std::env::temp_dir().join(format!("addipos-nc-run-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("wzkg25.trace");
+    let prog = program_path("wzkg25.nc");
+    let (code, stdout, stderr) = addipos(&[
+        "run".as_ref(),
+        prog.as_os_str(),
+        "--trace".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.lines().next().unwrap().starts_with("< LIN"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("\nPOS X"), "{stdout}");
+    assert!(stdout.contains("V.G.WZ_AKT.WEAR_RADIUS = "), "{stdout}");
+    assert!(stderr.contains("warning:"), "{stderr}");
+    let (code, stdout, _) = addipos(&["replay".as_ref(), out.as_os_str()]);
+    assert_eq!(code, 0, "{stdout}");
+    assert!(stdout.contains("1 passed, 0 failed"), "{stdout}");
+}
+
+#[test]
+fn run_command_fails_on_the_tool_param_samples_bare_y() {
+    for name in ["toolparam_set.nc", "toolparam_get.nc"] {
+        let prog = program_path(name);
+        let (code, stdout, stderr) = addipos(&["run".as_ref(), prog.as_os_str()]);
+        assert_eq!(code, 1, "{name}: {stderr}");
+        assert!(stdout.is_empty(), "{name}: {stdout}");
+        assert!(
+            stderr.contains("line 6, block N60, column 14"),
+            "{name}: {stderr}"
+        );
+    }
+    let (code, _, stderr) = addipos(&["run".as_ref(), "/no/such/prog.nc".as_ref()]);
+    assert_eq!(code, 2, "{stderr}");
+}
+
+#[test]
+fn run_command_reports_the_otc_type_error() {
+    let prog = program_path("otc_general.nc");
+    let (code, _, stderr) = addipos(&["run".as_ref(), prog.as_os_str()]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(
+        stderr.contains("error:") && stderr.contains("P-ERR-21391"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn every_seed_trace_replays_over_tcp() {
+    let server = common::TestServer::local(Core::Lock);
+    let mut target = RemoteTarget::connect(&server.addr.to_string()).expect("connect");
+    for name in RUNNING {
+        let run = run_nc(&program(name));
+        let trace = parse_trace(name, &run.trace(name)).unwrap();
+        let mismatches = replay_remote(&trace, &mut target);
+        assert!(mismatches.is_empty(), "{name}: {mismatches:?}");
+    }
+}
