@@ -158,3 +158,54 @@ fn g139_and_g05_run_as_g138_with_a_warning() {
     assert_eq!(report.warnings.len(), 3);
     assert_eq!(report.warnings[0].block_number, Some(1));
 }
+
+mod never_panics {
+    use super::*;
+    use proptest::prelude::*;
+
+    const LINES: [&str; 24] = [
+        "N1 G1 X10 Y5 F600",
+        "G91 X-3 Y[R1*2]",
+        "G90",
+        "G2 X0 Y0 I5",
+        "G3 I-5 J0",
+        "G41",
+        "G42 X1",
+        "G40 X0",
+        "G17",
+        "G18",
+        "G25",
+        "G26",
+        "D1",
+        "D0",
+        "D300",
+        "#set ToolParam(1; 4; 10)#",
+        "#get ToolParam(R1; 99; R2)#",
+        "R1 = R1 / R3",
+        "V.G.WZ_AKT.R = V.G.WZ_AKT.R - 0.01",
+        "#OTC ON [RADIUS, WEAR_CONST=5, ACC_WEIGHT=1.5]",
+        "#OTC OFF",
+        "$FOR P1 = 0, 3, 1",
+        "$ENDFOR",
+        "M30",
+    ];
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(256))]
+
+        /// Any mix of the constructs runs or stops with an error naming a
+        /// line; it never panics.
+        #[test]
+        fn interpreter_never_panics(picks in proptest::collection::vec(0usize..LINES.len(), 0..40)) {
+            let text: Vec<&str> = picks.iter().map(|&k| LINES[k]).collect();
+            let (blocks, errors) = parse_program(&text.join("\n"));
+            if errors.is_empty() {
+                let mut log = Log::default();
+                let mut report = Report::default();
+                if let Err(e) = run_program(&blocks, &mut log, &mut report) {
+                    prop_assert!(e.line >= 1);
+                }
+            }
+        }
+    }
+}

@@ -208,31 +208,21 @@ impl<'c> Interpreter<'c> {
                 end,
                 step,
             } => {
-                let s = eval::eval(start, self)?;
-                let e = eval::eval(end, self)?;
-                let st = eval::eval(step, self)?;
-                if st == 0.0 {
+                let first = eval::eval(start, self)?;
+                let last = eval::eval(end, self)?;
+                let step = eval::eval(step, self)?;
+                if step == 0.0 {
                     return Err("$FOR with step 0 never ends".into());
                 }
-                self.assign(var, s)?;
-                self.for_state.insert(pc, (e, st));
-                Ok(if in_range(s, e, st) {
+                self.assign(var, first)?;
+                self.for_state.insert(pc, (last, step));
+                Ok(if in_range(first, last, step) {
                     pc + 1
                 } else {
                     partner(&jumps.for_pair)? + 1
                 })
             }
-            Item::EndFor => {
-                let f = partner(&jumps.for_pair)?;
-                let (e, st) = self.for_state.get(&f).copied().unwrap_or((0.0, 1.0));
-                let Some(Item::For { var, .. }) = blocks.get(f).and_then(|b| b.items.first())
-                else {
-                    return Err("$ENDFOR without its $FOR".into());
-                };
-                let next = self.read_var(var)? + st;
-                self.assign(var, next)?;
-                Ok(if in_range(next, e, st) { f + 1 } else { pc + 1 })
-            }
+            Item::EndFor => self.end_for(pc, partner(&jumps.for_pair)?, blocks),
             Item::While(c) => Ok(if eval::eval(c, self)? != 0.0 {
                 pc + 1
             } else {
@@ -261,6 +251,23 @@ impl<'c> Interpreter<'c> {
             .map(|(_, name)| *name)
             .collect();
         format!(" (ERROR: {})", names.join(", "))
+    }
+
+    /// `$ENDFOR` at `pc` of the `$FOR` at `f`: the counter stepped, and
+    /// back to the loop's first block while it is in range.
+    fn end_for(&mut self, pc: usize, f: usize, blocks: &[Block]) -> Result<usize, String> {
+        let for_item = blocks.get(f).and_then(|b| b.items.first());
+        let (Some(Item::For { var, .. }), Some(&(last, step))) = (for_item, self.for_state.get(&f))
+        else {
+            return Err("$ENDFOR without its $FOR".into());
+        };
+        let next = self.read_var(var)? + step;
+        self.assign(var, next)?;
+        Ok(if in_range(next, last, step) {
+            f + 1
+        } else {
+            pc + 1
+        })
     }
 
     fn read_var(&mut self, var: &Var) -> Result<f64, String> {
