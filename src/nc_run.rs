@@ -8,6 +8,7 @@ use std::fmt::Write as _;
 use nc::run::{run_program, wear_axis, At, Controller, Report, WEAR_RADIUS, WEAR_RADIUS_CONT};
 use nc::{parse_program, NcError};
 use tc_request::{AxisPos, Reply, Request, SpoolRecord, AXIS_NAMES};
+use tool_store::{ToolField, ToolKey, ToolValue};
 use uoi::{Value, ValueType};
 
 use crate::trace::{format_record, fresh_emulator};
@@ -78,6 +79,49 @@ fn wear_objects() -> Vec<(String, uoi::ObjectAddress)> {
 /// Parses `text` and runs it on a fresh emulator (the one a trace without
 /// header options replays on).
 pub fn run_nc(text: &str) -> NcRun {
+    run_nc_with_tools(text, &[])
+}
+
+/// The object a tool field is written through, in `group`.
+fn tool_object(group: u8, field: ToolField) -> uoi::ObjectAddress {
+    let (device, sub) = match field {
+        ToolField::Radius => (1, 6),
+        ToolField::Laenge => (1, 12),
+        ToolField::Typ => (3, 30),
+        ToolField::GrindingWearConst => (3, 31),
+        ToolField::GrindingMaxInfeed => (3, 32),
+        ToolField::GrindingDiscTiltAngle => (3, 33),
+    };
+    uoi::ObjectAddress::new(tc_module::TC_BUS, device, u16::from(group), sub)
+}
+
+/// Writes the tool values of `tools` (group, entry and field, value) as
+/// requests, so that the trace of the run holds them too; WKZINDEX of each
+/// group touched is 0 again afterwards.
+fn preload(rec: &mut Recorder, tools: &[(u8, ToolKey, ToolValue)]) {
+    let at = At::default();
+    let wkz = |g: u8| uoi::ObjectAddress::new(tc_module::TC_BUS, 1, u16::from(g), 8);
+    for (group, key, value) in tools {
+        rec.call(
+            &Request::Write(wkz(*group), Value::I32(i32::from(key.index))),
+            at,
+        );
+        let v = match value {
+            ToolValue::I32(i) => Value::I32(*i),
+            ToolValue::F64(f) => Value::F64(*f),
+        };
+        rec.call(&Request::Write(tool_object(*group, key.field), v), at);
+    }
+    let mut groups: Vec<u8> = tools.iter().map(|t| t.0).collect();
+    groups.dedup();
+    for g in groups {
+        rec.call(&Request::Write(wkz(g), Value::I32(0)), at);
+    }
+}
+
+/// As [`run_nc`], with tool data written first (a tool file's values):
+/// an NC program's `D` word then selects an entry that holds them.
+pub fn run_nc_with_tools(text: &str, tools: &[(u8, ToolKey, ToolValue)]) -> NcRun {
     let (blocks, parse_errors) = parse_program(text);
     if !parse_errors.is_empty() {
         return NcRun {
@@ -89,6 +133,7 @@ pub fn run_nc(text: &str) -> NcRun {
         emu: fresh_emulator(&default_header()),
         exchanges: Vec::new(),
     };
+    preload(&mut rec, tools);
     let mut report = Report::default();
     let error = run_program(&blocks, &mut rec, &mut report).err();
     if error.is_some() {

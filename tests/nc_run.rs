@@ -242,3 +242,33 @@ fn every_seed_trace_replays_over_tcp() {
         assert!(mismatches.is_empty(), "{name}: {mismatches:?}");
     }
 }
+
+/// The OTC manual's grinding disc (its tool data example: type 2, radius
+/// 30 mm, wear constant 100000, max infeed 20 mm) for entry 1 of group 1.
+fn grinding_disc() -> Vec<(u8, tool_store::ToolKey, tool_store::ToolValue)> {
+    use tool_store::{ToolField as F, ToolKey, ToolValue as V};
+    let key = |f| ToolKey::new(1, f).unwrap();
+    vec![
+        (1, key(F::Typ), V::I32(2)),
+        (1, key(F::Radius), V::F64(30.0)),
+        (1, key(F::Laenge), V::F64(50.0)),
+        (1, key(F::GrindingWearConst), V::F64(100_000.0)),
+        (1, key(F::GrindingMaxInfeed), V::F64(200_000.0)),
+    ]
+}
+
+/// The general RADIUS example with the manual's disc: OTC on, the wear of
+/// the corrected line from X50 to X1000 (950 × 0.01 = 9.5 mm, none on the
+/// approach and the departure) booked at `#OTC OFF`, and the run's trace
+/// replays.
+#[test]
+fn the_general_otc_example_wears_the_disc_along_the_corrected_line() {
+    let run = addipos::nc_run::run_nc_with_tools(&program("otc_general.nc"), &grinding_disc());
+    assert!(!run.failed(), "{:?} {:?}", run.error, run.report.faults);
+    let wear = |n: &str| run.wear.iter().find(|(k, _)| k == n).map(|w| w.1);
+    let w = wear("V.G.WZ_AKT.WEAR_RADIUS").unwrap();
+    assert!((w - 9.5).abs() < 1e-9, "{w}");
+    assert_eq!(wear("V.G.WZ_AKT.WEAR_RADIUS_CONT"), Some(w));
+    let trace = parse_trace("otc_general", &run.trace("otc_general")).unwrap();
+    assert!(replay(&trace).is_empty());
+}

@@ -103,6 +103,8 @@ fn dynamic_radius_and_otc_are_object_writes() {
             "POS",
             "R 1300/1/1/6 d",
             "W 1300/1/1/6 d -0.01",
+            // Switching acts where the program stands on the path.
+            "EXEC",
             "W 1300/3/1/2 i 0",
             "R 1300/3/1/7 i",
             "W 1300/3/1/3 i 1",
@@ -113,6 +115,7 @@ fn dynamic_radius_and_otc_are_object_writes() {
             "R 1300/3/1/7 i",
             "W 1300/3/1/1 i 1",
             "R 1300/3/1/7 i",
+            "EXEC",
             "W 1300/3/1/1 i 0",
             "R 1300/3/1/7 i",
             "EXEC"

@@ -7,7 +7,8 @@ use std::process::ExitCode;
 
 use clap::Args;
 
-use addipos::nc_run::{axis_text, run_nc, NcRun};
+use addipos::nc_run::{axis_text, run_nc_with_tools, NcRun};
+use tool_store::{ToolKey, ToolValue};
 
 use super::{EXIT_FAILED, EXIT_TROUBLE};
 
@@ -20,6 +21,26 @@ pub struct RunArgs {
     /// as expectations, the spooled elements) that `addipos replay` passes.
     #[arg(long, value_name = "OUT.trace")]
     pub trace: Option<PathBuf>,
+    /// Tool data to write first: a tool file in the `wz[i].field value`
+    /// style (docs/tool-files.md), e.g. a grinding disc for an OTC program
+    /// (`wz[1].typ 2`). Its writes are part of the run and of the trace.
+    #[arg(long, value_name = "FILE")]
+    pub tools: Option<PathBuf>,
+    /// The compensation group the tool file is for.
+    #[arg(long, value_name = "G", default_value_t = 1,
+          value_parser = clap::value_parser!(u8).range(1..=32))]
+    pub group: u8,
+}
+
+/// The tool values of the `--tools` file, checked like a tool file.
+fn tool_values(args: &RunArgs) -> Result<Vec<(u8, ToolKey, ToolValue)>, String> {
+    let Some(path) = &args.tools else {
+        return Ok(Vec::new());
+    };
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
+    let table = tool_store::parse_group_file(&name, &text).map_err(|e| e.to_string())?;
+    Ok(table.iter().map(|(k, v)| (args.group, k, v)).collect())
 }
 
 /// Runs `addipos run`.
@@ -32,7 +53,14 @@ pub fn cmd_run(args: &RunArgs) -> ExitCode {
             return ExitCode::from(EXIT_TROUBLE);
         }
     };
-    let run = run_nc(&text);
+    let tools = match tool_values(args) {
+        Ok(t) => t,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(EXIT_TROUBLE);
+        }
+    };
+    let run = run_nc_with_tools(&text, &tools);
     print_run(&run);
     report_problems(&run, &name);
     if let Some(out) = args.trace.as_ref().filter(|_| run.parse_errors.is_empty()) {

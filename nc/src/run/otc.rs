@@ -19,8 +19,13 @@ pub(super) fn whole(v: f64, what: &str) -> Result<i32, String> {
 }
 
 impl Interpreter<'_> {
-    /// Carries out one `#OTC` command.
+    /// Carries out one `#OTC` command. Switching acts where the program
+    /// stands on the path: the motion programmed before it is run first
+    /// (`EXEC`), so the wear is counted from ON to OFF along the path.
     pub(super) fn otc(&mut self, cmd: &OtcCommand) -> Result<(), String> {
+        if cmd.switch.is_some() {
+            self.request(&tc_request::Request::Exec(None))?;
+        }
         if cmd.switch == Some(false) {
             self.write(objects::OTC_ON, Value::I32(0))?;
             self.check_otc_error()?;
