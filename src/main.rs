@@ -11,6 +11,7 @@ use clap::{Parser, Subcommand};
 use addipos::config::DEFAULT_CONFIG;
 use addipos::remote::{setup_failed, RemoteTarget};
 use addipos::trace::{fresh_emulator, open_trace, replay_stream, trace_files, Target};
+use cli::plot::{cmd_plot, PlotArgs};
 use cli::remote_args::{connect, protocol_hint, token_hint, RemoteArgs};
 use cli::run::{cmd_run, RunArgs};
 use cli::serve::{cmd_serve, ServeArgs};
@@ -76,6 +77,16 @@ enum Command {
     Run {
         #[command(flatten)]
         args: RunArgs,
+    },
+    /// Draw an NC program (*.nc) or a trace (*.trace) as SVG in its main
+    /// plane: the programmed contour, the corrected tool-centre path and the
+    /// executed path cycle by cycle (OTC offset included); rapids dashed,
+    /// the block of each piece on hover. Exits 1 when the program failed
+    /// (the picture is still written).
+    #[command(after_help = EXIT_HELP)]
+    Plot {
+        #[command(flatten)]
+        args: PlotArgs,
     },
     /// Print the object reference of bus 1300 (Markdown): every object with
     /// its address, type, access, range and meaning, the access errors and
@@ -280,6 +291,7 @@ fn main() -> ExitCode {
             remote,
         } => cmd_replay(&files, server.as_deref(), verbose, &remote),
         Command::Run { args } => cmd_run(&args),
+        Command::Plot { args } => cmd_plot(&args),
         Command::Objects => {
             print!("{}", addipos::reference::object_reference());
             ExitCode::SUCCESS

@@ -15,7 +15,7 @@
 //! assert!(svg.contains("contour"));
 //! ```
 
-use svg::node::element::{Group, Line, Polyline, Rectangle, Text};
+use svg::node::element::{Group, Line, Polyline, Rectangle, Text, Title};
 use svg::Document;
 
 /// Width of the whole picture in pixels.
@@ -68,6 +68,8 @@ pub struct Series {
     pub stroke: Stroke,
     /// The points, in plane coordinates (horizontal, vertical).
     pub points: Vec<[f64; 2]>,
+    /// Text shown on hover (an SVG `<title>`), if any.
+    pub hover: Option<String>,
 }
 
 /// A picture of polylines in a plane.
@@ -204,8 +206,27 @@ impl Plot {
             label: label.to_owned(),
             stroke,
             points,
+            hover: None,
         });
         self
+    }
+
+    /// Adds a polyline that is part of a path drawn in pieces: `hover` is
+    /// shown when the pointer is over it, and the legend names `label`
+    /// once, for the first piece with that label.
+    pub fn piece(
+        &mut self,
+        label: &str,
+        stroke: Stroke,
+        points: Vec<[f64; 2]>,
+        hover: Option<String>,
+    ) {
+        self.series.push(Series {
+            label: label.to_owned(),
+            stroke,
+            points,
+            hover,
+        });
     }
 
     /// Adds a line of small text under the legend.
@@ -217,7 +238,7 @@ impl Plot {
     /// The picture as an SVG document (the same plot gives the same text).
     pub fn to_svg(&self) -> String {
         let frame = Frame::around(&self.series);
-        let rows = (self.series.len() + self.notes.len()) as f64;
+        let rows = (self.legend_entries().len() + self.notes.len()) as f64;
         let height = MARGIN[2] + frame.height + MARGIN[3] + rows * ROW + 8.0;
         let mut doc = Document::new()
             .set("width", WIDTH)
@@ -232,7 +253,11 @@ impl Plot {
             .add(text(WIDTH / 2.0, 22.0, 14, "middle", &self.title))
             .add(self.grid(&frame));
         for s in &self.series {
-            doc = doc.add(stroked(self.points(&frame, s), &s.stroke));
+            let mut line = stroked(self.points(&frame, s), &s.stroke);
+            if let Some(h) = &s.hover {
+                line = line.add(Title::new(h.as_str()));
+            }
+            doc = doc.add(line);
         }
         doc.add(self.legend(MARGIN[2] + frame.height + MARGIN[3]))
             .to_string()
@@ -289,12 +314,23 @@ impl Plot {
             )
     }
 
-    /// One row per series (a short sample of its stroke and its label),
+    /// The series the legend shows: the first of each label.
+    fn legend_entries(&self) -> Vec<&Series> {
+        let mut out: Vec<&Series> = Vec::new();
+        for s in &self.series {
+            if !out.iter().any(|o| o.label == s.label) {
+                out.push(s);
+            }
+        }
+        out
+    }
+
+    /// One row per label (a short sample of its stroke and its label),
     /// then the notes.
     fn legend(&self, top: f64) -> Group {
         let mut g = Group::new();
         let mut y = top + ROW / 2.0;
-        for s in &self.series {
+        for s in self.legend_entries() {
             let sample = format!("{:.1},{y:.1} {:.1},{y:.1}", MARGIN[0], MARGIN[0] + 36.0);
             g = g.add(stroked(sample, &s.stroke));
             g = g.add(text(MARGIN[0] + 44.0, y + 4.0, 12, "start", &s.label));
@@ -318,6 +354,7 @@ mod tests {
             label: "l".into(),
             stroke: Stroke::solid("#000", 1.0),
             points: vec![[0.0, 0.0], [10.0, 5.0]],
+            hover: None,
         };
         let f = Frame::around(std::slice::from_ref(&s));
         let (x0, y0) = f.pixel([0.0, 0.0]);

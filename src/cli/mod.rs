@@ -1,6 +1,7 @@
 //! Parts of the `addipos` command line, one concern each: how `call` and
 //! `replay --server` reach a server, and how `serve` starts and stops.
 
+pub mod plot;
 pub mod remote_args;
 pub mod run;
 pub mod serve;

@@ -34,13 +34,22 @@ pub struct RunArgs {
 
 /// The tool values of the `--tools` file, checked like a tool file.
 fn tool_values(args: &RunArgs) -> Result<Vec<(u8, ToolKey, ToolValue)>, String> {
-    let Some(path) = &args.tools else {
+    read_tool_values(args.tools.as_deref(), args.group)
+}
+
+/// The values of a tool file (none without one) for `group`, checked like
+/// a tool file.
+pub fn read_tool_values(
+    path: Option<&std::path::Path>,
+    group: u8,
+) -> Result<Vec<(u8, ToolKey, ToolValue)>, String> {
+    let Some(path) = path else {
         return Ok(Vec::new());
     };
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
     let table = tool_store::parse_group_file(&name, &text).map_err(|e| e.to_string())?;
-    Ok(table.iter().map(|(k, v)| (args.group, k, v)).collect())
+    Ok(table.iter().map(|(k, v)| (group, k, v)).collect())
 }
 
 /// Runs `addipos run`.

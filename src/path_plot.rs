@@ -1,0 +1,443 @@
+//! `addipos plot`: the three paths of an NC program or a trace in one
+//! plane, as SVG: the programmed contour (the motion requests' targets),
+//! the corrected tool-centre path (the spooled elements) and the executed
+//! path (the position of every interpolation cycle, OTC offset included).
+//! Rapids are dashed; hovering over a piece shows its block. What a pixel
+//! cannot show is left out, so that long programs draw in seconds.
+
+use tc_request::{ArcDir, AxisPos, AxisWords, Motion, Request, SpoolRecord, AXES};
+
+use crate::nc_run::NcRun;
+use crate::picture::{Plot, Stroke};
+use crate::trace::{fresh_emulator, Header, Trace};
+use crate::Emulator;
+
+/// Most executed positions kept (more are thinned out).
+pub const MAX_EXECUTED_POINTS: usize = 200_000;
+/// Most cycles stepped one by one; the rest of the run is executed at
+/// once (its executed path then shows only where each EXEC ended).
+pub const MAX_STEPPED_CYCLES: u64 = 5_000_000;
+/// Width in pixels of the plotting area (as `picture` draws it).
+const PLOT_PIXELS: f64 = 640.0;
+/// Smallest change of direction worth a point, in pixels.
+const PIXEL: f64 = 1.0;
+/// Length in pixels up to which consecutive pieces are joined into one
+/// polyline (its hover text then names the first and the last block).
+const JOIN_PIXELS: f64 = 24.0;
+/// Greatest angle of one chord when an arc is sampled (radians).
+const ARC_STEP: f64 = std::f64::consts::PI / 36.0;
+
+/// One request to plot, with where it came from (`N10 (line 3)`).
+#[derive(Debug, Clone)]
+pub struct PlotStep {
+    /// Its block or line, shown on hover.
+    pub label: String,
+    /// The request.
+    pub request: Request,
+}
+
+/// A piece of a path: the points of one element, from one block.
+#[derive(Debug, Clone)]
+pub struct Piece {
+    /// Its block or line.
+    pub label: String,
+    /// A rapid move.
+    pub rapid: bool,
+    /// Its points in the plot's plane.
+    pub points: Vec<[f64; 2]>,
+}
+
+/// The three paths of a run, in the plane `(h, v)` of machine axes.
+#[derive(Debug, Clone, Default)]
+pub struct Paths {
+    /// The machine axes drawn horizontally and vertically.
+    pub plane: [usize; 2],
+    /// The programmed contour.
+    pub programmed: Vec<Piece>,
+    /// The corrected tool-centre path.
+    pub corrected: Vec<Piece>,
+    /// The executed positions, cycle by cycle (thinned out).
+    pub executed: Vec<[f64; 2]>,
+    /// Whether the cycle limit was reached (the rest was not stepped).
+    pub truncated: bool,
+}
+
+/// The requests of an NC run, each with its block.
+pub fn nc_steps(run: &NcRun) -> Vec<PlotStep> {
+    run.exchanges
+        .iter()
+        .map(|x| PlotStep {
+            label: match x.at.number {
+                Some(n) => format!("N{n} (line {})", x.at.line),
+                None => format!("line {}", x.at.line),
+            },
+            request: x.request.clone(),
+        })
+        .collect()
+}
+
+/// The requests of a trace, each with its line.
+pub fn trace_steps(trace: &Trace) -> Vec<PlotStep> {
+    trace
+        .steps
+        .iter()
+        .map(|s| PlotStep {
+            label: format!("line {}: {}", s.line, s.text),
+            request: s.request.clone(),
+        })
+        .collect()
+}
+
+/// What a run records while its requests are carried out.
+struct Recording {
+    programmed: Vec<(String, bool, Vec<AxisPos>, Option<Arc3>)>,
+    spooled: Vec<(String, SpoolRecord)>,
+    executed: Vec<AxisPos>,
+    eps: f64,
+    cycles: u64,
+}
+
+/// A programmed arc: centre offsets I J K along the X Y Z axes and the
+/// direction.
+#[derive(Debug, Clone, Copy)]
+struct Arc3 {
+    centre: [Option<f64>; 3],
+    ccw: bool,
+}
+
+impl Recording {
+    /// Keeps `p` if it lies far enough from the last kept position;
+    /// thins the whole record out when it grows too long.
+    fn keep(&mut self, p: AxisPos) {
+        if let Some(last) = self.executed.last() {
+            if distance(last, &p) <= self.eps {
+                return;
+            }
+        }
+        self.executed.push(p);
+        if self.executed.len() > MAX_EXECUTED_POINTS {
+            self.eps = (self.eps * 2.0).max(1e-6);
+            let eps = self.eps;
+            let mut kept: Vec<AxisPos> = Vec::with_capacity(self.executed.len() / 2);
+            for q in self.executed.drain(..) {
+                if kept.last().is_none_or(|l| distance(l, &q) > eps) {
+                    kept.push(q);
+                }
+            }
+            self.executed = kept;
+        }
+    }
+}
+
+fn distance(a: &AxisPos, b: &AxisPos) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y) * (x - y))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// Runs the steps on a fresh emulator for `header`, stepping every EXEC
+/// cycle by cycle, and returns the three paths.
+pub fn collect_paths(header: &Header, steps: &[PlotStep]) -> Paths {
+    let mut emu = fresh_emulator(header);
+    let mut rec = Recording {
+        programmed: Vec::new(),
+        spooled: Vec::new(),
+        executed: vec![header.start],
+        eps: 0.0,
+        cycles: 0,
+    };
+    let mut at = header.start;
+    for step in steps {
+        if let Request::Motion(m) = &step.request {
+            program_target(&mut rec, &mut at, &step.label, m);
+        }
+        match step.request {
+            Request::Exec(n) => exec_stepped(&mut emu, &mut rec, n),
+            ref r => {
+                emu.run(r);
+            }
+        }
+        for s in emu.take_spool_log() {
+            rec.spooled.push((step.label.clone(), s));
+        }
+    }
+    let truncated = rec.cycles >= MAX_STEPPED_CYCLES;
+    let axis_nr = emu.tc().axis_nr();
+    project(rec, axis_nr, truncated)
+}
+
+/// Records the programmed target of a motion request.
+fn program_target(rec: &mut Recording, at: &mut AxisPos, label: &str, m: &Motion) {
+    let (words, rapid, arc): (&AxisWords, bool, Option<Arc3>) = match m {
+        Motion::Lin { words, .. } => (words, false, None),
+        Motion::Rap { words, .. } => (words, true, None),
+        Motion::Cir {
+            dir, words, centre, ..
+        } => (
+            words,
+            false,
+            Some(Arc3 {
+                centre: *centre,
+                ccw: *dir == ArcDir::Ccw,
+            }),
+        ),
+        _ => return,
+    };
+    let start = *at;
+    for (a, w) in at.iter_mut().zip(words) {
+        if let Some(v) = w {
+            *a = *v;
+        }
+    }
+    rec.programmed
+        .push((label.to_owned(), rapid, vec![start, *at], arc));
+}
+
+/// `EXEC n` (or until the spooler is empty) one cycle at a time, keeping
+/// the position of each; past the cycle limit the rest runs at once.
+fn exec_stepped(emu: &mut Emulator, rec: &mut Recording, n: Option<u64>) {
+    let mut left = n;
+    loop {
+        if rec.cycles >= MAX_STEPPED_CYCLES {
+            emu.exec(left);
+            rec.keep(emu.position());
+            return;
+        }
+        match left {
+            Some(0) => return,
+            Some(k) => left = Some(k - 1),
+            None if emu.tc().spooler().is_empty() => {
+                // Whatever EXEC still does with an empty spooler.
+                emu.exec(None);
+                rec.keep(emu.position());
+                return;
+            }
+            None => {}
+        }
+        emu.exec(Some(1));
+        rec.cycles += 1;
+        rec.keep(emu.position());
+    }
+}
+
+/// The plane drawn: that of the first spooled arc, else the axes
+/// allocated as X and Y.
+fn plane_of(rec: &Recording, axis_nr: [u8; 3]) -> [usize; 2] {
+    rec.spooled
+        .iter()
+        .find_map(|(_, s)| {
+            s.arc
+                .map(|a| [usize::from(a.plane[0]), usize::from(a.plane[1])])
+        })
+        .unwrap_or([usize::from(axis_nr[0]), usize::from(axis_nr[1])])
+        .map(|a| a.min(AXES - 1))
+}
+
+fn project(rec: Recording, axis_nr: [u8; 3], truncated: bool) -> Paths {
+    let plane = plane_of(&rec, axis_nr);
+    let flat = |p: &AxisPos| [p[plane[0]], p[plane[1]]];
+    let programmed = rec
+        .programmed
+        .iter()
+        .map(|(label, rapid, ends, arc)| {
+            let (a, b) = (flat(&ends[0]), flat(&ends[1]));
+            let points = match arc.and_then(|c| centre_in_plane(&c, a, plane, axis_nr)) {
+                Some((centre, ccw)) => arc_points(a, b, centre, ccw),
+                None => vec![a, b],
+            };
+            Piece {
+                label: label.clone(),
+                rapid: *rapid,
+                points,
+            }
+        })
+        .collect();
+    let corrected = rec
+        .spooled
+        .iter()
+        .map(|(label, s)| {
+            let (a, b) = (flat(&s.start), flat(&s.end));
+            let on_plane = s
+                .arc
+                .filter(|r| [usize::from(r.plane[0]), usize::from(r.plane[1])] == plane);
+            Piece {
+                label: label.clone(),
+                rapid: s.rapid,
+                points: match on_plane {
+                    Some(r) => arc_points(a, b, r.centre, r.ccw),
+                    None => vec![a, b],
+                },
+            }
+        })
+        .collect();
+    Paths {
+        plane,
+        programmed,
+        corrected,
+        executed: rec.executed.iter().map(flat).collect(),
+        truncated,
+    }
+}
+
+/// The centre of a programmed arc in the plane, from its start and the
+/// I J K offsets along the axes allocated as X Y Z (a missing offset is 0).
+fn centre_in_plane(
+    arc: &Arc3,
+    start: [f64; 2],
+    plane: [usize; 2],
+    axis_nr: [u8; 3],
+) -> Option<([f64; 2], bool)> {
+    let offset = |axis: usize| {
+        axis_nr
+            .iter()
+            .position(|&m| usize::from(m) == axis)
+            .map(|k| arc.centre[k].unwrap_or(0.0))
+    };
+    Some((
+        [start[0] + offset(plane[0])?, start[1] + offset(plane[1])?],
+        arc.ccw,
+    ))
+}
+
+/// Chords of the arc from `a` to `b` around `c` (a full circle when the
+/// ends meet), at most [`ARC_STEP`] each.
+fn arc_points(a: [f64; 2], b: [f64; 2], c: [f64; 2], ccw: bool) -> Vec<[f64; 2]> {
+    let r = (a[0] - c[0]).hypot(a[1] - c[1]);
+    let start = (a[1] - c[1]).atan2(a[0] - c[0]);
+    let end = (b[1] - c[1]).atan2(b[0] - c[0]);
+    let tau = std::f64::consts::TAU;
+    let mut sweep = if ccw { end - start } else { start - end };
+    sweep = sweep.rem_euclid(tau);
+    if sweep < 1e-12 {
+        sweep = tau;
+    }
+    let n = ((sweep / ARC_STEP).ceil() as usize).max(1);
+    let sign = if ccw { 1.0 } else { -1.0 };
+    let mut out: Vec<[f64; 2]> = (0..n)
+        .map(|k| {
+            let t = start + sign * sweep * k as f64 / n as f64;
+            [c[0] + r * t.cos(), c[1] + r * t.sin()]
+        })
+        .collect();
+    out.push(b);
+    out
+}
+
+/// Bounds of every point: min h, min v, max h, max v.
+fn bounds(paths: &Paths) -> [f64; 4] {
+    let all = paths
+        .programmed
+        .iter()
+        .chain(&paths.corrected)
+        .flat_map(|p| &p.points)
+        .chain(&paths.executed);
+    let mut b = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
+    for p in all {
+        b = [
+            b[0].min(p[0]),
+            b[1].min(p[1]),
+            b[2].max(p[0]),
+            b[3].max(p[1]),
+        ];
+    }
+    b
+}
+
+/// Drops points closer than `eps` to the last one kept (the ends stay).
+fn thin(points: &[[f64; 2]], eps: f64) -> Vec<[f64; 2]> {
+    let mut out: Vec<[f64; 2]> = Vec::with_capacity(points.len());
+    for (k, p) in points.iter().enumerate() {
+        let far = out
+            .last()
+            .is_none_or(|l| (l[0] - p[0]).hypot(l[1] - p[1]) > eps);
+        if far || k + 1 == points.len() {
+            out.push(*p);
+        }
+    }
+    out
+}
+
+/// Adds a path as pieces: consecutive pieces of the same kind are joined
+/// until they are a few pixels long, so that tiny elements cost little;
+/// the hover text names the blocks joined.
+fn add_pieces(plot: &mut Plot, label: &str, colour: &str, pieces: &[Piece], eps: f64) {
+    let solid = Stroke::solid(colour, 1.5);
+    let dashed = Stroke::dashed(colour, 1.2, "6 4");
+    let flush = |plot: &mut Plot, run: &mut Vec<&Piece>| {
+        let (Some(first), Some(last)) = (run.first(), run.last()) else {
+            return;
+        };
+        let hover = if run.len() == 1 {
+            first.label.clone()
+        } else {
+            format!("{} .. {}", first.label, last.label)
+        };
+        let points: Vec<[f64; 2]> = run.iter().flat_map(|p| p.points.iter().copied()).collect();
+        let stroke = if first.rapid { &dashed } else { &solid };
+        let name = if first.rapid {
+            format!("{label}, rapid")
+        } else {
+            label.to_owned()
+        };
+        plot.piece(&name, stroke.clone(), thin(&points, eps), Some(hover));
+        run.clear();
+    };
+    let mut run: Vec<&Piece> = Vec::new();
+    let mut length = 0.0;
+    for p in pieces {
+        if run.first().is_some_and(|f| f.rapid != p.rapid) || length > JOIN_PIXELS * eps {
+            flush(plot, &mut run);
+            length = 0.0;
+        }
+        length += p
+            .points
+            .windows(2)
+            .map(|w| (w[0][0] - w[1][0]).hypot(w[0][1] - w[1][1]))
+            .sum::<f64>();
+        run.push(p);
+    }
+    flush(plot, &mut run);
+}
+
+/// The paths as an SVG picture titled `title`.
+pub fn render(paths: &Paths, title: &str) -> String {
+    let b = bounds(paths);
+    let extent = if b[0] > b[2] {
+        1.0
+    } else {
+        (b[2] - b[0]).max(b[3] - b[1]).max(1e-9)
+    };
+    let eps = PIXEL * extent / PLOT_PIXELS;
+    let names = tc_request::AXIS_NAMES;
+    let (h, v) = (names[paths.plane[0]], names[paths.plane[1]]);
+    let mut plot = Plot::new(title).axes(&h.to_string(), &v.to_string());
+    add_pieces(
+        &mut plot,
+        "programmed contour",
+        "#888",
+        &paths.programmed,
+        eps,
+    );
+    add_pieces(
+        &mut plot,
+        "corrected tool centre (spooled)",
+        "#16c",
+        &paths.corrected,
+        eps,
+    );
+    plot.piece(
+        "executed path (cycle by cycle, OTC offset included)",
+        Stroke::solid("#d22", 1.0),
+        thin(&paths.executed, eps),
+        None,
+    );
+    if paths.truncated {
+        plot = plot.note(&format!(
+            "only the first {MAX_STEPPED_CYCLES} cycles are drawn one by one"
+        ));
+    }
+    plot.note("hover over a piece for its block; rapids dashed")
+        .to_svg()
+}
