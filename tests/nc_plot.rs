@@ -115,3 +115,24 @@ fn a_bad_file_is_an_error() {
     let (code, _) = plot(&dir.join("missing.trace"), &[], "missing.svg");
     assert_eq!(code, Some(2));
 }
+
+/// The pictures shown in the README: each has the three paths, each with
+/// points.
+#[test]
+fn readme_pictures_have_the_three_paths() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    for name in ["wzkg25", "wzkg26", "otc_general"] {
+        let svg = std::fs::read_to_string(root.join(format!("docs/nc/{name}.svg"))).unwrap();
+        for label in [
+            "programmed contour",
+            "corrected tool centre",
+            "executed path",
+        ] {
+            assert!(svg.contains(label), "{name}: no {label}");
+        }
+        assert!(
+            svg.matches("<polyline").count() >= 3,
+            "{name}: paths missing"
+        );
+    }
+}
