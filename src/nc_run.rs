@@ -8,7 +8,9 @@ use std::fmt::Write as _;
 use nc::run::{run_program, wear_axis, At, Controller, Report, WEAR_RADIUS, WEAR_RADIUS_CONT};
 use nc::{parse_program, NcError};
 use tc_request::{AxisPos, Reply, Request, SpoolRecord, AXIS_NAMES};
-use tool_store::{ToolField, ToolKey, ToolValue};
+use tool_store::{ToolKey, ToolValue};
+
+use crate::tools::entries::field_object;
 use uoi::{Value, ValueType};
 
 use crate::trace::{format_record, fresh_emulator};
@@ -82,19 +84,6 @@ pub fn run_nc(text: &str) -> NcRun {
     run_nc_with_tools(text, &[])
 }
 
-/// The object a tool field is written through, in `group`.
-fn tool_object(group: u8, field: ToolField) -> uoi::ObjectAddress {
-    let (device, sub) = match field {
-        ToolField::Radius => (1, 6),
-        ToolField::Laenge => (1, 12),
-        ToolField::Typ => (3, 30),
-        ToolField::GrindingWearConst => (3, 31),
-        ToolField::GrindingMaxInfeed => (3, 32),
-        ToolField::GrindingDiscTiltAngle => (3, 33),
-    };
-    uoi::ObjectAddress::new(tc_module::TC_BUS, device, u16::from(group), sub)
-}
-
 /// Writes the tool values of `tools` (group, entry and field, value) as
 /// requests, so that the trace of the run holds them too; WKZINDEX of each
 /// group touched is 0 again afterwards.
@@ -110,7 +99,7 @@ fn preload(rec: &mut Recorder, tools: &[(u8, ToolKey, ToolValue)]) {
             ToolValue::I32(i) => Value::I32(*i),
             ToolValue::F64(f) => Value::F64(*f),
         };
-        rec.call(&Request::Write(tool_object(*group, key.field), v), at);
+        rec.call(&Request::Write(field_object(*group, key.field), v), at);
     }
     let mut groups: Vec<u8> = tools.iter().map(|t| t.0).collect();
     groups.dedup();

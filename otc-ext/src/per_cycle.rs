@@ -42,10 +42,7 @@ fn with_on_group<T>(
     let mut g = groups.get(on?)?;
     let (set, t) = (settings(&g), taken(&g));
     let s = g.state_mut();
-    let mut units = TakenMut {
-        channel: t.channel.then_some(&mut s.radius_unit),
-        axis: t.axis.and_then(|a| axes.get_mut(a)),
-    };
+    let mut units = TakenMut::lend(t, &mut s.radius_unit, axes);
     Some(f(&mut s.wear, &mut units, &set))
 }
 

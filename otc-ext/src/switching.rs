@@ -5,9 +5,9 @@
 use tc_module::{GroupAccess, Groups, AXES};
 use uoi::AccessError;
 
-use crate::state::{OtcErrorBits, PlcUnit, ProcType, APPLIED_UNIT_MM, GRINDING};
+use crate::state::{OtcErrorBits, PlcUnit, ProcType, GRINDING};
 use crate::wear::units::TakenUnits;
-use crate::wear::WearState;
+use crate::wear::{TakenMut, WearState};
 use crate::OtcExtension;
 
 type Access<'a> = GroupAccess<'a, OtcExtension>;
@@ -33,15 +33,12 @@ pub(crate) fn check_units(g: &mut Access<'_>, axes: &[PlcUnit; AXES]) {
 /// nothing.
 fn switch_off(g: &mut Access<'_>, axes: &mut [PlcUnit; AXES]) -> Result<(), AccessError> {
     let t = taken(g);
+    let s = g.state_mut();
+    let units = TakenMut::lend(t, &mut s.radius_unit, axes);
+    let w_disc = units.w_disc();
     let s = g.state();
-    let axis_applied = t.axis.and_then(|a| axes.get(a)).map_or(0.0, |u| u.applied);
-    let channel_applied = if t.channel {
-        s.radius_unit.applied
-    } else {
-        0.0
-    };
     let w_cont = s.wear.w_cont;
-    let w = w_cont + (channel_applied + axis_applied) * APPLIED_UNIT_MM;
+    let w = w_cont + w_disc;
     let dir = s.wear.last_dir.unwrap_or([0.0; AXES]);
     if s.proc_type == ProcType::Radius {
         g.reduce_radius(w)?;

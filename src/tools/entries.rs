@@ -7,21 +7,38 @@ use tc_module::{TcModule, ToolEntry, WkzIndex};
 use tool_store::{GroupTable, Record, ToolField, ToolKey, ToolValue, TOOL_ENTRIES};
 use uoi::{ObjectAddress, Value};
 
-/// The tool field a write to `addr` sets in the entry at the group's
-/// WKZINDEX (RADIUS, WkzLen and the OTC tool fields 30..33), if any.
+/// Each tool field and the (device, sub) of the group object that sets it
+/// in the entry at the group's WKZINDEX: RADIUS, WkzLen and the OTC tool
+/// fields 30..33.
+const FIELD_OBJECTS: [(ToolField, u16, u16); 6] = [
+    (ToolField::Radius, 1, 6),
+    (ToolField::Laenge, 1, 12),
+    (ToolField::Typ, 3, 30),
+    (ToolField::GrindingWearConst, 3, 31),
+    (ToolField::GrindingMaxInfeed, 3, 32),
+    (ToolField::GrindingDiscTiltAngle, 3, 33),
+];
+
+/// The tool field a write to `addr` sets directly, if any.
 pub fn direct_field(addr: ObjectAddress) -> Option<ToolField> {
     if addr.bus != tc_module::TC_BUS {
         return None;
     }
-    match (addr.device, addr.sub) {
-        (1, 6) => Some(ToolField::Radius),
-        (1, 12) => Some(ToolField::Laenge),
-        (3, 30) => Some(ToolField::Typ),
-        (3, 31) => Some(ToolField::GrindingWearConst),
-        (3, 32) => Some(ToolField::GrindingMaxInfeed),
-        (3, 33) => Some(ToolField::GrindingDiscTiltAngle),
-        _ => None,
-    }
+    FIELD_OBJECTS
+        .iter()
+        .find(|(_, d, s)| (*d, *s) == (addr.device, addr.sub))
+        .map(|(f, _, _)| *f)
+}
+
+/// The object of `group` that writes `field` (the inverse of
+/// [`direct_field`]).
+pub fn field_object(group: u8, field: ToolField) -> ObjectAddress {
+    let (_, device, sub) = FIELD_OBJECTS
+        .iter()
+        .copied()
+        .find(|(f, _, _)| *f == field)
+        .unwrap_or(FIELD_OBJECTS[0]);
+    ObjectAddress::new(tc_module::TC_BUS, device, u16::from(group), sub)
 }
 
 /// Whether writing `value` to `addr` may change tool data other than
@@ -138,19 +155,18 @@ pub fn all_tables(tc: &TcModule<OtcExtension>) -> Vec<GroupTable> {
     tool_store::GROUPS.map(|g| table_of(tc, g)).collect()
 }
 
-/// Loads store tables into the emulator (index = group − 1); fields not in
-/// a table keep their defaults.
-pub fn load(tc: &mut TcModule<OtcExtension>, tables: &[GroupTable]) {
-    for (slot, t) in tables.iter().enumerate() {
-        // slot < 32.
-        let group = slot as u8 + 1;
-        for (key, value) in t.iter() {
-            let Some(w) = WkzIndex::new(i32::from(key.index)) else {
-                continue;
-            };
-            if let Some(e) = entry_mut(tc, group, w) {
-                set_value(e, key.field, value);
-            }
+/// Loads tool values `(group, entry and field, value)` into the emulator;
+/// fields not named keep their values.
+pub fn load(
+    tc: &mut TcModule<OtcExtension>,
+    values: impl Iterator<Item = (u8, ToolKey, ToolValue)>,
+) {
+    for (group, key, value) in values {
+        let Some(w) = WkzIndex::new(i32::from(key.index)) else {
+            continue;
+        };
+        if let Some(e) = entry_mut(tc, group, w) {
+            set_value(e, key.field, value);
         }
     }
 }

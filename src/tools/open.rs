@@ -6,12 +6,11 @@
 use std::fs::File;
 use std::path::Path;
 
-use tc_module::WkzIndex;
 use tool_store::{FsStorage, OpenReport, Strictness, ToolStore, JOURNAL_FILE};
 use tracing::{info, warn};
 
 use super::durable::Durable;
-use super::entries::{entry_mut, set_value};
+use super::entries::load;
 use super::lock::{lock_exclusive, tools_dir};
 use super::writer::Writer;
 use crate::service::EmulatorService;
@@ -73,15 +72,7 @@ pub fn open_tools(
             .compact()
             .map_err(|e| format!("tool data in {}: {e}", dir.display()))?;
     }
-    let tc = service.emulator_mut().tc_mut();
-    for (group, key, value) in store.values() {
-        let Some(w) = WkzIndex::new(i32::from(key.index)) else {
-            continue;
-        };
-        if let Some(e) = entry_mut(tc, group, w) {
-            set_value(e, key.field, value);
-        }
-    }
+    load(service.emulator_mut().tc_mut(), store.values());
     let writer = Writer::start(store).map_err(|e| format!("cannot start the tool writer: {e}"))?;
     let tools = Box::new(Durable::new(writer));
     service.set_tools(tools);

@@ -100,7 +100,20 @@ pub struct TakenMut<'a> {
     pub axis: Option<&'a mut PlcUnit>,
 }
 
-impl TakenMut<'_> {
+impl<'a> TakenMut<'a> {
+    /// Lends the units `taken` names: the group's `channel` unit and one of
+    /// the machine `axes`' units.
+    pub fn lend(
+        taken: units::TakenUnits,
+        channel: &'a mut PlcUnit,
+        axes: &'a mut [PlcUnit],
+    ) -> Self {
+        Self {
+            channel: taken.channel.then_some(channel),
+            axis: taken.axis.and_then(|a| axes.get_mut(a)),
+        }
+    }
+
     /// `w_disc`: the applied values of the taken units, interpolation units.
     pub fn w_disc(&self) -> f64 {
         let applied = |u: &Option<&mut PlcUnit>| u.as_ref().map_or(0.0, |u| u.applied);
