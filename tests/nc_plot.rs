@@ -70,7 +70,7 @@ fn grinding_tools() -> PathBuf {
 
 #[test]
 fn a_seed_program_is_drawn_with_its_three_paths_and_blocks() {
-    let prog = root().join("nc/tests/programs/wzkg25.nc");
+    let prog = root().join("tests/nc/wzkg25.nc");
     let (code, svg) = plot(&prog, &[], "wzkg25.svg");
     assert_eq!(code, Some(0));
     assert_three_paths(&svg);
@@ -82,7 +82,7 @@ fn a_seed_program_is_drawn_with_its_three_paths_and_blocks() {
 
 #[test]
 fn an_otc_program_with_a_grinding_disc_is_drawn() {
-    let prog = root().join("nc/tests/programs/otc_general.nc");
+    let prog = root().join("tests/nc/otc_general.nc");
     let tools = grinding_tools();
     let args = ["--tools", tools.to_str().unwrap(), "--group", "1"];
     let (code, svg) = plot(&prog, &args, "otc.svg");

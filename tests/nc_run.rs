@@ -18,7 +18,7 @@ use uoi::tcp::Core;
 
 fn program_path(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("nc/tests/programs")
+        .join("tests/nc")
         .join(name)
 }
 

@@ -3,7 +3,7 @@
 
 use proptest::prelude::*;
 
-const SEED: &str = include_str!("programs/otc_surf_norm_dir.nc");
+const SEED: &str = include_str!("../../tests/nc/otc_surf_norm_dir.nc");
 const PIECES: &[&str] = &[
     "N10 ",
     "G1 ",

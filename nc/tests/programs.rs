@@ -4,7 +4,7 @@
 use nc::{parse_program, Item, NcError};
 
 fn parse_file(name: &str) -> (Vec<nc::Block>, Vec<NcError>) {
-    let path = format!("{}/tests/programs/{name}", env!("CARGO_MANIFEST_DIR"));
+    let path = format!("{}/../tests/nc/{name}", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).unwrap();
     parse_program(&text)
 }

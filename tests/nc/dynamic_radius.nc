@@ -8,6 +8,7 @@ N120 Y200
 N130 X0
 N140 Y250                      (Tool radius gradually becomes smaller)
 N150 V.G.WZ_AKT.R = V.G.WZ_AKT.R - V.P.VERSCHLEISS
+(N150 is printed with a typographic dash; typed here as the minus it stands for)
 N160 $ENDFOR
 N200 G40 X300                  (Deselect TRC)
 N999 M30
