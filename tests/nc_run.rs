@@ -1,6 +1,7 @@
 //! `addipos run`: the seed NC programs run on the emulator, their
-//! corrected paths, the dynamic radius, the OTC type check, and the
-//! equivalent traces replayed.
+//! corrected paths (distance and side, the full circle), the dynamic
+//! radius, the OTC checks (type, PLC offset, G40 before #OTC OFF, the
+//! inclined disc), and the equivalent traces replayed.
 
 // Test helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
@@ -13,8 +14,10 @@ mod common;
 use addipos::nc_run::{run_nc, NcRun};
 use addipos::remote::{replay_remote, RemoteTarget};
 use addipos::trace::{parse_trace, replay};
-use tc_request::{Origin, SpoolRecord};
+use nc::run::{run_program, At, Controller, Report};
+use tc_request::{Origin, Reply, Request, SpoolRecord};
 use uoi::tcp::Core;
+use uoi::{Value, ValueType};
 
 fn program_path(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -271,4 +274,153 @@ fn the_general_otc_example_wears_the_disc_along_the_corrected_line() {
     assert_eq!(wear("V.G.WZ_AKT.WEAR_RADIUS_CONT"), Some(w));
     let trace = parse_trace("otc_general", &run.trace("otc_general")).unwrap();
     assert!(replay(&trace).is_empty());
+}
+
+/// The printed tool-data example with a 5 mm tool in D100: the full
+/// circle N90 (CW, centre (-5, 10), radius 15) is corrected left of it as
+/// one arc of radius 20 that starts at its offset start (15, 10) and keeps
+/// its whole turn up to the inside corner with the next compensating
+/// motion N130, where the two offset paths meet: not the sliver past the
+/// start point. With no radius it is a whole circle back to its start.
+#[test]
+fn tool_data_change_corrects_the_full_circle_as_a_whole_turn() {
+    use tool_store::{ToolField as F, ToolKey, ToolValue as V};
+    let centre = [-5.0, 10.0];
+    let circle = |run: &NcRun| -> Vec<SpoolRecord> {
+        let arcs = corrected(run).into_iter().filter(|e| e.arc.is_some());
+        arcs.filter(|e| e.arc.unwrap().centre == centre).collect()
+    };
+    // No radius: the whole programmed circle, start = end.
+    let bare = run_nc(&program("tool_data_change.nc"));
+    let arcs = circle(&bare);
+    assert_eq!(arcs.len(), 1, "{arcs:?}");
+    assert!(!arcs[0].arc.unwrap().ccw);
+    assert_eq!(
+        (&arcs[0].start[..2], &arcs[0].end[..2]),
+        (&[10.0, 10.0][..], &[10.0, 10.0][..])
+    );
+    // Radius 5 left of a CW circle: radius 20, cut where N130's offset
+    // line (10,10)→(20,20) shifted 5 to its left meets it.
+    let tools = [(1, ToolKey::new(100, F::Radius).unwrap(), V::F64(5.0))];
+    let run = addipos::nc_run::run_nc_with_tools(&program("tool_data_change.nc"), &tools);
+    let arcs = circle(&run);
+    assert_eq!(arcs.len(), 1, "{arcs:?}");
+    let arc = arcs[0];
+    assert!((arc.start[0] - 15.0).abs() < 1e-9 && (arc.start[1] - 10.0).abs() < 1e-9);
+    let s = 5.0 / 2f64.sqrt();
+    let (px, py) = (10.0 - s - centre[0], 10.0 + s - centre[1]);
+    // (px + t)² + (py + t)² = 20², t > 0: the meeting point ahead on N130.
+    let (b, c) = (px + py, px * px + py * py - 400.0);
+    let t = (-b + (b * b - 2.0 * c).sqrt()) / 2.0;
+    let meet = [centre[0] + px + t, centre[1] + py + t];
+    assert!(
+        (arc.end[0] - meet[0]).abs() < 1e-6 && (arc.end[1] - meet[1]).abs() < 1e-6,
+        "{arc:?} ends not at {meet:?}"
+    );
+    // Swept clockwise from the start: more than 300° (a sliver: 28.7°).
+    let angle = |p: [f64; 8]| (p[1] - centre[1]).atan2(p[0] - centre[0]);
+    let sweep = (angle(arc.start) - angle(arc.end)).rem_euclid(std::f64::consts::TAU);
+    assert!(sweep.to_degrees() > 300.0, "{}°", sweep.to_degrees());
+}
+
+/// The emulator with the PLC of the OTC manual's discrete example: the
+/// channel unit `otc_radius_offset` (device 3, 50..53 of group 1) enabled
+/// with a command of 2 mm (20000 × 0.1 µm) before the program starts; its
+/// `state_r` is read where `#OTC OFF` switches OTC off.
+struct PlcOffset {
+    emu: addipos::Emulator,
+    state_at_off: Option<Reply>,
+}
+
+fn otc_object(sub: u16) -> uoi::ObjectAddress {
+    uoi::ObjectAddress::new(1300, 3, 1, sub)
+}
+
+impl Controller for PlcOffset {
+    fn call(&mut self, req: &Request, _at: At) -> Reply {
+        if *req == Request::Write(otc_object(1), Value::I32(0)) {
+            let state = Request::Read(otc_object(53), ValueType::I32);
+            self.state_at_off = Some(self.emu.run(&state));
+        }
+        self.emu.run(req)
+    }
+}
+
+/// `wr_quad_disc` with the manual's grinding disc and a PLC offset of
+/// 2 mm: the offset has ramped to the full 2 mm (state 20000) when
+/// `#OTC OFF` comes, is booked as radius wear there (DISC: no continuous
+/// part) and the state is back at 0 after it.
+#[test]
+fn wr_quad_disc_with_a_plc_offset_of_2_mm_ends_at_state_20000() {
+    let (blocks, errors) = nc::parse_program(&program("wr_quad_disc.nc"));
+    assert!(errors.is_empty(), "{errors:?}");
+    let mut plc = PlcOffset {
+        emu: addipos::Emulator::default(),
+        state_at_off: None,
+    };
+    addipos::tools::entries::load(plc.emu.tc_mut(), grinding_disc().into_iter());
+    for (sub, v) in [(50, 20_000), (51, 1)] {
+        assert_eq!(
+            plc.emu.run(&Request::Write(otc_object(sub), Value::I32(v))),
+            Reply::Ok
+        );
+    }
+    let mut report = Report::default();
+    run_program(&blocks, &mut plc, &mut report).unwrap();
+    assert!(report.faults.is_empty(), "{:?}", report.faults);
+    assert_eq!(plc.state_at_off, Some(Reply::Value(Value::I32(20_000))));
+    let read = |plc: &mut PlcOffset, sub, ty| plc.emu.run(&Request::Read(otc_object(sub), ty));
+    assert_eq!(
+        read(&mut plc, 53, ValueType::I32),
+        Reply::Value(Value::I32(0))
+    );
+    assert_eq!(
+        read(&mut plc, 10, ValueType::F64),
+        Reply::Value(Value::F64(2.0))
+    );
+    assert_eq!(
+        read(&mut plc, 11, ValueType::F64),
+        Reply::Value(Value::F64(0.0))
+    );
+}
+
+/// `#OTC OFF` before `G40` (the two blocks of `wr_quad_disc` swapped): the
+/// correction still runs, so OTC stays on with error 90050 at `#OTC OFF`;
+/// the program as printed has no fault.
+#[test]
+fn otc_off_before_g40_in_wr_quad_disc_is_90050() {
+    let printed = program("wr_quad_disc.nc");
+    let run = addipos::nc_run::run_nc_with_tools(&printed, &grinding_disc());
+    assert!(!run.failed(), "{:?} {:?}", run.error, run.report.faults);
+    let swapped = printed
+        .replace("N100 G40 G1 X0", "N100 #OTC OFF")
+        .replace("N110 #OTC OFF", "N110 G40 G1 X0");
+    assert_ne!(swapped, printed);
+    let run = addipos::nc_run::run_nc_with_tools(&swapped, &grinding_disc());
+    assert_eq!(run.report.faults.len(), 1, "{:?}", run.report.faults);
+    let f = &run.report.faults[0];
+    assert!(f.message.contains("90050"), "{f}");
+    assert_eq!((f.line, f.block_number), (15, Some(100)));
+}
+
+/// The inclined grinding disc (the manual gives no program for it, only
+/// the tool parameter): the tool-length example with the disc tilted by
+/// 30° (300000 × 0.0001°) books its 10 mm of wear (1000 mm × 0.01) on X
+/// and Z in the proportion of the tilt; upright, all on Z.
+#[test]
+fn the_length_example_with_an_inclined_disc_wears_x_and_z() {
+    use tool_store::{ToolField as F, ToolKey, ToolValue as V};
+    let tilt = (1, ToolKey::new(1, F::GrindingDiscTiltAngle).unwrap());
+    for (angle, x, z) in [(0.0, 0.0, 10.0), (300_000.0, 5.0, 10.0 * 0.75f64.sqrt())] {
+        let mut tools = grinding_disc();
+        tools.push((tilt.0, tilt.1, V::F64(angle)));
+        let run = addipos::nc_run::run_nc_with_tools(&program("otc_length.nc"), &tools);
+        assert!(!run.failed(), "{:?} {:?}", run.error, run.report.faults);
+        let wear = |n: &str| run.wear.iter().find(|(k, _)| k == n).unwrap().1;
+        let (wx, wz) = (wear("V.G.WZ_AKT.WEAR[0]"), wear("V.G.WZ_AKT.WEAR[2]"));
+        assert!(
+            (wx - x).abs() < 1e-9 && (wz - z).abs() < 1e-9,
+            "{angle}: {wx} {wz}"
+        );
+    }
 }
