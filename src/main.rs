@@ -78,11 +78,12 @@ enum Command {
         #[command(flatten)]
         args: RunArgs,
     },
-    /// Draw an NC program (*.nc) or a trace (*.trace) as SVG in its main
-    /// plane: the programmed contour, the corrected tool-centre path and the
-    /// executed path cycle by cycle (OTC offset included); rapids dashed,
-    /// the block of each piece on hover. Exits 1 when the program failed
-    /// (the picture is still written).
+    /// Draw an NC program (*.nc) or a trace (*.trace) as SVG in its plane
+    /// (that of its arcs, else X-Y, or X-Z or Y-Z for a path that moves
+    /// in those only): the programmed contour, the corrected tool-centre
+    /// path and the executed path cycle by cycle (OTC offset included);
+    /// rapids dashed, the block of each piece on hover. Exits 1 when the
+    /// program failed (the picture is still written).
     #[command(after_help = EXIT_HELP)]
     Plot {
         #[command(flatten)]

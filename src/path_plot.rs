@@ -24,6 +24,8 @@ const PIXEL: f64 = 1.0;
 /// Length in pixels up to which consecutive pieces are joined into one
 /// polyline (its hover text then names the first and the last block).
 const JOIN_PIXELS: f64 = 24.0;
+/// Least extent along an axis that counts as motion along it (units).
+const SPAN: f64 = 1e-9;
 /// Greatest angle of one chord when an arc is sampled (radians).
 const ARC_STEP: f64 = std::f64::consts::PI / 36.0;
 
@@ -222,17 +224,34 @@ fn exec_stepped(emu: &mut Emulator, rec: &mut Recording, n: Option<u64>) {
     }
 }
 
-/// The plane drawn: that of the first spooled arc, else the axes
-/// allocated as X and Y.
+/// The plane drawn: that of the first spooled arc; else the axes
+/// allocated as X and Y, unless the path spans only one of them while it
+/// spans Z too (a program in X-Z without arcs, as the manuals' grinding
+/// examples, or an OTC LENGTH offset along Z): then that axis and Z.
 fn plane_of(rec: &Recording, axis_nr: [u8; 3]) -> [usize; 2] {
-    rec.spooled
-        .iter()
-        .find_map(|(_, s)| {
-            s.arc
-                .map(|a| [usize::from(a.plane[0]), usize::from(a.plane[1])])
-        })
-        .unwrap_or([usize::from(axis_nr[0]), usize::from(axis_nr[1])])
-        .map(|a| a.min(AXES - 1))
+    let arc = rec.spooled.iter().find_map(|(_, s)| {
+        s.arc
+            .map(|a| [usize::from(a.plane[0]), usize::from(a.plane[1])])
+    });
+    let [x, y, z] = axis_nr.map(|a| usize::from(a).min(AXES - 1));
+    arc.unwrap_or_else(|| match [x, y, z].map(|a| spans(rec, a)) {
+        [true, false, true] => [x, z],
+        [false, true, true] => [y, z],
+        _ => [x, y],
+    })
+    .map(|a| a.min(AXES - 1))
+}
+
+/// Whether the programmed or the executed path moves along machine axis
+/// `a`.
+fn spans(rec: &Recording, a: usize) -> bool {
+    let programmed = rec.programmed.iter().flat_map(|(_, _, ends, _)| ends);
+    let mut along = programmed.chain(&rec.executed).map(|p| p[a]);
+    let Some(first) = along.next() else {
+        return false;
+    };
+    let (lo, hi) = along.fold((first, first), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    hi - lo > SPAN
 }
 
 fn project(rec: Recording, axis_nr: [u8; 3], truncated: bool) -> Paths {

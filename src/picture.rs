@@ -326,9 +326,10 @@ impl Plot {
     }
 
     /// One row per label (a short sample of its stroke and its label),
-    /// then the notes.
+    /// then the notes; a group of class `legend`, so that readers of the
+    /// picture can tell its samples from the paths.
     fn legend(&self, top: f64) -> Group {
-        let mut g = Group::new();
+        let mut g = Group::new().set("class", "legend");
         let mut y = top + ROW / 2.0;
         for s in self.legend_entries() {
             let sample = format!("{:.1},{y:.1} {:.1},{y:.1}", MARGIN[0], MARGIN[0] + 36.0);
