@@ -7,19 +7,24 @@
 //! * [`trace_line`]: the trace reader and the request parser;
 //! * [`frame_sequence`]: a byte stream of frames served the way a
 //!   connection serves it, by a connection's session and the shared
-//!   emulator, every answer checked.
+//!   emulator, every answer checked;
+//! * [`nc_program`]: an NC program parsed and, when it parses, run by the
+//!   interpreter on the real emulator.
 //!
 //! Each function reads at most [`MAX_INPUT`] bytes of its input
-//! ([`MAX_TRACE_INPUT`] for the trace reader).
+//! ([`MAX_TRACE_INPUT`] for the trace reader, [`MAX_NC_INPUT`] for NC
+//! programs).
 
 // A violated property is meant to stop loudly: that is what is reported.
 #![allow(clippy::panic)]
 
 mod frames;
+mod nc;
 mod sequence;
 mod text;
 
 pub use frames::frame_decoder;
+pub use nc::nc_program;
 pub use sequence::{frame_sequence, request_stream, serve_stream, trace_requests, Connection};
 pub use text::trace_line;
 
@@ -34,6 +39,21 @@ pub const MAX_INPUT: usize = 4 * (PREFIX_LEN + MAX_FRAME);
 /// Most bytes of an input [`trace_line`] reads: room for a line past the
 /// trace reader's limit ([`MAX_LINE_BYTES`]).
 pub const MAX_TRACE_INPUT: usize = 2 * MAX_LINE_BYTES;
+
+/// Most bytes of an NC program [`nc_program`] reads.
+pub const MAX_NC_INPUT: usize = 16 * 1024;
+
+/// Most requests the interpreter may send in one [`nc_program`] run;
+/// past them every request is refused, which ends the run with an error.
+/// A harness bound only: a loop of motion blocks may legitimately run far
+/// longer.
+pub const NC_REQUEST_BUDGET: u64 = 5_000;
+
+/// Most stepped slices of `EXEC` (each up to `EXEC_SLICE_CYCLES` cycles
+/// with OTC on) one [`nc_program`] run may take in all; past them an
+/// `EXEC` stops where it is. A slow feed over a long path with OTC on
+/// would otherwise run for hours of emulated time.
+pub const NC_EXEC_SLICES: u32 = 2;
 
 /// Most frames [`frame_sequence`] serves of one input.
 pub const MAX_FRAMES: usize = 512;
