@@ -15,27 +15,41 @@ use crate::words::word;
 /// Where a line is being read: for the column and the error's block number.
 struct Cursor<'a> {
     line_text: &'a str,
+    ascii: bool,
     line: usize,
     number: Option<u32>,
 }
 
 impl Cursor<'_> {
-    fn error(&self, rest: &str, message: String) -> NcError {
+    /// The column (from 1, in characters) where `rest` starts.
+    fn column(&self, rest: &str) -> usize {
         let offset = self.line_text.len() - rest.len();
+        if self.ascii {
+            offset + 1
+        } else {
+            self.line_text[..offset].chars().count() + 1
+        }
+    }
+
+    fn error(&self, rest: &str, message: String) -> NcError {
         NcError {
             line: self.line,
             block_number: self.number,
-            column: self.line_text[..offset].chars().count() + 1,
+            column: self.column(rest),
             message,
         }
     }
 }
+
+/// The words of a block and the column where each starts.
+type Words = (Vec<Item>, Vec<usize>);
 
 /// Parses one line; `None` for a line with nothing but spaces and comments.
 pub fn parse_line(text: &str, line: usize) -> Option<Result<Block, NcError>> {
     let text = text.strip_suffix('\r').unwrap_or(text);
     let mut cur = Cursor {
         line_text: text,
+        ascii: text.is_ascii(),
         line,
         number: None,
     };
@@ -57,11 +71,12 @@ pub fn parse_line(text: &str, line: usize) -> Option<Result<Block, NcError>> {
         }
     }
     match items(&cur, rest) {
-        Ok(items) if items.is_empty() && cur.number.is_none() => None,
-        Ok(items) => Some(Ok(Block {
+        Ok((items, _)) if items.is_empty() && cur.number.is_none() => None,
+        Ok((items, columns)) => Some(Ok(Block {
             line,
             number: cur.number,
             items,
+            columns,
         })),
         Err(e) => Some(Err(e)),
     }
@@ -77,24 +92,28 @@ fn header(cur: &Cursor<'_>, after_percent: &str) -> Option<Result<Block, NcError
         return Some(Err(cur.error(after_percent, msg)));
     }
     let mut block = match items(cur, rest) {
-        Ok(items) => Block {
+        Ok((items, columns)) => Block {
             line: cur.line,
             number: None,
             items,
+            columns,
         },
         Err(e) => return Some(Err(e)),
     };
     block.items.insert(0, Item::ProgramName(name.to_string()));
+    block.columns.insert(0, cur.column(after_percent) - 1);
     Some(Ok(block))
 }
 
-/// The words of a block up to its end, skipping comments.
-fn items(cur: &Cursor<'_>, mut rest: &str) -> Result<Vec<Item>, NcError> {
+/// The words of a block up to its end, skipping comments; a `$` control
+/// statement must stand alone in its block.
+fn items(cur: &Cursor<'_>, mut rest: &str) -> Result<Words, NcError> {
     let mut items = Vec::new();
+    let mut columns = Vec::new();
     loop {
         rest = rest.trim_start_matches([' ', '\t']);
         if rest.is_empty() || rest.starts_with(';') {
-            return Ok(items);
+            return alone(cur, items, columns);
         }
         if rest.starts_with('(') {
             match rest.find(')') {
@@ -110,7 +129,10 @@ fn items(cur: &Cursor<'_>, mut rest: &str) -> Result<Vec<Item>, NcError> {
             _ => word.parse_next(&mut rest),
         };
         match parsed {
-            Ok(item) => items.push(item),
+            Ok(item) => {
+                items.push(item);
+                columns.push(cur.column(start));
+            }
             Err(e) => return Err(cur.error(start, word_message(start, &e))),
         }
         if let Some(c) = rest.chars().next() {
@@ -125,6 +147,20 @@ fn items(cur: &Cursor<'_>, mut rest: &str) -> Result<Vec<Item>, NcError> {
         }
         let _ = space0::<&str, ContextError>.parse_next(&mut rest);
     }
+}
+
+/// The words of a block, refused when a `$` control statement stands
+/// beside other words (at the column of the second word).
+fn alone(cur: &Cursor<'_>, items: Vec<Item>, columns: Vec<usize>) -> Result<Words, NcError> {
+    if items.len() > 1 && items.iter().any(Item::is_control) {
+        return Err(NcError {
+            line: cur.line,
+            block_number: cur.number,
+            column: columns[1],
+            message: "a $ control statement must stand alone in its block".into(),
+        });
+    }
+    Ok((items, columns))
 }
 
 /// The message of a failed word: the word as written and what was wrong.

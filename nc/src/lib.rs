@@ -19,14 +19,20 @@
 //! block number and column; parsing goes on with the next line, so a program
 //! reports all its errors. Nothing panics on any input.
 //!
-//! **Running.** [`run::run_program`] interprets a parsed program into the
-//! requests of `tc-request` (object writes, motion commands, a final
-//! `EXEC`) sent to a [`run::Controller`]: modal state, parameters and
-//! variables, loops and conditions, the D table, `#OTC`. It has no
-//! geometry: the correction is the controller's.
+//! **Running.** [`run::run_blocks`] interprets a program into the requests
+//! of `tc-request` (object writes, motion commands, a final `EXEC`) sent to
+//! a [`run::Controller`]: modal state, parameters and variables, loops and
+//! conditions, the D table, `#OTC`. It has no geometry: the correction is
+//! the controller's.
 //!
-//! **Not yet.** No plot, no streaming run (the interpreter holds the block
-//! list so that loops can jump back).
+//! **Streaming.** A program of any length runs in bounded memory: a first
+//! pass over the text ([`check_program`]) collects every error, and only a
+//! program without one runs, in a second pass that pulls its blocks from a
+//! [`Blocks`] reader as they are needed. The interpreter holds only the
+//! blocks of the outermost open `$FOR`/`$WHILE` (for jumping back) and
+//! works off a full spooler with `EXEC`, as a controller's interpreter
+//! waits for its interpolator. [`parse_program`] and [`run::run_program`]
+//! do the same on a program held whole (tests, small programs).
 
 mod block;
 mod commands;
@@ -42,6 +48,13 @@ pub use error::NcError;
 pub use expr::{BinOp, Expr, Func, Segment, Var};
 pub use model::{Axis, Block, CentreAxis, GCode, Item, OtcCommand, OtcKind, OtcMode, OtcOption};
 pub use stream::Blocks;
+
+/// Reads a whole program from `reader` and keeps only its errors: the
+/// first pass of a streamed run (nothing runs when there is one). Memory
+/// stays bounded by the longest line (and the errors found).
+pub fn check_program<R: std::io::BufRead>(reader: R) -> Vec<NcError> {
+    Blocks::new(reader).filter_map(Result::err).collect()
+}
 
 /// Parses a whole program text: its blocks, and all its errors.
 pub fn parse_program(text: &str) -> (Vec<Block>, Vec<NcError>) {

@@ -11,6 +11,16 @@ pub struct Block {
     pub number: Option<u32>,
     /// The block's words and commands, in the order written.
     pub items: Vec<Item>,
+    /// The column (from 1, in characters) where each item starts: the
+    /// position a run-time error of that item names.
+    pub columns: Vec<usize>,
+}
+
+impl Block {
+    /// The column of item `k`, 1 when it is not known.
+    pub fn column(&self, k: usize) -> usize {
+        self.columns.get(k).copied().unwrap_or(1)
+    }
 }
 
 /// One word or command of a block.
@@ -88,6 +98,23 @@ pub enum Item {
         /// The text between the brackets, not interpreted.
         options: String,
     },
+}
+
+impl Item {
+    /// Whether it is a `$` control statement (`$FOR`, `$ENDFOR`, `$IF`,
+    /// `$ELSE`, `$ENDIF`, `$WHILE`, `$ENDWHILE`).
+    pub fn is_control(&self) -> bool {
+        matches!(
+            self,
+            Item::For { .. }
+                | Item::EndFor
+                | Item::If(_)
+                | Item::Else
+                | Item::EndIf
+                | Item::While(_)
+                | Item::EndWhile
+        )
+    }
 }
 
 /// The G functions this parser knows.

@@ -26,7 +26,7 @@ pub struct Blocks<R> {
     reader: R,
     buffer: Vec<u8>,
     line: usize,
-    open: Vec<(Open, usize, Option<u32>)>,
+    open: Vec<(Open, NcError)>,
     done: bool,
 }
 
@@ -77,9 +77,19 @@ impl<R: BufRead> Blocks<R> {
         }
     }
 
+    /// An error at item `k` of `block`.
+    fn error_at(block: &Block, k: usize, message: String) -> NcError {
+        NcError {
+            line: block.line,
+            block_number: block.number,
+            column: block.column(k),
+            message,
+        }
+    }
+
     /// Follows `$FOR/$IF/$WHILE` nesting; an end without its start is an error.
     fn check_nesting(&mut self, block: &Block) -> Result<(), NcError> {
-        for item in &block.items {
+        for (k, item) in block.items.iter().enumerate() {
             let (closes, opens): (&[Open], Option<Open>) = match item {
                 Item::For { .. } => (&[], Some(Open::For)),
                 Item::If(_) => (&[], Some(Open::If)),
@@ -92,17 +102,18 @@ impl<R: BufRead> Blocks<R> {
             };
             if !closes.is_empty() {
                 match self.open.last() {
-                    Some((kind, _, _)) if closes.contains(kind) => {
+                    Some((kind, _)) if closes.contains(kind) => {
                         self.open.pop();
                     }
                     _ => {
                         let msg = format!("{} without its opening statement", end_name(item));
-                        return Err(self.error(block.line, block.number, msg));
+                        return Err(Self::error_at(block, k, msg));
                     }
                 }
             }
             if let Some(kind) = opens {
-                self.open.push((kind, block.line, block.number));
+                let msg = open_name(kind).to_string();
+                self.open.push((kind, Self::error_at(block, k, msg)));
             }
         }
         Ok(())
@@ -142,7 +153,6 @@ impl<R: BufRead> Iterator for Blocks<R> {
         if self.open.is_empty() {
             return None;
         }
-        let (kind, line, number) = self.open.remove(0);
-        Some(Err(self.error(line, number, open_name(kind).to_string())))
+        Some(Err(self.open.remove(0).1))
     }
 }
