@@ -1,0 +1,182 @@
+//! Streamed runs: blocks pulled from the reader as the run needs them,
+//! only an open loop's body held, and a full spooler worked off.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
+mod support;
+
+use std::cell::Cell;
+use std::io::{BufReader, Read};
+use std::rc::Rc;
+
+use nc::run::{run_blocks, At, Controller, Report};
+use nc::{check_program, Blocks};
+use tc_request::{Reply, Request};
+use uoi::Value;
+
+/// Longest line the generated program has, in bytes (checked).
+const MAX_LINE: u64 = 40;
+
+/// The program of `total` lines: moves, a `$FOR` loop of 10 moves run 3
+/// times at line 1000, an `$IF` whose 1000 blocks are skipped at line
+/// 100,000, `M30` last.
+fn line_text(k: usize, total: usize) -> String {
+    const LOOP: usize = 1000;
+    const SKIP: usize = 100_000;
+    match k {
+        0 => "%LONG".into(),
+        1 => "N1 G17 G90 G1 F6000".into(),
+        LOOP => "$FOR P1 = 1, 3, 1".into(),
+        k if k > LOOP && k <= LOOP + 10 => format!("G1 X[P1 * 10] Y{}", k - LOOP),
+        k if k == LOOP + 11 => "$ENDFOR".into(),
+        SKIP => "$IF P1 > 100".into(),
+        k if k > SKIP && k <= SKIP + 1000 => format!("N{k} G1 X{k} Y1"),
+        k if k == SKIP + 1001 => "$ENDIF".into(),
+        k if k + 1 == total => "M30".into(),
+        k => format!("N{k} G1 X{} Y{}", k % 1000, k % 7),
+    }
+}
+
+/// Motions the program above makes.
+fn motions_of(total: usize) -> u64 {
+    // Every line but header, N1, the loop's 12, the IF's 1002 and M30 is
+    // one move; the loop's 10 run 3 times.
+    (total - 2 - 12 - 1002 - 1) as u64 + 30
+}
+
+/// The program's text made line by line as it is read, counting the bytes
+/// handed out.
+struct Generated {
+    next: usize,
+    total: usize,
+    line: Vec<u8>,
+    at: usize,
+    given: Rc<Cell<u64>>,
+}
+
+impl Generated {
+    fn new(total: usize, given: Rc<Cell<u64>>) -> Self {
+        Generated {
+            next: 0,
+            total,
+            line: Vec::new(),
+            at: 0,
+            given,
+        }
+    }
+}
+
+impl Read for Generated {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        if self.at == self.line.len() {
+            if self.next == self.total {
+                return Ok(0);
+            }
+            self.line = format!("{}\n", line_text(self.next, self.total)).into_bytes();
+            assert!(self.line.len() as u64 <= MAX_LINE);
+            self.next += 1;
+            self.at = 0;
+        }
+        let n = buf.len().min(self.line.len() - self.at);
+        buf[..n].copy_from_slice(&self.line[self.at..self.at + n]);
+        self.at += n;
+        self.given.set(self.given.get() + n as u64);
+        Ok(n)
+    }
+}
+
+/// Answers everything like a controller that never fills up, and checks
+/// at every request that the program was not read far ahead of the block
+/// that sent it.
+struct Streaming {
+    given: Rc<Cell<u64>>,
+    motions: u64,
+    worst_ahead: u64,
+}
+
+impl Controller for Streaming {
+    fn call(&mut self, req: &Request, at: At) -> Reply {
+        let due = at.line as u64 * MAX_LINE;
+        self.worst_ahead = self.worst_ahead.max(self.given.get().saturating_sub(due));
+        match req {
+            Request::Pos => Reply::Pos([0.0; 8]),
+            Request::Read(..) => Reply::Value(Value::F64(0.0)),
+            Request::Motion(_) => {
+                self.motions += 1;
+                Reply::Ok
+            }
+            _ => Reply::Ok,
+        }
+    }
+}
+
+#[test]
+fn a_long_program_runs_streamed_holding_only_the_open_loop() {
+    const TOTAL: usize = 300_000;
+    let given = Rc::new(Cell::new(0));
+    let errors = check_program(BufReader::new(Generated::new(TOTAL, given.clone())));
+    assert!(errors.is_empty(), "{errors:?}");
+
+    let given = Rc::new(Cell::new(0));
+    let reader = BufReader::new(Generated::new(TOTAL, given.clone()));
+    let mut ctl = Streaming {
+        given,
+        motions: 0,
+        worst_ahead: 0,
+    };
+    let mut report = Report::default();
+    run_blocks(Blocks::new(reader), &mut ctl, &mut report).unwrap();
+
+    assert_eq!(ctl.motions, motions_of(TOTAL));
+    // The loop's 12 blocks, not the program's 300,000.
+    assert!(
+        (12..=13).contains(&report.peak_held_blocks),
+        "{}",
+        report.peak_held_blocks
+    );
+    // Read as it runs: never more than the reader's buffer ahead.
+    assert!(ctl.worst_ahead <= 16 * 1024, "{}", ctl.worst_ahead);
+}
+
+fn zigzag(n: usize) -> String {
+    let mut text = String::from("N1 G17 G90 #set ToolParam(1; 4; 2)#\nN2 D1 G41 G1 X10 Y0 F60000\n");
+    let mut last_y = 0;
+    for k in 0..n {
+        let y = if k % 2 == 0 { 5 } else { 0 };
+        if k % 3 == 0 {
+            // A half circle over the step: its centre halfway.
+            let j = f64::from(y - last_y) / 2.0;
+            text.push_str(&format!("G2 X{} Y{y} I2.5 J{j}\n", 15 + 5 * k));
+        } else {
+            text.push_str(&format!("G1 X{} Y{y}\n", 15 + 5 * k));
+        }
+        last_y = y;
+    }
+    text.push_str("G40 G1 X0 Y-10\nM30\n");
+    text
+}
+
+fn spooled(text: &str, capacity: usize) -> (Vec<tc_request::SpoolRecord>, Vec<String>) {
+    let mut engine = support::Engine::with_capacity(capacity);
+    engine.tc.spooler_mut().set_logging(true);
+    let mut report = Report::default();
+    run_blocks(Blocks::new(text.as_bytes()), &mut engine, &mut report).unwrap();
+    let log = engine.tc.spooler_mut().take_log();
+    (log.iter().map(|e| e.record()).collect(), engine.log)
+}
+
+#[test]
+fn a_full_spooler_is_worked_off_with_exec_and_the_request_sent_again() {
+    let text = zigzag(40);
+    let (roomy, roomy_log) = spooled(&text, 100_000);
+    let (tight, tight_log) = spooled(&text, 8);
+    assert!(!roomy_log.iter().any(|l| l.contains("Full")));
+    let full = tight_log
+        .iter()
+        .position(|l| l.ends_with("=> err Full"))
+        .expect("the 8-element spooler fills up");
+    assert_eq!(tight_log[full + 1], "EXEC");
+    assert_eq!(format!("{} => err Full", tight_log[full + 2]), tight_log[full]);
+    // The same elements, in the same order.
+    assert_eq!(tight.len(), roomy.len());
+    assert_eq!(tight, roomy);
+}
