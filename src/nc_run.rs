@@ -8,7 +8,7 @@
 use std::fmt::Write as _;
 use std::io::{self, BufRead};
 
-use nc::run::{run_blocks, wear_axis, At, Controller, Report, WEAR_RADIUS, WEAR_RADIUS_CONT};
+use nc::run::{run_reader, wear_axis, At, Controller, Report, WEAR_RADIUS, WEAR_RADIUS_CONT};
 use nc::{check_program, Blocks, NcError};
 use tc_request::{AxisPos, Reply, Request, SpoolRecord, AXIS_NAMES};
 use tool_store::{ToolKey, ToolValue};
@@ -183,13 +183,8 @@ pub fn run_checked_nc<R: BufRead>(
     };
     preload(&mut rec, tools);
     let mut report = Report::default();
-    let mut last_line = 0;
-    let blocks = Blocks::new(reader).inspect(|b| {
-        if let Ok(b) = b {
-            last_line = b.line;
-        }
-    });
-    let error = run_blocks(blocks, &mut rec, &mut report).err();
+    let mut blocks = Blocks::new(reader);
+    let error = run_reader(&mut blocks, &mut rec, &mut report).err();
     if let Some(e) = &error {
         // Run what was spooled before the error, so that the position and
         // the wear show where the machine stopped.
@@ -200,7 +195,7 @@ pub fn run_checked_nc<R: BufRead>(
         rec.call(&Request::Exec(None), at);
     }
     let end = At {
-        line: last_line,
+        line: blocks.line(),
         number: None,
     };
     let position = match rec.call(&Request::Pos, end) {

@@ -1,16 +1,15 @@
 //! One line of a program into one block: block number, header, comments,
 //! and the words between them.
 
-use winnow::ascii::space0;
 use winnow::error::{ContextError, ErrMode};
 use winnow::Parser;
 
 use crate::commands::command;
 use crate::control::statement;
 use crate::error::NcError;
-use crate::expr::{describe, integer};
+use crate::expr::{describe, integer, plain_number};
 use crate::model::{Block, Item};
-use crate::words::word;
+use crate::words::{plain_word, word};
 
 /// Where a line is being read: for the column and the error's block number.
 struct Cursor<'a> {
@@ -41,11 +40,20 @@ impl Cursor<'_> {
     }
 }
 
-/// The words of a block and the column where each starts.
-type Words = (Vec<Item>, Vec<usize>);
+/// Spaces and tabs at the start of `text` skipped.
+fn skip_blanks(text: &str) -> &str {
+    let n = text
+        .as_bytes()
+        .iter()
+        .take_while(|b| matches!(b, b' ' | b'\t'))
+        .count();
+    &text[n..]
+}
 
-/// Parses one line; `None` for a line with nothing but spaces and comments.
-pub fn parse_line(text: &str, line: usize) -> Option<Result<Block, NcError>> {
+/// Parses one line into `block` (its storage reused; on an error its
+/// content is unspecified); `None` for a line with nothing but spaces and
+/// comments.
+pub fn parse_line_into(text: &str, line: usize, block: &mut Block) -> Option<Result<(), NcError>> {
     let text = text.strip_suffix('\r').unwrap_or(text);
     let mut cur = Cursor {
         line_text: text,
@@ -53,15 +61,27 @@ pub fn parse_line(text: &str, line: usize) -> Option<Result<Block, NcError>> {
         line,
         number: None,
     };
-    let mut rest = text.trim_start_matches([' ', '\t']);
+    block.line = line;
+    block.number = None;
+    block.items.clear();
+    block.columns.clear();
+    let mut rest = skip_blanks(text);
     if let Some(name) = rest.strip_prefix('%') {
-        return header(&cur, name);
+        return Some(header(&cur, name, block));
     }
-    if rest.starts_with(['N', 'n']) {
-        let mut after = &rest[1..];
-        match integer.parse_next(&mut after) {
+    if let Some(after) = rest.strip_prefix(['N', 'n']) {
+        let mut after = after;
+        // A plain number of up to 9 digits read by a byte scan, else by
+        // the parser (which also refuses what does not fit in u32).
+        let plain = plain_number(after.as_bytes(), true).map(|(n, len)| {
+            after = &after[len..];
+            // At most 9 digits: a whole number within u32.
+            n as u32
+        });
+        match plain.map_or_else(|| integer.parse_next(&mut after), Ok) {
             Ok(n) => {
                 cur.number = Some(n);
+                block.number = Some(n);
                 rest = after;
             }
             Err(_) => {
@@ -70,97 +90,92 @@ pub fn parse_line(text: &str, line: usize) -> Option<Result<Block, NcError>> {
             }
         }
     }
-    match items(&cur, rest) {
-        Ok((items, _)) if items.is_empty() && cur.number.is_none() => None,
-        Ok((items, columns)) => Some(Ok(Block {
-            line,
-            number: cur.number,
-            items,
-            columns,
-        })),
+    match items(&cur, rest, block) {
+        Ok(()) if block.items.is_empty() && cur.number.is_none() => None,
+        Ok(()) => Some(Ok(())),
         Err(e) => Some(Err(e)),
     }
 }
 
-fn header(cur: &Cursor<'_>, after_percent: &str) -> Option<Result<Block, NcError>> {
+fn header(cur: &Cursor<'_>, after_percent: &str, block: &mut Block) -> Result<(), NcError> {
     let end = after_percent
         .find(|c: char| c.is_whitespace() || c == '(' || c == ';')
         .unwrap_or(after_percent.len());
     let (name, rest) = after_percent.split_at(end);
     if name.is_empty() {
         let msg = "malformed program header: '%' needs a program name".to_string();
-        return Some(Err(cur.error(after_percent, msg)));
+        return Err(cur.error(after_percent, msg));
     }
-    let mut block = match items(cur, rest) {
-        Ok((items, columns)) => Block {
-            line: cur.line,
-            number: None,
-            items,
-            columns,
-        },
-        Err(e) => return Some(Err(e)),
-    };
-    block.items.insert(0, Item::ProgramName(name.to_string()));
-    block.columns.insert(0, cur.column(after_percent) - 1);
-    Some(Ok(block))
+    block.items.push(Item::ProgramName(name.to_string()));
+    block.columns.push(cur.column(after_percent) - 1);
+    items(cur, rest, block)
 }
 
-/// The words of a block up to its end, skipping comments; a `$` control
-/// statement must stand alone in its block.
-fn items(cur: &Cursor<'_>, mut rest: &str) -> Result<Words, NcError> {
-    let mut items = Vec::new();
-    let mut columns = Vec::new();
+/// Whether a word may end before `c`: a blank, a comment, the next word.
+fn ends_word(c: char) -> bool {
+    c.is_whitespace() || matches!(c, '(' | ';' | '#' | '$') || c.is_ascii_alphabetic()
+}
+
+/// The words of a block up to its end, skipping comments, appended to
+/// `block`; a `$` control statement must stand alone in its block.
+fn items(cur: &Cursor<'_>, mut rest: &str, block: &mut Block) -> Result<(), NcError> {
     loop {
-        rest = rest.trim_start_matches([' ', '\t']);
-        if rest.is_empty() || rest.starts_with(';') {
-            return alone(cur, items, columns);
-        }
-        if rest.starts_with('(') {
-            match rest.find(')') {
-                Some(end) => rest = &rest[end + 1..],
-                None => return Err(cur.error(rest, "unclosed comment: ')' missing".into())),
+        rest = skip_blanks(rest);
+        let Some(&first) = rest.as_bytes().first() else {
+            return alone(cur, block);
+        };
+        match first {
+            b';' => return alone(cur, block),
+            b'(' => {
+                match rest.find(')') {
+                    Some(end) => rest = &rest[end + 1..],
+                    None => return Err(cur.error(rest, "unclosed comment: ')' missing".into())),
+                }
+                continue;
             }
-            continue;
+            _ => {}
         }
         let start = rest;
-        let parsed: Result<Item, ErrMode<ContextError>> = match rest.chars().next() {
-            Some('#') => command.parse_next(&mut rest),
-            Some('$') => statement.parse_next(&mut rest),
-            _ => word.parse_next(&mut rest),
+        if plain_word(&mut rest, &mut block.items) {
+            block.columns.push(cur.column(start));
+        } else {
+            let parsed: Result<Item, ErrMode<ContextError>> = match first {
+                b'#' => command.parse_next(&mut rest),
+                b'$' => statement.parse_next(&mut rest),
+                _ => word.parse_next(&mut rest),
+            };
+            match parsed {
+                Ok(item) => {
+                    block.items.push(item);
+                    block.columns.push(cur.column(start));
+                }
+                Err(e) => return Err(cur.error(start, word_message(start, &e))),
+            }
+        }
+        let next = match rest.as_bytes().first() {
+            Some(&b) if b.is_ascii() => Some(char::from(b)),
+            Some(_) => rest.chars().next(),
+            None => None,
         };
-        match parsed {
-            Ok(item) => {
-                items.push(item);
-                columns.push(cur.column(start));
-            }
-            Err(e) => return Err(cur.error(start, word_message(start, &e))),
+        if let Some(c) = next.filter(|c| !ends_word(*c)) {
+            let msg = format!("unexpected '{c}' after a word");
+            return Err(cur.error(rest, msg));
         }
-        if let Some(c) = rest.chars().next() {
-            if !(c.is_whitespace()
-                || matches!(c, '(' | ';')
-                || c.is_ascii_alphabetic()
-                || matches!(c, '#' | '$'))
-            {
-                let msg = format!("unexpected '{c}' after a word");
-                return Err(cur.error(rest, msg));
-            }
-        }
-        let _ = space0::<&str, ContextError>.parse_next(&mut rest);
     }
 }
 
-/// The words of a block, refused when a `$` control statement stands
-/// beside other words (at the column of the second word).
-fn alone(cur: &Cursor<'_>, items: Vec<Item>, columns: Vec<usize>) -> Result<Words, NcError> {
-    if items.len() > 1 && items.iter().any(Item::is_control) {
+/// Refuses a `$` control statement that stands beside other words (at the
+/// column of the second word).
+fn alone(cur: &Cursor<'_>, block: &Block) -> Result<(), NcError> {
+    if block.items.len() > 1 && block.items.iter().any(Item::is_control) {
         return Err(NcError {
             line: cur.line,
             block_number: cur.number,
-            column: columns[1],
+            column: block.column(1),
             message: "a $ control statement must stand alone in its block".into(),
         });
     }
-    Ok((items, columns))
+    Ok(())
 }
 
 /// The message of a failed word: the word as written and what was wrong.

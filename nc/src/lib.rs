@@ -53,7 +53,15 @@ pub use stream::Blocks;
 /// first pass of a streamed run (nothing runs when there is one). Memory
 /// stays bounded by the longest line (and the errors found).
 pub fn check_program<R: std::io::BufRead>(reader: R) -> Vec<NcError> {
-    Blocks::new(reader).filter_map(Result::err).collect()
+    let mut blocks = Blocks::new(reader);
+    let mut scratch = Block::default();
+    let mut errors = Vec::new();
+    while let Some(result) = blocks.next_into(&mut scratch) {
+        if let Err(e) = result {
+            errors.push(e);
+        }
+    }
+    errors
 }
 
 /// Parses a whole program text: its blocks, and all its errors.

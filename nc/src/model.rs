@@ -3,7 +3,7 @@
 use crate::expr::{Expr, Var};
 
 /// One block (one line) of an NC program.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Block {
     /// Line of the program, from 1.
     pub line: usize,
@@ -49,11 +49,11 @@ pub enum Item {
         /// The counter.
         var: Var,
         /// First value.
-        start: Expr,
+        start: Box<Expr>,
         /// Last value (inclusive).
-        end: Expr,
+        end: Box<Expr>,
         /// Increment per pass.
-        step: Expr,
+        step: Box<Expr>,
     },
     /// `$ENDFOR`.
     EndFor,
@@ -72,18 +72,18 @@ pub enum Item {
     /// `#set ToolParam(line; column; value)#`.
     SetToolParam {
         /// Data set (D number), 1..255.
-        line: Expr,
+        line: Box<Expr>,
         /// Column, 0..15.
-        column: Expr,
+        column: Box<Expr>,
         /// The value written.
-        value: Expr,
+        value: Box<Expr>,
     },
     /// `#get ToolParam(line; column; R-parameter)#`.
     GetToolParam {
         /// Data set (D number), 1..255.
-        line: Expr,
+        line: Box<Expr>,
         /// Column, 0..15.
-        column: Expr,
+        column: Box<Expr>,
         /// The parameter that receives the value.
         target: Var,
     },

@@ -3,7 +3,8 @@
 
 use std::io::BufRead;
 
-use crate::block::parse_line;
+
+use crate::block::parse_line_into;
 use crate::error::NcError;
 use crate::model::{Block, Item};
 
@@ -42,39 +43,65 @@ impl<R: BufRead> Blocks<R> {
         }
     }
 
-    fn next_line(&mut self) -> Option<Result<Block, NcError>> {
+    /// Lines read so far (the line of the last block or error yielded).
+    pub fn line(&self) -> usize {
+        self.line
+    }
+
+    /// Reads the next block into `block`, reusing its storage (no
+    /// allocation per block): `Ok` when `block` holds it, `Err` for a line
+    /// in error or a structure left open (then `block` holds nothing
+    /// useful), `None` at the end.
+    pub fn next_into(&mut self, block: &mut Block) -> Option<Result<(), NcError>> {
+        if !self.done {
+            match self.next_line(block) {
+                Some(Ok(())) => return Some(self.check_nesting(block)),
+                Some(Err(e)) => return Some(Err(e)),
+                None => self.done = true,
+            }
+        }
+        if self.open.is_empty() {
+            return None;
+        }
+        Some(Err(self.open.remove(0).1))
+    }
+
+    fn next_line(&mut self, block: &mut Block) -> Option<Result<(), NcError>> {
         loop {
+            // A whole line inside the reader's buffer is parsed where it
+            // lies; one that runs past it (or ends the file without a line
+            // end) is gathered first.
+            let buf = match self.reader.fill_buf() {
+                Ok([]) => return None,
+                Ok(buf) => buf,
+                Err(e) => return Some(Err(self.read_error(&e))),
+            };
+            if let Some(n) = memchr::memchr(b'\n', buf) {
+                self.line += 1;
+                let result = parse_raw(&buf[..n], self.line, block);
+                self.reader.consume(n + 1);
+                match result {
+                    Some(r) => return Some(r),
+                    None => continue,
+                }
+            }
             self.buffer.clear();
             match self.reader.read_until(b'\n', &mut self.buffer) {
                 Ok(0) => return None,
                 Ok(_) => self.line += 1,
-                Err(e) => {
-                    self.done = true;
-                    return Some(Err(self.error(
-                        self.line + 1,
-                        None,
-                        format!("read error: {e}"),
-                    )));
-                }
+                Err(e) => return Some(Err(self.read_error(&e))),
             }
             let raw = self.buffer.strip_suffix(b"\n").unwrap_or(&self.buffer);
-            let Ok(text) = std::str::from_utf8(raw) else {
-                let msg = "line is not valid UTF-8 text".to_string();
-                return Some(Err(self.error(self.line, None, msg)));
-            };
-            if let Some(result) = parse_line(text, self.line) {
+            if let Some(result) = parse_raw(raw, self.line, block) {
                 return Some(result);
             }
         }
     }
 
-    fn error(&self, line: usize, block_number: Option<u32>, message: String) -> NcError {
-        NcError {
-            line,
-            block_number,
-            column: 1,
-            message,
-        }
+    /// A read error ends the program.
+    fn read_error(&mut self, e: &std::io::Error) -> NcError {
+        self.done = true;
+        plain_error(self.line + 1, None, format!("read error: {e}"))
     }
 
     /// An error at item `k` of `block`.
@@ -120,6 +147,28 @@ impl<R: BufRead> Blocks<R> {
     }
 }
 
+/// One line's bytes (without its line end) into `block`; `None` for a
+/// line without a block.
+fn parse_raw(raw: &[u8], line: usize, block: &mut Block) -> Option<Result<(), NcError>> {
+    match std::str::from_utf8(raw) {
+        Ok(text) => parse_line_into(text, line, block),
+        Err(_) => {
+            let msg = "line is not valid UTF-8 text".to_string();
+            Some(Err(plain_error(line, None, msg)))
+        }
+    }
+}
+
+/// An error of a whole line (column 1).
+fn plain_error(line: usize, block_number: Option<u32>, message: String) -> NcError {
+    NcError {
+        line,
+        block_number,
+        column: 1,
+        message,
+    }
+}
+
 fn end_name(item: &Item) -> &'static str {
     match item {
         Item::Else => "$ELSE",
@@ -141,18 +190,7 @@ impl<R: BufRead> Iterator for Blocks<R> {
     type Item = Result<Block, NcError>;
 
     fn next(&mut self) -> Option<Self::Item> {
-        if !self.done {
-            match self.next_line() {
-                Some(Ok(block)) => {
-                    return Some(self.check_nesting(&block).map(|()| block));
-                }
-                Some(Err(e)) => return Some(Err(e)),
-                None => self.done = true,
-            }
-        }
-        if self.open.is_empty() {
-            return None;
-        }
-        Some(Err(self.open.remove(0).1))
+        let mut block = Block::default();
+        self.next_into(&mut block).map(|r| r.map(|()| block))
     }
 }

@@ -86,3 +86,12 @@ fn an_otc_fault_at_its_command() {
     assert!(fault.message.contains("21391"), "{fault}");
     assert_eq!(at(fault), (2, Some(2), 7));
 }
+
+#[test]
+fn a_control_statement_beside_words_is_a_parse_error_at_the_second_word() {
+    // The $IF line is in error, so its $ENDIF has no opening statement.
+    let (_, errors) = parse_program("N1 $IF 1 G1 X1\nN2 G1 X1 G236\n$ENDIF\n");
+    assert_eq!(errors.len(), 3, "{errors:?}");
+    assert!(errors[0].message.contains("stand alone"), "{}", errors[0]);
+    assert_eq!(at(&errors[0]), (1, Some(1), 10));
+}

@@ -8,7 +8,7 @@ use std::cell::Cell;
 use std::io::{BufReader, Read};
 use std::rc::Rc;
 
-use nc::run::{run_blocks, At, Controller, Report};
+use nc::run::{run_blocks, run_reader, At, Controller, Report};
 use nc::{check_program, Blocks};
 use tc_request::{Reply, Request};
 use uoi::Value;
@@ -124,7 +124,7 @@ fn a_long_program_runs_streamed_holding_only_the_open_loop() {
         worst_ahead: 0,
     };
     let mut report = Report::default();
-    run_blocks(Blocks::new(reader), &mut ctl, &mut report).unwrap();
+    run_reader(&mut Blocks::new(reader), &mut ctl, &mut report).unwrap();
 
     assert_eq!(ctl.motions, motions_of(TOTAL));
     // The loop's 12 blocks, not the program's 300,000.

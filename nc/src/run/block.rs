@@ -279,6 +279,6 @@ impl Interpreter<'_> {
                 feed,
             },
         };
-        self.request(&Request::Motion(motion)).map(|_| ())
+        self.send(&Request::Motion(motion))
     }
 }

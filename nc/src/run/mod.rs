@@ -20,11 +20,13 @@ mod vars;
 mod window;
 
 use std::collections::HashMap;
+use std::io::BufRead;
 
 use tc_request::{AxisPos, Reply, Request};
 
 use crate::error::NcError;
 use crate::model::Block;
+use crate::stream::Blocks;
 
 pub use dtable::DTable;
 pub use objects::{wear_axis, WEAR_RADIUS, WEAR_RADIUS_CONT};
@@ -112,19 +114,38 @@ pub fn run_program(
     run_blocks(blocks.iter().cloned().map(Ok), ctl, report)
 }
 
-/// Runs the blocks `blocks` yields, pulled one at a time (a [`crate::Blocks`]
-/// reader of a program checked before, e.g. by [`crate::check_program`]),
-/// on `ctl`, ending with `EXEC` (run until the spooler is empty). Only the
-/// blocks of the outermost open `$FOR`/`$WHILE` are held, for jumping back.
-///
-/// Warnings and controller faults go to `report`, also when the run stops.
-/// Stops at the first error: a construct not implemented, an unset
-/// variable, a request the controller refuses, an error the blocks yield.
+/// Runs the blocks `blocks` yields, pulled one at a time, on `ctl`; see
+/// [`run_reader`], which does the same without an allocation per block.
 pub fn run_blocks<I>(blocks: I, ctl: &mut dyn Controller, report: &mut Report) -> Result<(), NcError>
 where
     I: Iterator<Item = Result<Block, NcError>>,
 {
-    let mut window = window::Window::new(blocks);
+    run_source(window::FromIter(blocks), ctl, report)
+}
+
+/// Runs the program `blocks` reads (checked before, e.g. by
+/// [`crate::check_program`]: a block in error stops the run there), pulled
+/// block by block, on `ctl`, ending with `EXEC` (run until the spooler is
+/// empty). Only the blocks of the outermost open `$FOR`/`$WHILE` are held,
+/// for jumping back; [`Blocks::line`] tells afterwards how far it read.
+///
+/// Warnings and controller faults go to `report`, also when the run stops.
+/// Stops at the first error: a construct not implemented, an unset
+/// variable, a request the controller refuses, a block in error.
+pub fn run_reader<R: BufRead>(
+    blocks: &mut Blocks<R>,
+    ctl: &mut dyn Controller,
+    report: &mut Report,
+) -> Result<(), NcError> {
+    run_source(blocks, ctl, report)
+}
+
+fn run_source<S: window::BlockSource>(
+    source: S,
+    ctl: &mut dyn Controller,
+    report: &mut Report,
+) -> Result<(), NcError> {
+    let mut window = window::Window::new(source);
     let mut it = Interpreter::new(ctl, report);
     let result = run_window(&mut it, &mut window);
     it.report.peak_held_blocks = it.report.peak_held_blocks.max(window.peak());
@@ -132,10 +153,10 @@ where
 }
 
 /// The run loop: block after block from the window, jumps and skips.
-fn run_window<I>(it: &mut Interpreter<'_>, window: &mut window::Window<I>) -> Result<(), NcError>
-where
-    I: Iterator<Item = Result<Block, NcError>>,
-{
+fn run_window<S: window::BlockSource>(
+    it: &mut Interpreter<'_>,
+    window: &mut window::Window<S>,
+) -> Result<(), NcError> {
     let start = match window.get(0)? {
         Some(b) => At {
             line: b.line,
@@ -181,7 +202,7 @@ where
             window.release_before(pc);
         }
     }
-    it.request(&Request::Exec(None)).map_err(|e| it.error(e))?;
+    it.send(&Request::Exec(None)).map_err(|e| it.error(e))?;
     Ok(())
 }
 
@@ -229,25 +250,47 @@ impl<'c> Interpreter<'c> {
         }
     }
 
-    /// Sends `req`; an access or protocol error answer is an error. A full
-    /// spooler (`Full`, nothing changed) is worked off first, as a
-    /// controller's interpreter waits for its interpolator: `EXEC`, then
-    /// the request once more.
+    /// Sends `req` and answers its reply; an access or protocol error
+    /// answer is an error. A full spooler (`Full`, nothing changed) is
+    /// worked off first, as a controller's interpreter waits for its
+    /// interpolator: `EXEC`, then the request once more.
     fn request(&mut self, req: &Request) -> Result<Reply, String> {
-        let mut reply = self.ctl.call(req, self.at);
-        if reply == Reply::Access(uoi::AccessError::Full) && !matches!(req, Request::Exec(_)) {
-            self.request(&Request::Exec(None))?;
-            reply = self.ctl.call(req, self.at);
+        let reply = self.answer(req)?;
+        match self.refused(req, &reply) {
+            Some(e) => Err(e),
+            None => Ok(reply),
         }
-        match reply {
-            Reply::Access(uoi::AccessError::State) => Err(format!(
+    }
+
+    /// As [`Self::request`], for a request whose answer is only `ok` or
+    /// an error (writes, motions, `EXEC`).
+    fn send(&mut self, req: &Request) -> Result<(), String> {
+        let reply = self.answer(req)?;
+        self.refused(req, &reply).map_or(Ok(()), Err)
+    }
+
+    /// The controller's answer to `req`, after `EXEC` and once more when
+    /// the spooler was full.
+    fn answer(&mut self, req: &Request) -> Result<Reply, String> {
+        let reply = self.ctl.call(req, self.at);
+        if reply == Reply::Access(uoi::AccessError::Full) && !matches!(req, Request::Exec(_)) {
+            self.send(&Request::Exec(None))?;
+            return Ok(self.ctl.call(req, self.at));
+        }
+        Ok(reply)
+    }
+
+    /// Why `reply` refuses `req`, if it does.
+    fn refused(&mut self, req: &Request, reply: &Reply) -> Option<String> {
+        Some(match reply {
+            Reply::Access(uoi::AccessError::State) => format!(
                 "`{req}`: the controller answered State: correction group 1 is faulted{}",
                 self.fault_bits()
-            )),
-            Reply::Access(e) => Err(format!("`{req}`: the controller answered {}", e.name())),
-            Reply::Protocol(e) => Err(format!("`{req}`: refused: {e}")),
-            reply => Ok(reply),
-        }
+            ),
+            Reply::Access(e) => format!("`{req}`: the controller answered {}", e.name()),
+            Reply::Protocol(e) => format!("`{req}`: refused: {e}"),
+            _ => return None,
+        })
     }
 
     /// ` (ERROR: CalcError ..)`: the group's error bits, for a message.

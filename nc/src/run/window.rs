@@ -5,17 +5,47 @@
 //! blocks from `base` on; the interpreter releases the ones before the
 //! block it runs next whenever no `$FOR`/`$WHILE` is open, so a program
 //! without loops holds one block at a time, and one with loops the body of
-//! its outermost open loop.
+//! its outermost open loop. Released blocks lend their storage to the next
+//! ones read.
 
-use std::collections::VecDeque;
+use std::io::BufRead;
 
 use crate::error::NcError;
 use crate::model::{Block, Item};
+use crate::stream::Blocks;
 
-/// Blocks of a program pulled from `source` and held for jumping back.
-pub struct Window<I> {
-    source: I,
-    held: VecDeque<Block>,
+/// Where the blocks of a run come from.
+pub trait BlockSource {
+    /// The next block into `block` (whose storage may be reused); `None`
+    /// at the end.
+    fn next_into(&mut self, block: &mut Block) -> Option<Result<(), NcError>>;
+}
+
+impl<R: BufRead> BlockSource for &mut Blocks<R> {
+    fn next_into(&mut self, block: &mut Block) -> Option<Result<(), NcError>> {
+        Blocks::next_into(self, block)
+    }
+}
+
+/// Blocks from any iterator (a program held whole, a test's list).
+pub struct FromIter<I>(pub I);
+
+impl<I: Iterator<Item = Result<Block, NcError>>> BlockSource for FromIter<I> {
+    fn next_into(&mut self, block: &mut Block) -> Option<Result<(), NcError>> {
+        self.0.next().map(|r| r.map(|b| *block = b))
+    }
+}
+
+/// Blocks of a program pulled from `source` and held for jumping back, in
+/// a ring of slots that are reused in place (no block is moved or
+/// allocated per block read).
+pub struct Window<S> {
+    source: S,
+    /// The ring: `len` held blocks from slot `head` on, wrapping around.
+    slots: Vec<Block>,
+    head: usize,
+    len: usize,
+    /// Number of the block in slot `head`.
     base: usize,
     peak: usize,
 }
@@ -33,13 +63,18 @@ pub enum SkipTo {
     EndIf,
 }
 
-impl<I: Iterator<Item = Result<Block, NcError>>> Window<I> {
+/// Slots kept when no block is held; more are given back.
+const KEEP_SLOTS: usize = 64;
+
+impl<S: BlockSource> Window<S> {
     /// A window on the blocks `source` yields (it must not yield errors:
     /// the program was checked before).
-    pub fn new(source: I) -> Self {
+    pub fn new(source: S) -> Self {
         Window {
             source,
-            held: VecDeque::new(),
+            slots: Vec::new(),
+            head: 0,
+            len: 0,
             base: 0,
             peak: 0,
         }
@@ -50,29 +85,54 @@ impl<I: Iterator<Item = Result<Block, NcError>>> Window<I> {
         self.peak
     }
 
+    /// The slot of the `offset`-th held block.
+    fn slot(&self, offset: usize) -> usize {
+        (self.head + offset) % self.slots.len().max(1)
+    }
+
     /// Block `k`, pulled from the program when it is the next one; `None`
     /// after the program's end.
     pub fn get(&mut self, k: usize) -> Result<Option<&Block>, NcError> {
         let Some(offset) = k.checked_sub(self.base) else {
             return Err(internal(format!("block {k} of the program is no longer held")));
         };
-        while self.held.len() <= offset {
-            match self.source.next() {
-                Some(block) => self.held.push_back(block?),
+        while self.len <= offset {
+            if self.len == self.slots.len() {
+                self.grow();
+            }
+            let at = self.slot(self.len);
+            match self.source.next_into(&mut self.slots[at]) {
+                Some(Ok(())) => self.len += 1,
+                Some(Err(e)) => return Err(e),
                 None => return Ok(None),
             }
         }
-        self.peak = self.peak.max(self.held.len());
-        Ok(self.held.get(offset))
+        self.peak = self.peak.max(self.len);
+        Ok(Some(&self.slots[self.slot(offset)]))
     }
 
-    /// Drops the blocks before block `k`: no loop can jump back to them.
+    /// Doubles the ring (at least one slot), the held blocks first.
+    fn grow(&mut self) {
+        self.slots.rotate_left(self.head);
+        self.head = 0;
+        let more = self.slots.len().max(1);
+        self.slots.resize_with(self.slots.len() + more, Block::default);
+    }
+
+    /// Drops the blocks before block `k`: no loop can jump back to them
+    /// (their slots are reused).
     pub fn release_before(&mut self, k: usize) {
-        while self.base < k && self.held.pop_front().is_some() {
-            self.base += 1;
-        }
-        if self.held.is_empty() {
+        let n = k.saturating_sub(self.base).min(self.len);
+        self.head = self.slot(n);
+        self.len -= n;
+        self.base += n;
+        if self.len == 0 {
             self.base = self.base.max(k);
+            // A long loop left: its storage goes back.
+            if self.slots.len() > KEEP_SLOTS {
+                self.slots.truncate(KEEP_SLOTS);
+                self.head = 0;
+            }
         }
     }
 
@@ -89,8 +149,7 @@ impl<I: Iterator<Item = Result<Block, NcError>>> Window<I> {
             let Some(block) = self.get(k)? else {
                 return Err(internal(format!("the structure of block {from} has no end")));
             };
-            let first = block.items.first();
-            let at_end = match first {
+            let at_end = match block.items.first() {
                 Some(Item::For { .. } | Item::If(_) | Item::While(_)) => {
                     depth += 1;
                     false
