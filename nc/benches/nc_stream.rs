@@ -7,9 +7,9 @@
 //! 100,000 and of 1,000,000 blocks, each in a process of its own.
 //!
 //! `cargo bench -p nc --bench nc_stream` (about two minutes; with
-//! `NC_STREAM_QUICK=1` only the RSS and the alternating ratio;
-//! `NC_STREAM_PROFILE=check|run|nc` runs one part 5 times for a profiler);
-//! figures go to docs/performance.md.
+//! `NC_STREAM_QUICK=1` only the RSS, the breakdown and the alternating
+//! ratio; `NC_STREAM_PROFILE=<part>` runs one part 5 times for a profiler,
+//! see [`profile`]); figures go to docs/performance.md.
 
 #![allow(missing_docs, clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
@@ -126,7 +126,7 @@ fn feed(tc: &mut TcModule, req: &Request, motions: &mut u64) -> Reply {
         Request::Motion(m) => {
             let r = tc.command(m).into();
             *motions += 1;
-            if *motions % 1024 == 0 {
+            if motions.is_multiple_of(1024) {
                 drain(tc);
             }
             r
@@ -259,29 +259,38 @@ fn median_secs(rounds: usize, mut f: impl FnMut()) -> f64 {
 }
 
 /// NC against engine in alternating rounds, printed as profiles/s and
-/// their ratio.
+/// their ratios: both passes (what `addipos run` does), and the run pass
+/// alone (the program parsed, interpreted and corrected once).
 fn ratio(requests: &[Request]) {
-    let (mut nc, mut direct) = (Vec::new(), Vec::new());
-    for _ in 0..5 {
-        nc.push(median_secs(1, || {
+    const ROUNDS: usize = 5;
+    let mut t = [Vec::new(), Vec::new(), Vec::new()];
+    for _ in 0..ROUNDS {
+        t[0].push(median_secs(1, || {
             let mut e = fresh(false);
             nc_run(N, &mut e);
             check_clean(&e);
         }));
-        direct.push(median_secs(1, || check_clean(&engine_direct(requests))));
+        t[1].push(median_secs(1, || {
+            let mut e = fresh(false);
+            run_pass(N, &mut e);
+            check_clean(&e);
+        }));
+        t[2].push(median_secs(1, || check_clean(&engine_direct(requests))));
     }
-    nc.sort_by(f64::total_cmp);
-    direct.sort_by(f64::total_cmp);
-    let (nc, direct) = (nc[2], direct[2]);
+    let [nc, run, direct] = t.map(|mut v| {
+        v.sort_by(f64::total_cmp);
+        v[ROUNDS / 2]
+    });
     let rate = |s: f64| N as f64 / s / 1e6;
     println!(
-        "alternating, median of 5: NC {:.3} s = {:.3} M profiles/s; engine {:.3} s = \
-         {:.3} M profiles/s; NC / engine = {:.3}",
-        nc,
+        "alternating, median of {ROUNDS}: NC both passes {nc:.3} s = {:.3} M profiles/s; \
+         NC run pass {run:.3} s = {:.3} M profiles/s; engine {direct:.3} s = {:.3} M \
+         profiles/s; NC / engine = {:.3} (both passes), {:.3} (run pass)",
         rate(nc),
-        direct,
+        rate(run),
         rate(direct),
-        direct / nc
+        direct / nc,
+        direct / run
     );
 }
 
@@ -369,8 +378,10 @@ fn rss() {
 }
 
 /// One part run 5 times on its own, for `perf record` / `perf stat`:
-/// `check` (the check pass), `run` (the run pass without the engine),
-/// `nc` (both passes into the engine).
+/// `gen` (making the text), `check` (the check pass), `run` (the run pass
+/// without the engine), `nc` (both passes into the engine), `record` (one
+/// NC run, recording its requests), `engine` (`record`, then the engine
+/// fed them 5 times); `head` prints the start of the program.
 fn profile(part: &str) {
     if part == "record" {
         recorded();
@@ -394,17 +405,6 @@ fn profile(part: &str) {
             }
             "gen" => {
                 std::io::copy(&mut ProgramText::new(N), &mut std::io::sink()).expect("copied");
-            }
-            "read" => {
-                use std::io::BufRead;
-                let mut r = BufReader::new(ProgramText::new(N));
-                let mut buf = Vec::new();
-                let mut n = 0usize;
-                while r.read_until(b'\n', &mut buf).expect("reads") > 0 {
-                    n += std::str::from_utf8(&buf).map_or(0, |s| s.len());
-                    buf.clear();
-                }
-                black_box(n);
             }
             "check" => assert!(check_program(BufReader::new(ProgramText::new(N))).is_empty()),
             "run" => {

@@ -3,7 +3,6 @@
 
 use std::io::BufRead;
 
-
 use crate::block::parse_line_into;
 use crate::error::NcError;
 use crate::model::{Block, Item};

@@ -138,7 +138,8 @@ fn a_long_program_runs_streamed_holding_only_the_open_loop() {
 }
 
 fn zigzag(n: usize) -> String {
-    let mut text = String::from("N1 G17 G90 #set ToolParam(1; 4; 2)#\nN2 D1 G41 G1 X10 Y0 F60000\n");
+    let mut text =
+        String::from("N1 G17 G90 #set ToolParam(1; 4; 2)#\nN2 D1 G41 G1 X10 Y0 F60000\n");
     let mut last_y = 0;
     for k in 0..n {
         let y = if k % 2 == 0 { 5 } else { 0 };
@@ -175,8 +176,74 @@ fn a_full_spooler_is_worked_off_with_exec_and_the_request_sent_again() {
         .position(|l| l.ends_with("=> err Full"))
         .expect("the 8-element spooler fills up");
     assert_eq!(tight_log[full + 1], "EXEC");
-    assert_eq!(format!("{} => err Full", tight_log[full + 2]), tight_log[full]);
+    assert_eq!(
+        format!("{} => err Full", tight_log[full + 2]),
+        tight_log[full]
+    );
     // The same elements, in the same order.
     assert_eq!(tight.len(), roomy.len());
     assert_eq!(tight, roomy);
+}
+
+/// Records the motions as text.
+#[derive(Default)]
+struct Moves(Vec<String>);
+
+impl Controller for Moves {
+    fn call(&mut self, req: &Request, _at: At) -> Reply {
+        match req {
+            Request::Pos => Reply::Pos([0.0; 8]),
+            Request::Motion(_) => {
+                self.0.push(req.to_string());
+                Reply::Ok
+            }
+            _ => Reply::Ok,
+        }
+    }
+}
+
+#[test]
+fn loops_jump_back_into_held_blocks_after_the_window_moved_on() {
+    // A small loop first (the window grows), plain blocks (its slots go
+    // round), then a loop of 30 blocks with an $IF and a $WHILE inside,
+    // run twice (the window grows again while it wraps around).
+    let mut text = String::from("$FOR P1 = 1, 2, 1\nG1 X[P1]\n$ENDFOR\n");
+    for k in 0..7 {
+        text.push_str(&format!("G1 Y{k}\n"));
+    }
+    text.push_str("$FOR P2 = 1, 2, 1\n");
+    for j in 0..20 {
+        text.push_str(&format!("G1 X[P2 * 100 + {j}]\n"));
+    }
+    text.push_str("$IF P2 == 2\nG1 Y-1\n$ELSE\nG1 Y-2\n$ENDIF\n");
+    text.push_str("$WHILE R1 < P2 * 2\nR1 = R1 + 1\nG1 Z[R1]\n$ENDWHILE\n$ENDFOR\nG1 X9\n");
+
+    let mut expected = vec!["LIN X1".to_string(), "LIN X2".into()];
+    expected.extend((0..7).map(|k| format!("LIN Y{k}")));
+    let mut r1 = 0;
+    for p2 in 1..=2 {
+        expected.extend((0..20).map(|j| format!("LIN X{}", p2 * 100 + j)));
+        expected.push(if p2 == 2 { "LIN Y-1" } else { "LIN Y-2" }.into());
+        while r1 < p2 * 2 {
+            r1 += 1;
+            expected.push(format!("LIN Z{r1}"));
+        }
+    }
+    expected.push("LIN X9".into());
+
+    let mut moves = Moves::default();
+    let mut report = Report::default();
+    run_reader(&mut Blocks::new(text.as_bytes()), &mut moves, &mut report).unwrap();
+    assert_eq!(moves.0, expected);
+    // The second loop's 31 blocks, from its $FOR to its $ENDFOR.
+    assert_eq!(report.peak_held_blocks, 31);
+    // The same through the iterator form.
+    let mut moves = Moves::default();
+    run_blocks(
+        Blocks::new(text.as_bytes()),
+        &mut moves,
+        &mut Report::default(),
+    )
+    .unwrap();
+    assert_eq!(moves.0, expected);
 }

@@ -116,7 +116,11 @@ pub fn run_program(
 
 /// Runs the blocks `blocks` yields, pulled one at a time, on `ctl`; see
 /// [`run_reader`], which does the same without an allocation per block.
-pub fn run_blocks<I>(blocks: I, ctl: &mut dyn Controller, report: &mut Report) -> Result<(), NcError>
+pub fn run_blocks<I>(
+    blocks: I,
+    ctl: &mut dyn Controller,
+    report: &mut Report,
+) -> Result<(), NcError>
 where
     I: Iterator<Item = Result<Block, NcError>>,
 {
@@ -255,7 +259,8 @@ impl<'c> Interpreter<'c> {
     /// worked off first, as a controller's interpreter waits for its
     /// interpolator: `EXEC`, then the request once more.
     fn request(&mut self, req: &Request) -> Result<Reply, String> {
-        let reply = self.answer(req)?;
+        let reply = self.ctl.call(req, self.at);
+        let reply = self.after_full(req, reply)?;
         match self.refused(req, &reply) {
             Some(e) => Err(e),
             None => Ok(reply),
@@ -265,15 +270,20 @@ impl<'c> Interpreter<'c> {
     /// As [`Self::request`], for a request whose answer is only `ok` or
     /// an error (writes, motions, `EXEC`).
     fn send(&mut self, req: &Request) -> Result<(), String> {
-        let reply = self.answer(req)?;
+        let reply = self.ctl.call(req, self.at);
+        if matches!(reply, Reply::Ok) {
+            return Ok(());
+        }
+        let reply = self.after_full(req, reply)?;
         self.refused(req, &reply).map_or(Ok(()), Err)
     }
 
-    /// The controller's answer to `req`, after `EXEC` and once more when
-    /// the spooler was full.
-    fn answer(&mut self, req: &Request) -> Result<Reply, String> {
-        let reply = self.ctl.call(req, self.at);
-        if reply == Reply::Access(uoi::AccessError::Full) && !matches!(req, Request::Exec(_)) {
+    /// `reply` to `req`, or when it was `Full` (the spooler full, nothing
+    /// changed) the answer to `req` sent once more after `EXEC`.
+    fn after_full(&mut self, req: &Request, reply: Reply) -> Result<Reply, String> {
+        if matches!(reply, Reply::Access(uoi::AccessError::Full))
+            && !matches!(req, Request::Exec(_))
+        {
             self.send(&Request::Exec(None))?;
             return Ok(self.ctl.call(req, self.at));
         }

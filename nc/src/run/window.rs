@@ -85,16 +85,24 @@ impl<S: BlockSource> Window<S> {
         self.peak
     }
 
-    /// The slot of the `offset`-th held block.
+    /// The slot of the `offset`-th held block (`offset` at most the
+    /// number of slots).
     fn slot(&self, offset: usize) -> usize {
-        (self.head + offset) % self.slots.len().max(1)
+        let k = self.head + offset;
+        if k >= self.slots.len() {
+            k - self.slots.len()
+        } else {
+            k
+        }
     }
 
     /// Block `k`, pulled from the program when it is the next one; `None`
     /// after the program's end.
     pub fn get(&mut self, k: usize) -> Result<Option<&Block>, NcError> {
         let Some(offset) = k.checked_sub(self.base) else {
-            return Err(internal(format!("block {k} of the program is no longer held")));
+            return Err(internal(format!(
+                "block {k} of the program is no longer held"
+            )));
         };
         while self.len <= offset {
             if self.len == self.slots.len() {
@@ -116,7 +124,8 @@ impl<S: BlockSource> Window<S> {
         self.slots.rotate_left(self.head);
         self.head = 0;
         let more = self.slots.len().max(1);
-        self.slots.resize_with(self.slots.len() + more, Block::default);
+        self.slots
+            .resize_with(self.slots.len() + more, Block::default);
     }
 
     /// Drops the blocks before block `k`: no loop can jump back to them
@@ -147,7 +156,9 @@ impl<S: BlockSource> Window<S> {
                 self.release_before(k);
             }
             let Some(block) = self.get(k)? else {
-                return Err(internal(format!("the structure of block {from} has no end")));
+                return Err(internal(format!(
+                    "the structure of block {from} has no end"
+                )));
             };
             let at_end = match block.items.first() {
                 Some(Item::For { .. } | Item::If(_) | Item::While(_)) => {
