@@ -15,6 +15,8 @@ use crate::words::{plain_word, word};
 struct Cursor<'a> {
     line_text: &'a str,
     ascii: bool,
+    /// Whether plain words are kept (else only checked: a check pass).
+    keep: bool,
     line: usize,
     number: Option<u32>,
 }
@@ -52,12 +54,19 @@ fn skip_blanks(text: &str) -> &str {
 
 /// Parses one line into `block` (its storage reused; on an error its
 /// content is unspecified); `None` for a line with nothing but spaces and
-/// comments.
-pub fn parse_line_into(text: &str, line: usize, block: &mut Block) -> Option<Result<(), NcError>> {
+/// comments. With `keep` false the plain words (`X10`, `G1`) are checked
+/// but not kept: the block then holds only the other words (a check pass).
+pub fn parse_line_into(
+    text: &str,
+    line: usize,
+    block: &mut Block,
+    keep: bool,
+) -> Option<Result<(), NcError>> {
     let text = text.strip_suffix('\r').unwrap_or(text);
     let mut cur = Cursor {
         line_text: text,
         ascii: text.is_ascii(),
+        keep,
         line,
         number: None,
     };
@@ -73,10 +82,9 @@ pub fn parse_line_into(text: &str, line: usize, block: &mut Block) -> Option<Res
         let mut after = after;
         // A plain number of up to 9 digits read by a byte scan, else by
         // the parser (which also refuses what does not fit in u32).
-        let plain = plain_number(after.as_bytes(), true).map(|(n, len)| {
-            after = &after[len..];
-            // At most 9 digits: a whole number within u32.
-            n as u32
+        let plain = plain_number(after.as_bytes(), true).map(|n| {
+            after = &after[n.len..];
+            n.whole()
         });
         match plain.map_or_else(|| integer.parse_next(&mut after), Ok) {
             Ok(n) => {
@@ -91,8 +99,8 @@ pub fn parse_line_into(text: &str, line: usize, block: &mut Block) -> Option<Res
         }
     }
     match items(&cur, rest, block) {
-        Ok(()) if block.items.is_empty() && cur.number.is_none() => None,
-        Ok(()) => Some(Ok(())),
+        Ok(0) if cur.number.is_none() => None,
+        Ok(_) => Some(Ok(())),
         Err(e) => Some(Err(e)),
     }
 }
@@ -108,7 +116,7 @@ fn header(cur: &Cursor<'_>, after_percent: &str, block: &mut Block) -> Result<()
     }
     block.items.push(Item::ProgramName(name.to_string()));
     block.columns.push(cur.column(after_percent) - 1);
-    items(cur, rest, block)
+    items(cur, rest, block).map(|_| ())
 }
 
 /// Whether a word may end before `c`: a blank, a comment, the next word.
@@ -117,15 +125,20 @@ fn ends_word(c: char) -> bool {
 }
 
 /// The words of a block up to its end, skipping comments, appended to
-/// `block`; a `$` control statement must stand alone in its block.
-fn items(cur: &Cursor<'_>, mut rest: &str, block: &mut Block) -> Result<(), NcError> {
+/// `block` (plain words only when the cursor keeps them); a `$` control
+/// statement must stand alone in its block. The number of words.
+fn items(cur: &Cursor<'_>, mut rest: &str, block: &mut Block) -> Result<usize, NcError> {
+    let mut words = Words {
+        count: block.items.len(),
+        second: 1,
+    };
     loop {
         rest = skip_blanks(rest);
         let Some(&first) = rest.as_bytes().first() else {
-            return alone(cur, block);
+            return alone(cur, block, &words);
         };
         match first {
-            b';' => return alone(cur, block),
+            b';' => return alone(cur, block, &words),
             b'(' => {
                 match rest.find(')') {
                     Some(end) => rest = &rest[end + 1..],
@@ -136,8 +149,11 @@ fn items(cur: &Cursor<'_>, mut rest: &str, block: &mut Block) -> Result<(), NcEr
             _ => {}
         }
         let start = rest;
-        if plain_word(&mut rest, &mut block.items) {
-            block.columns.push(cur.column(start));
+        let kept = cur.keep.then_some(&mut block.items);
+        if plain_word(&mut rest, kept) {
+            if cur.keep {
+                block.columns.push(cur.column(start));
+            }
         } else {
             let parsed: Result<Item, ErrMode<ContextError>> = match first {
                 b'#' => command.parse_next(&mut rest),
@@ -152,6 +168,10 @@ fn items(cur: &Cursor<'_>, mut rest: &str, block: &mut Block) -> Result<(), NcEr
                 Err(e) => return Err(cur.error(start, word_message(start, &e))),
             }
         }
+        words.count += 1;
+        if words.count == 2 {
+            words.second = cur.column(start);
+        }
         let next = match rest.as_bytes().first() {
             Some(&b) if b.is_ascii() => Some(char::from(b)),
             Some(_) => rest.chars().next(),
@@ -164,18 +184,25 @@ fn items(cur: &Cursor<'_>, mut rest: &str, block: &mut Block) -> Result<(), NcEr
     }
 }
 
+/// The words of a block read so far (plain ones included) and the column
+/// of the second.
+struct Words {
+    count: usize,
+    second: usize,
+}
+
 /// Refuses a `$` control statement that stands beside other words (at the
-/// column of the second word).
-fn alone(cur: &Cursor<'_>, block: &Block) -> Result<(), NcError> {
-    if block.items.len() > 1 && block.items.iter().any(Item::is_control) {
+/// column of the second word); the number of words.
+fn alone(cur: &Cursor<'_>, block: &Block, words: &Words) -> Result<usize, NcError> {
+    if words.count > 1 && block.items.iter().any(Item::is_control) {
         return Err(NcError {
             line: cur.line,
             block_number: cur.number,
-            column: block.column(1),
+            column: words.second,
             message: "a $ control statement must stand alone in its block".into(),
         });
     }
-    Ok(())
+    Ok(words.count)
 }
 
 /// The message of a failed word: the word as written and what was wrong.

@@ -53,7 +53,7 @@ pub use stream::Blocks;
 /// first pass of a streamed run (nothing runs when there is one). Memory
 /// stays bounded by the longest line (and the errors found).
 pub fn check_program<R: std::io::BufRead>(reader: R) -> Vec<NcError> {
-    let mut blocks = Blocks::new(reader);
+    let mut blocks = Blocks::checking(reader);
     let mut scratch = Block::default();
     let mut errors = Vec::new();
     while let Some(result) = blocks.next_into(&mut scratch) {

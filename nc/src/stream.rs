@@ -28,6 +28,8 @@ pub struct Blocks<R> {
     line: usize,
     open: Vec<(Open, NcError)>,
     done: bool,
+    /// Whether blocks keep their plain words (`X10`, `G1`).
+    keep: bool,
 }
 
 impl<R: BufRead> Blocks<R> {
@@ -39,6 +41,18 @@ impl<R: BufRead> Blocks<R> {
             line: 0,
             open: Vec::new(),
             done: false,
+            keep: true,
+        }
+    }
+
+    /// As [`Blocks::new`], for a check pass: every error is found the
+    /// same, but the blocks keep only their words that are not plain
+    /// address words with a number (`X10`, `G1`): `$` statements, `#`
+    /// commands, assignments, words with expressions.
+    pub fn checking(reader: R) -> Self {
+        Blocks {
+            keep: false,
+            ..Blocks::new(reader)
         }
     }
 
@@ -77,7 +91,7 @@ impl<R: BufRead> Blocks<R> {
             };
             if let Some(n) = memchr::memchr(b'\n', buf) {
                 self.line += 1;
-                let result = parse_raw(&buf[..n], self.line, block);
+                let result = parse_raw(&buf[..n], self.line, block, self.keep);
                 self.reader.consume(n + 1);
                 match result {
                     Some(r) => return Some(r),
@@ -91,7 +105,7 @@ impl<R: BufRead> Blocks<R> {
                 Err(e) => return Some(Err(self.read_error(&e))),
             }
             let raw = self.buffer.strip_suffix(b"\n").unwrap_or(&self.buffer);
-            if let Some(result) = parse_raw(raw, self.line, block) {
+            if let Some(result) = parse_raw(raw, self.line, block, self.keep) {
                 return Some(result);
             }
         }
@@ -148,9 +162,14 @@ impl<R: BufRead> Blocks<R> {
 
 /// One line's bytes (without its line end) into `block`; `None` for a
 /// line without a block.
-fn parse_raw(raw: &[u8], line: usize, block: &mut Block) -> Option<Result<(), NcError>> {
+fn parse_raw(
+    raw: &[u8],
+    line: usize,
+    block: &mut Block,
+    keep: bool,
+) -> Option<Result<(), NcError>> {
     match std::str::from_utf8(raw) {
-        Ok(text) => parse_line_into(text, line, block),
+        Ok(text) => parse_line_into(text, line, block, keep),
         Err(_) => {
             let msg = "line is not valid UTF-8 text".to_string();
             Some(Err(plain_error(line, None, msg)))

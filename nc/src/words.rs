@@ -6,7 +6,7 @@ use winnow::error::{ContextError, ErrMode, StrContext, StrContextValue};
 use winnow::token::any;
 use winnow::{ModalResult, Parser};
 
-use crate::expr::{expr, integer, plain_number, var, word_value, Expr, Var};
+use crate::expr::{expr, integer, plain_number, var, word_value, Expr, PlainNumber, Var};
 use crate::model::{Axis, CentreAxis, GCode, Item};
 
 fn expected(text: &'static str) -> StrContext {
@@ -52,10 +52,11 @@ pub fn word(i: &mut &str) -> ModalResult<Item> {
 /// The common words `X10`, `Y-5.5`, `G1`, `M30`: an address letter and a
 /// plain number of at most 15 digits, recognised by a byte scan and pushed
 /// onto `items` (the hot path of long programs; a property test checks it
-/// reads exactly what [`word`] reads). False, with `i` unchanged, for
-/// anything else: the general [`word`] reads it and reports what is wrong.
+/// reads exactly what [`word`] reads), or only recognised when `items` is
+/// `None` (a check pass). False, with `i` unchanged, for anything else:
+/// the general [`word`] reads it and reports what is wrong.
 #[inline]
-pub fn plain_word(i: &mut &str, items: &mut Vec<Item>) -> bool {
+pub fn plain_word(i: &mut &str, items: Option<&mut Vec<Item>>) -> bool {
     let b = i.as_bytes();
     let Some(letter) = b.first().map(u8::to_ascii_uppercase) else {
         return false;
@@ -63,34 +64,60 @@ pub fn plain_word(i: &mut &str, items: &mut Vec<Item>) -> bool {
     if !letter.is_ascii_alphabetic() || matches!(letter, b'R' | b'P' | b'N') {
         return false;
     }
-    let Some((value, len)) = plain_number(&b[1..], matches!(letter, b'G' | b'M')) else {
+    let whole = matches!(letter, b'G' | b'M');
+    let Some(n) = plain_number(&b[1..], whole) else {
         return false;
     };
-    // Each kind pushed where it is made: the item is written into the
-    // block's storage directly, not built aside and copied.
-    let num = || Expr::Number(value);
-    match letter {
-        // Whole numbers of at most 9 digits: exact, and within u32.
-        b'G' => match GCode::from_number(value as u32) {
-            Some(g) => items.push(Item::G(g)),
-            None => return false,
-        },
-        b'M' => items.push(Item::M(value as u32)),
-        b'F' => items.push(Item::Feed(num())),
-        b'D' => items.push(Item::ToolData(num())),
-        b'T' => items.push(Item::Tool(num())),
-        b'I' => items.push(Item::Centre(CentreAxis::I, num())),
-        b'J' => items.push(Item::Centre(CentreAxis::J, num())),
-        b'K' => items.push(Item::Centre(CentreAxis::K, num())),
-        _ => match Axis::from_letter(char::from(letter)) {
-            Some(axis) if !(letter == b'V' && b.get(1) == Some(&b'.')) => {
-                items.push(Item::Axis(axis, num()));
-            }
-            _ => return false,
-        },
+    let g = if letter == b'G' {
+        GCode::from_number(n.whole())
+    } else {
+        None
+    };
+    let axis = if whole {
+        None
+    } else {
+        Axis::from_letter(char::from(letter))
+    };
+    let known = match letter {
+        b'G' => g.is_some(),
+        b'M' | b'F' | b'D' | b'T' | b'I' | b'J' | b'K' => true,
+        b'V' if b.get(1) == Some(&b'.') => false,
+        _ => axis.is_some(),
+    };
+    if !known {
+        return false;
     }
-    *i = &i[1 + len..];
+    if let Some(items) = items {
+        push_plain(items, letter, &n, g, axis);
+    }
+    *i = &i[1 + n.len..];
     true
+}
+
+/// Pushes a plain word known to be one: each kind where it is made, so the
+/// item is written into the block's storage directly, not built aside and
+/// copied.
+#[inline]
+fn push_plain(
+    items: &mut Vec<Item>,
+    letter: u8,
+    n: &PlainNumber,
+    g: Option<GCode>,
+    axis: Option<Axis>,
+) {
+    let num = || Expr::Number(n.value());
+    match (letter, g, axis) {
+        (b'G', Some(g), _) => items.push(Item::G(g)),
+        (b'M', ..) => items.push(Item::M(n.whole())),
+        (b'F', ..) => items.push(Item::Feed(num())),
+        (b'D', ..) => items.push(Item::ToolData(num())),
+        (b'T', ..) => items.push(Item::Tool(num())),
+        (b'I', ..) => items.push(Item::Centre(CentreAxis::I, num())),
+        (b'J', ..) => items.push(Item::Centre(CentreAxis::J, num())),
+        (b'K', ..) => items.push(Item::Centre(CentreAxis::K, num())),
+        (_, _, Some(axis)) => items.push(Item::Axis(axis, num())),
+        _ => {}
+    }
 }
 
 /// The value after the address letter (ASCII, one byte) at the start.
@@ -135,7 +162,11 @@ mod tests {
         ) {
             let mut fast = text.as_str();
             let mut items = Vec::new();
-            if plain_word(&mut fast, &mut items) {
+            let plain = plain_word(&mut fast, Some(&mut items));
+            let mut only_recognised = text.as_str();
+            prop_assert_eq!(plain, plain_word(&mut only_recognised, None));
+            prop_assert_eq!(fast, only_recognised);
+            if plain {
                 let mut general = text.as_str();
                 prop_assert_eq!(Ok(items), word.parse_next(&mut general).map(|w| vec![w]).map_err(|_| ()));
                 prop_assert_eq!(fast, general);

@@ -247,3 +247,44 @@ fn loops_jump_back_into_held_blocks_after_the_window_moved_on() {
     .unwrap();
     assert_eq!(moves.0, expected);
 }
+
+mod check_pass {
+    use nc::{check_program, parse_program};
+    use proptest::prelude::*;
+
+    const LINES: [&str; 16] = [
+        "N10 G1 X10 Y-5.5 F600",
+        "G2 X0 Y0 I5 J0",
+        "$FOR P1 = 1, 3, 1",
+        "$ENDFOR",
+        "$IF R1 > 2",
+        "$ELSE",
+        "$ENDIF",
+        "$WHILE R1 < 3",
+        "$ENDWHILE",
+        "R1 = R1 + 1 X[R1]",
+        "#OTC ON [RADIUS]",
+        "%PROG",
+        "N5 $IF 1 G1 X1",
+        "G1 X1.2.3",
+        "G236 Q1",
+        "V.P.A = 1 V.5",
+    ];
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+
+        /// The check pass (plain words only recognised) finds exactly the
+        /// errors the full parse finds.
+        #[test]
+        fn the_check_pass_finds_the_errors_of_the_full_parse(
+            picks in proptest::collection::vec((0usize..LINES.len(), "[ -~]{0,12}"), 0..30)
+        ) {
+            let text: String = picks
+                .iter()
+                .map(|(k, junk)| format!("{} {junk}\n", LINES[*k]))
+                .collect();
+            prop_assert_eq!(check_program(text.as_bytes()), parse_program(&text).1);
+        }
+    }
+}
