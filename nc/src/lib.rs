@@ -39,6 +39,7 @@ mod commands;
 mod control;
 mod error;
 mod expr;
+mod lines;
 mod model;
 pub mod run;
 mod stream;

@@ -4,6 +4,7 @@
 use std::io::BufRead;
 
 use crate::block::parse_line_into;
+use crate::lines::{Line, Lines};
 use crate::error::NcError;
 use crate::model::{Block, Item};
 
@@ -17,14 +18,13 @@ enum Open {
 }
 
 /// The blocks of a program read from `reader`, one at a time, in bounded
-/// memory: only the current line is held.
+/// memory: only the lines of the reader's buffer are held.
 ///
 /// Yields `Ok(block)` for each block and `Err` for each line in error (the
 /// reader then moves on to the next line); at the end, one `Err` per
 /// control structure left open.
 pub struct Blocks<R> {
-    reader: R,
-    buffer: Vec<u8>,
+    lines: Lines<R>,
     line: usize,
     open: Vec<(Open, NcError)>,
     done: bool,
@@ -36,8 +36,7 @@ impl<R: BufRead> Blocks<R> {
     /// Blocks of the program that `reader` delivers.
     pub fn new(reader: R) -> Self {
         Blocks {
-            reader,
-            buffer: Vec::new(),
+            lines: Lines::new(reader),
             line: 0,
             open: Vec::new(),
             done: false,
@@ -81,32 +80,14 @@ impl<R: BufRead> Blocks<R> {
 
     fn next_line(&mut self, block: &mut Block) -> Option<Result<(), NcError>> {
         loop {
-            // A whole line inside the reader's buffer is parsed where it
-            // lies; one that runs past it (or ends the file without a line
-            // end) is gathered first.
-            let buf = match self.reader.fill_buf() {
-                Ok([]) => return None,
-                Ok(buf) => buf,
+            let result = match self.lines.next_line()? {
+                Ok(Line::Text(text)) => parse_line_into(text, self.line + 1, block, self.keep),
+                Ok(Line::Bytes(raw)) => parse_raw(raw, self.line + 1, block, self.keep),
                 Err(e) => return Some(Err(self.read_error(&e))),
             };
-            if let Some(n) = memchr::memchr(b'\n', buf) {
-                self.line += 1;
-                let result = parse_raw(&buf[..n], self.line, block, self.keep);
-                self.reader.consume(n + 1);
-                match result {
-                    Some(r) => return Some(r),
-                    None => continue,
-                }
-            }
-            self.buffer.clear();
-            match self.reader.read_until(b'\n', &mut self.buffer) {
-                Ok(0) => return None,
-                Ok(_) => self.line += 1,
-                Err(e) => return Some(Err(self.read_error(&e))),
-            }
-            let raw = self.buffer.strip_suffix(b"\n").unwrap_or(&self.buffer);
-            if let Some(result) = parse_raw(raw, self.line, block, self.keep) {
-                return Some(result);
+            self.line += 1;
+            if result.is_some() {
+                return result;
             }
         }
     }
