@@ -56,16 +56,18 @@ fn skip_blanks(text: &str) -> &str {
 /// content is unspecified); `None` for a line with nothing but spaces and
 /// comments. With `keep` false the plain words (`X10`, `G1`) are checked
 /// but not kept: the block then holds only the other words (a check pass).
+/// `ascii` tells whether `text` is ASCII (columns are then byte offsets).
 pub fn parse_line_into(
     text: &str,
     line: usize,
     block: &mut Block,
     keep: bool,
+    ascii: bool,
 ) -> Option<Result<(), NcError>> {
     let text = text.strip_suffix('\r').unwrap_or(text);
     let mut cur = Cursor {
         line_text: text,
-        ascii: text.is_ascii(),
+        ascii,
         keep,
         line,
         number: None,

@@ -6,29 +6,31 @@ use std::io::{self, BufRead};
 
 /// One line, without its line end.
 pub enum Line<'a> {
-    /// A line of a chunk that is UTF-8 text.
-    Text(&'a str),
+    /// A line of a chunk that is UTF-8 text, and whether the chunk is
+    /// ASCII.
+    Text(&'a str, bool),
     /// A line of a chunk that is not: the line itself may still be.
     Bytes(&'a [u8]),
 }
 
 /// Whole lines read ahead.
 enum Chunk {
-    Text(String),
+    /// UTF-8 text, and whether it is ASCII.
+    Text(String, bool),
     Bytes(Vec<u8>),
 }
 
 impl Chunk {
     fn bytes(&self) -> &[u8] {
         match self {
-            Chunk::Text(s) => s.as_bytes(),
+            Chunk::Text(s, _) => s.as_bytes(),
             Chunk::Bytes(b) => b,
         }
     }
 
     fn into_bytes(self) -> Vec<u8> {
         match self {
-            Chunk::Text(s) => s.into_bytes(),
+            Chunk::Text(s, _) => s.into_bytes(),
             Chunk::Bytes(b) => b,
         }
     }
@@ -51,7 +53,7 @@ impl<R: BufRead> Lines<R> {
     pub fn new(reader: R) -> Self {
         Lines {
             reader,
-            chunk: Chunk::Text(String::new()),
+            chunk: Chunk::Bytes(Vec::new()),
             pos: 0,
             tail: Vec::new(),
             eof: false,
@@ -72,7 +74,7 @@ impl<R: BufRead> Lines<R> {
         let end = memchr::memchr(b'\n', &bytes[start..]).map_or(bytes.len(), |n| start + n);
         self.pos = end + 1;
         Some(Ok(match &self.chunk {
-            Chunk::Text(s) => Line::Text(&s[start..end]),
+            Chunk::Text(s, ascii) => Line::Text(&s[start..end], *ascii),
             Chunk::Bytes(b) => Line::Bytes(&b[start..end]),
         }))
     }
@@ -116,7 +118,10 @@ impl<R: BufRead> Lines<R> {
         self.tail = bytes.split_off(end);
         self.pos = 0;
         self.chunk = match String::from_utf8(bytes) {
-            Ok(s) => Chunk::Text(s),
+            Ok(s) => {
+                let ascii = s.is_ascii();
+                Chunk::Text(s, ascii)
+            }
             Err(e) => Chunk::Bytes(e.into_bytes()),
         };
         Ok(!self.chunk.bytes().is_empty())

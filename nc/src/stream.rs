@@ -4,8 +4,8 @@
 use std::io::BufRead;
 
 use crate::block::parse_line_into;
-use crate::lines::{Line, Lines};
 use crate::error::NcError;
+use crate::lines::{Line, Lines};
 use crate::model::{Block, Item};
 
 /// A control structure still open, with where it was opened.
@@ -81,7 +81,9 @@ impl<R: BufRead> Blocks<R> {
     fn next_line(&mut self, block: &mut Block) -> Option<Result<(), NcError>> {
         loop {
             let result = match self.lines.next_line()? {
-                Ok(Line::Text(text)) => parse_line_into(text, self.line + 1, block, self.keep),
+                Ok(Line::Text(text, ascii)) => {
+                    parse_line_into(text, self.line + 1, block, self.keep, ascii)
+                }
                 Ok(Line::Bytes(raw)) => parse_raw(raw, self.line + 1, block, self.keep),
                 Err(e) => return Some(Err(self.read_error(&e))),
             };
@@ -110,32 +112,35 @@ impl<R: BufRead> Blocks<R> {
 
     /// Follows `$FOR/$IF/$WHILE` nesting; an end without its start is an error.
     fn check_nesting(&mut self, block: &Block) -> Result<(), NcError> {
-        for (k, item) in block.items.iter().enumerate() {
-            let (closes, opens): (&[Open], Option<Open>) = match item {
-                Item::For { .. } => (&[], Some(Open::For)),
-                Item::If(_) => (&[], Some(Open::If)),
-                Item::While(_) => (&[], Some(Open::While)),
-                Item::Else => (&[Open::If], Some(Open::Else)),
-                Item::EndFor => (&[Open::For], None),
-                Item::EndIf => (&[Open::If, Open::Else], None),
-                Item::EndWhile => (&[Open::While], None),
-                _ => continue,
-            };
-            if !closes.is_empty() {
-                match self.open.last() {
-                    Some((kind, _)) if closes.contains(kind) => {
-                        self.open.pop();
-                    }
-                    _ => {
-                        let msg = format!("{} without its opening statement", end_name(item));
-                        return Err(Self::error_at(block, k, msg));
-                    }
+        // A control statement stands alone in its block (the parser
+        // checks that).
+        let [item] = block.items.as_slice() else {
+            return Ok(());
+        };
+        let (closes, opens): (&[Open], Option<Open>) = match item {
+            Item::For { .. } => (&[], Some(Open::For)),
+            Item::If(_) => (&[], Some(Open::If)),
+            Item::While(_) => (&[], Some(Open::While)),
+            Item::Else => (&[Open::If], Some(Open::Else)),
+            Item::EndFor => (&[Open::For], None),
+            Item::EndIf => (&[Open::If, Open::Else], None),
+            Item::EndWhile => (&[Open::While], None),
+            _ => return Ok(()),
+        };
+        if !closes.is_empty() {
+            match self.open.last() {
+                Some((kind, _)) if closes.contains(kind) => {
+                    self.open.pop();
+                }
+                _ => {
+                    let msg = format!("{} without its opening statement", end_name(item));
+                    return Err(Self::error_at(block, 0, msg));
                 }
             }
-            if let Some(kind) = opens {
-                let msg = open_name(kind).to_string();
-                self.open.push((kind, Self::error_at(block, k, msg)));
-            }
+        }
+        if let Some(kind) = opens {
+            let msg = open_name(kind).to_string();
+            self.open.push((kind, Self::error_at(block, 0, msg)));
         }
         Ok(())
     }
@@ -150,7 +155,7 @@ fn parse_raw(
     keep: bool,
 ) -> Option<Result<(), NcError>> {
     match std::str::from_utf8(raw) {
-        Ok(text) => parse_line_into(text, line, block, keep),
+        Ok(text) => parse_line_into(text, line, block, keep, text.is_ascii()),
         Err(_) => {
             let msg = "line is not valid UTF-8 text".to_string();
             Some(Err(plain_error(line, None, msg)))

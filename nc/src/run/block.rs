@@ -1,7 +1,7 @@
 //! One block: its words gathered into a plan, then carried out in the
 //! controller's order: plane, transitions, tool, `#OTC`, TRC, motion.
 
-use tc_request::{ArcDir, AxisWords, Motion, Request, AXES};
+use tc_request::{ArcDir, AxisWords, Motion, Request};
 use uoi::Value;
 
 use super::eval::eval;
@@ -58,6 +58,15 @@ impl Interpreter<'_> {
         Ok(plan.end)
     }
 
+    /// The value of a word: a plain number at once, else evaluated.
+    #[inline]
+    fn value(&mut self, e: &crate::Expr) -> Result<f64, String> {
+        match e {
+            crate::Expr::Number(v) if v.is_finite() => Ok(*v),
+            e => eval(e, self),
+        }
+    }
+
     fn warn(&mut self, message: String) {
         let w = self.error(message);
         self.report.warnings.push(w);
@@ -68,7 +77,7 @@ impl Interpreter<'_> {
             Item::ProgramName(_) | Item::Kinematic(_) | Item::Trafo(_) | Item::Hsc { .. } => {}
             Item::G(g) => self.g_code(*g, plan)?,
             Item::Axis(a, e) => {
-                plan.words[axis_index(*a)] = Some(eval(e, self)?);
+                plan.words[axis_index(*a)] = Some(self.value(e)?);
                 plan.motion_col.get_or_insert(self.col);
             }
             Item::Centre(c, e) => {
@@ -77,10 +86,10 @@ impl Interpreter<'_> {
                     CentreAxis::J => 1,
                     CentreAxis::K => 2,
                 };
-                plan.centre[k] = Some(eval(e, self)?);
+                plan.centre[k] = Some(self.value(e)?);
                 plan.motion_col.get_or_insert(self.col);
             }
-            Item::Feed(e) => self.feed_pending = Some(eval(e, self)?),
+            Item::Feed(e) => self.feed_pending = Some(self.value(e)?),
             Item::ToolData(e) => {
                 let d = whole(eval(e, self)?, "D")?;
                 let d = u32::try_from(d)
@@ -241,24 +250,21 @@ impl Interpreter<'_> {
 
     /// The block's motion, if it has axis words (or an arc's centre).
     fn motion_of(&mut self, plan: &Plan) -> Result<(), String> {
-        let has_words = plan.words.iter().any(Option::is_some);
-        let has_centre = plan.centre.iter().any(Option::is_some);
-        if !has_words && !has_centre {
+        // An axis or centre word was read (its column kept).
+        if plan.motion_col.is_none() {
             return Ok(());
         }
+        let has_centre = plan.centre.iter().any(Option::is_some);
         let Some(kind) = self.motion else {
             return Err("axis words before any motion kind (G0, G1, G2, G3)".into());
         };
-        let mut words: AxisWords = [None; AXES];
-        for (k, w) in plan.words.iter().enumerate() {
+        let mut words: AxisWords = plan.words;
+        for (w, pos) in words.iter_mut().zip(self.pos.iter_mut()) {
             if let Some(v) = w {
-                let target = if self.incremental {
-                    self.pos[k] + v
-                } else {
-                    *v
-                };
-                words[k] = Some(target);
-                self.pos[k] = target;
+                if self.incremental {
+                    *v += *pos;
+                }
+                *pos = *v;
             }
         }
         let feed = self.feed_pending.take();
