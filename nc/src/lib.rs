@@ -1,5 +1,6 @@
-//! The NC front end's first part: a parser of NC programs in the ISG /
-//! DIN 66025 subset that the manuals' examples use, into a typed block model.
+//! The NC front end: a parser of NC programs in the ISG / DIN 66025 subset
+//! that the manuals' examples use, into a typed block model, and an
+//! interpreter that runs them as requests to a controller.
 //!
 //! **What is parsed.** One block per line: the block number `N`, the program
 //! header `%name`, comments `( ... )` and `;` to the end of the line; G
@@ -15,24 +16,29 @@
 //! `#TRAFO ON|OFF`, `#HSC ON[..]|OFF`.
 //!
 //! Words and expressions are parsed with winnow; the line/block split is
-//! plain code. Every unknown or malformed word is an [`NcError`] with line,
-//! block number and column; parsing goes on with the next line, so a program
-//! reports all its errors. Nothing panics on any input.
+//! plain code, and so is a fast path for the plain address words that make
+//! up most of a long program (`X10`, `G1`: a letter and a number), checked
+//! by a property test to read exactly what the winnow parser reads. Every
+//! unknown or malformed word is an [`NcError`] with line, block number and
+//! column; parsing goes on with the next line, so a program reports all its
+//! errors. Nothing panics on any input.
 //!
 //! **Running.** [`run::run_blocks`] interprets a program into the requests
 //! of `tc-request` (object writes, motion commands, a final `EXEC`) sent to
 //! a [`run::Controller`]: modal state, parameters and variables, loops and
 //! conditions, the D table, `#OTC`. It has no geometry: the correction is
-//! the controller's.
+//! the controller's. Its errors name the line, block and column of the
+//! word that caused them.
 //!
 //! **Streaming.** A program of any length runs in bounded memory: a first
 //! pass over the text ([`check_program`]) collects every error, and only a
-//! program without one runs, in a second pass that pulls its blocks from a
-//! [`Blocks`] reader as they are needed. The interpreter holds only the
-//! blocks of the outermost open `$FOR`/`$WHILE` (for jumping back) and
-//! works off a full spooler with `EXEC`, as a controller's interpreter
-//! waits for its interpolator. [`parse_program`] and [`run::run_program`]
-//! do the same on a program held whole (tests, small programs).
+//! program without one runs, in a second pass ([`run::run_reader`]) that
+//! pulls its blocks from a [`Blocks`] reader as they are needed, into
+//! reused storage. The interpreter holds only the blocks of the outermost
+//! open `$FOR`/`$WHILE` (for jumping back) and works off a full spooler
+//! with `EXEC`, as a controller's interpreter waits for its interpolator.
+//! [`parse_program`] and [`run::run_program`] do the same on a program
+//! held whole (tests, small programs).
 
 mod block;
 mod commands;

@@ -127,3 +127,52 @@ impl<R: BufRead> Lines<R> {
         Ok(!self.chunk.bytes().is_empty())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::panic)]
+    use super::*;
+
+    /// Every line of `bytes` read through a reader buffer of `capacity`
+    /// bytes, as text or as raw bytes.
+    fn lines(bytes: &[u8], capacity: usize) -> Vec<Result<String, Vec<u8>>> {
+        let mut lines = Lines::new(io::BufReader::with_capacity(capacity, bytes));
+        let mut out = Vec::new();
+        while let Some(line) = lines.next_line() {
+            out.push(match line.unwrap() {
+                Line::Text(t, ascii) => {
+                    // The chunk's flag: an ASCII chunk has ASCII lines.
+                    assert!(!ascii || t.is_ascii());
+                    Ok(t.to_string())
+                }
+                Line::Bytes(b) => Err(b.to_vec()),
+            });
+        }
+        out
+    }
+
+    #[test]
+    fn lines_come_whole_whatever_the_buffer() {
+        let text = "N1 X1\r\n\nN2 Y2 (ä)\nN3 a long line of words X1 Y2 Z3\nlast";
+        let expected: Vec<Result<String, Vec<u8>>> =
+            text.split('\n').map(|l| Ok(l.to_string())).collect();
+        for capacity in [1, 2, 3, 7, 64, 4096] {
+            assert_eq!(lines(text.as_bytes(), capacity), expected, "{capacity}");
+        }
+        assert!(lines(b"", 4).is_empty());
+        assert_eq!(lines(b"\n", 4), vec![Ok(String::new())]);
+    }
+
+    #[test]
+    fn a_chunk_with_bad_text_hands_out_bytes() {
+        let bytes = b"N1 X1\nN2 \xff\nN3 X3\n";
+        let got = lines(bytes, 64);
+        assert_eq!(got.len(), 3);
+        assert_eq!(got[1], Err(b"N2 \xff".to_vec()));
+        assert_eq!(got[0], Err(b"N1 X1".to_vec()));
+        // With a small buffer the good lines come in chunks of their own.
+        let got = lines(bytes, 4);
+        assert_eq!(got[0], Ok("N1 X1".to_string()));
+        assert_eq!(got[1], Err(b"N2 \xff".to_vec()));
+    }
+}
