@@ -43,6 +43,9 @@ pub struct Lines<R> {
     chunk: Chunk,
     /// Where the next line of `chunk` starts.
     pos: usize,
+    /// The line ends of `chunk` (found in one sweep), and the next one.
+    ends: Vec<usize>,
+    next_end: usize,
     /// The start of a line whose end was not read yet.
     tail: Vec<u8>,
     eof: bool,
@@ -55,6 +58,8 @@ impl<R: BufRead> Lines<R> {
             reader,
             chunk: Chunk::Bytes(Vec::new()),
             pos: 0,
+            ends: Vec::new(),
+            next_end: 0,
             tail: Vec::new(),
             eof: false,
         }
@@ -70,8 +75,11 @@ impl<R: BufRead> Lines<R> {
             }
         }
         let start = self.pos;
-        let bytes = self.chunk.bytes();
-        let end = memchr::memchr(b'\n', &bytes[start..]).map_or(bytes.len(), |n| start + n);
+        let end = match self.ends.get(self.next_end) {
+            Some(&end) => end,
+            None => self.chunk.bytes().len(),
+        };
+        self.next_end += 1;
         self.pos = end + 1;
         Some(Ok(match &self.chunk {
             Chunk::Text(s, ascii) => Line::Text(&s[start..end], *ascii),
@@ -117,6 +125,9 @@ impl<R: BufRead> Lines<R> {
         };
         self.tail = bytes.split_off(end);
         self.pos = 0;
+        self.ends.clear();
+        self.ends.extend(memchr::memchr_iter(b'\n', &bytes));
+        self.next_end = 0;
         self.chunk = match String::from_utf8(bytes) {
             Ok(s) => {
                 let ascii = s.is_ascii();
