@@ -1,12 +1,15 @@
 //! `addipos run`: an NC program parsed, interpreted into requests and run
-//! on a fresh emulator, every request kept with its answer and the
+//! on a fresh emulator, every request handed on with its answer and the
 //! elements it spooled, so that the run can be printed and written as an
-//! equivalent conformance trace.
+//! equivalent conformance trace as it goes ([`run_checked_nc`], streamed:
+//! memory stays flat for a program of any length), or kept whole
+//! ([`run_nc`], for tests and plots).
 
 use std::fmt::Write as _;
+use std::io::{self, BufRead};
 
-use nc::run::{run_program, wear_axis, At, Controller, Report, WEAR_RADIUS, WEAR_RADIUS_CONT};
-use nc::{parse_program, NcError};
+use nc::run::{run_reader, wear_axis, At, Controller, Report, WEAR_RADIUS, WEAR_RADIUS_CONT};
+use nc::{check_program, Blocks, NcError};
 use tc_request::{AxisPos, Reply, Request, SpoolRecord, AXIS_NAMES};
 use tool_store::{ToolKey, ToolValue};
 
@@ -48,22 +51,48 @@ pub struct NcRun {
     pub wear: Vec<(String, f64)>,
 }
 
-/// The emulator with a record of everything it was asked.
-struct Recorder {
-    emu: Emulator,
-    exchanges: Vec<Exchange>,
+/// What a run leaves besides its exchanges.
+#[derive(Debug, Clone, Default)]
+pub struct NcOutcome {
+    /// The error that stopped the run, if one did.
+    pub error: Option<NcError>,
+    /// Warnings and controller faults of the run.
+    pub report: Report,
+    /// The machine axes used as X, Y, Z (for `I J K` of arcs).
+    pub axis_nr: [u8; 3],
+    /// The executed position at the end.
+    pub position: Option<AxisPos>,
+    /// The V.G. wear values read at the end: name and value.
+    pub wear: Vec<(String, f64)>,
 }
 
-impl Controller for Recorder {
+/// Where each exchange of a run goes as it happens, with the machine axes
+/// used as X, Y, Z; an output error stops the writing (it is returned at
+/// the end of the run).
+pub type ExchangeSink<'s> = dyn FnMut(Exchange, [u8; 3]) -> io::Result<()> + 's;
+
+/// The emulator, handing everything it is asked to a sink.
+struct Recorder<'r, 's> {
+    emu: Emulator,
+    sink: &'r mut ExchangeSink<'s>,
+    failed: Option<io::Error>,
+}
+
+impl Controller for Recorder<'_, '_> {
     fn call(&mut self, req: &Request, at: At) -> Reply {
         let reply = self.emu.run(req);
         let spooled = self.emu.take_spool_log();
-        self.exchanges.push(Exchange {
-            at,
-            request: req.clone(),
-            reply: reply.clone(),
-            spooled,
-        });
+        if self.failed.is_none() {
+            let x = Exchange {
+                at,
+                request: req.clone(),
+                reply: reply.clone(),
+                spooled,
+            };
+            if let Err(e) = (self.sink)(x, self.emu.tc().axis_nr()) {
+                self.failed = Some(e);
+            }
+        }
         reply
     }
 }
@@ -87,7 +116,7 @@ pub fn run_nc(text: &str) -> NcRun {
 /// Writes the tool values of `tools` (group, entry and field, value) as
 /// requests, so that the trace of the run holds them too; WKZINDEX of each
 /// group touched is 0 again afterwards.
-fn preload(rec: &mut Recorder, tools: &[(u8, ToolKey, ToolValue)]) {
+fn preload(rec: &mut Recorder<'_, '_>, tools: &[(u8, ToolKey, ToolValue)]) {
     let at = At::default();
     let wkz = |g: u8| uoi::ObjectAddress::new(tc_module::TC_BUS, 1, u16::from(g), 8);
     for (group, key, value) in tools {
@@ -111,31 +140,62 @@ fn preload(rec: &mut Recorder, tools: &[(u8, ToolKey, ToolValue)]) {
 /// As [`run_nc`], with tool data written first (a tool file's values):
 /// an NC program's `D` word then selects an entry that holds them.
 pub fn run_nc_with_tools(text: &str, tools: &[(u8, ToolKey, ToolValue)]) -> NcRun {
-    let (blocks, parse_errors) = parse_program(text);
+    let parse_errors = check_program(text.as_bytes());
     if !parse_errors.is_empty() {
         return NcRun {
             parse_errors,
             ..NcRun::default()
         };
     }
+    let mut exchanges = Vec::new();
+    let mut keep = |x: Exchange, _: [u8; 3]| {
+        exchanges.push(x);
+        Ok(())
+    };
+    // Collecting into memory cannot fail.
+    let outcome = run_checked_nc(text.as_bytes(), tools, &mut keep).unwrap_or_default();
+    NcRun {
+        exchanges,
+        parse_errors,
+        error: outcome.error,
+        report: outcome.report,
+        axis_nr: outcome.axis_nr,
+        position: outcome.position,
+        wear: outcome.wear,
+    }
+}
+
+/// Runs the program `reader` delivers on a fresh emulator (the one a trace
+/// without header options replays on), after the tool data `tools`; every
+/// request goes to `sink` with its answer and spooled elements as it
+/// happens, so memory stays flat for a program of any length. The program
+/// must have been checked first ([`nc::check_program`]): a block in error
+/// stops the run there. Errors: the first output error of `sink`.
+pub fn run_checked_nc<R: BufRead>(
+    reader: R,
+    tools: &[(u8, ToolKey, ToolValue)],
+    sink: &mut ExchangeSink<'_>,
+) -> io::Result<NcOutcome> {
     let mut rec = Recorder {
         emu: fresh_emulator(&default_header()),
-        exchanges: Vec::new(),
+        sink,
+        failed: None,
     };
     preload(&mut rec, tools);
     let mut report = Report::default();
-    let error = run_program(&blocks, &mut rec, &mut report).err();
-    if error.is_some() {
+    let mut blocks = Blocks::new(reader);
+    let error = run_reader(&mut blocks, &mut rec, &mut report).err();
+    if let Some(e) = &error {
         // Run what was spooled before the error, so that the position and
         // the wear show where the machine stopped.
-        let at = error.as_ref().map_or(At::default(), |e| At {
+        let at = At {
             line: e.line,
             number: e.block_number,
-        });
+        };
         rec.call(&Request::Exec(None), at);
     }
     let end = At {
-        line: blocks.last().map_or(0, |b| b.line),
+        line: blocks.line(),
         number: None,
     };
     let position = match rec.call(&Request::Pos, end) {
@@ -148,15 +208,16 @@ pub fn run_nc_with_tools(text: &str, tools: &[(u8, ToolKey, ToolValue)]) -> NcRu
             wear.push((name, v));
         }
     }
-    NcRun {
+    if let Some(e) = rec.failed {
+        return Err(e);
+    }
+    Ok(NcOutcome {
         axis_nr: rec.emu.tc().axis_nr(),
-        exchanges: rec.exchanges,
-        parse_errors,
         error,
         report,
         position,
         wear,
-    }
+    })
 }
 
 /// The header of a trace with no options: what `run_nc` runs on.
@@ -200,6 +261,34 @@ fn block_comment(at: At) -> String {
     }
 }
 
+/// The first line of the trace of a run of program `name`.
+pub fn trace_head(name: &str) -> String {
+    format!("@name NC program {name}\n")
+}
+
+/// The spooled elements of an exchange in trace `<` syntax, with its
+/// block, one line each (without line ends).
+pub fn spool_lines_of(x: &Exchange, axis_nr: [u8; 3]) -> impl Iterator<Item = String> + '_ {
+    x.spooled.iter().map(move |rec| {
+        let el = format_record(rec, axis_nr);
+        format!("< {el}    {}", block_comment(x.at))
+    })
+}
+
+/// An exchange as trace lines (line ends included): the request with its
+/// answer as the expectation, then the elements it spooled.
+pub fn trace_lines(x: &Exchange, axis_nr: [u8; 3]) -> String {
+    let mut t = format!("{}", x.request);
+    if let Some(e) = expectation(&x.reply) {
+        let _ = write!(t, " => {e}");
+    }
+    let _ = writeln!(t, "    {}", block_comment(x.at));
+    for rec in &x.spooled {
+        let _ = writeln!(t, "< {}", format_record(rec, axis_nr));
+    }
+    t
+}
+
 impl NcRun {
     /// Whether the run failed: a parse error, an error that stopped it or
     /// a controller fault.
@@ -209,29 +298,18 @@ impl NcRun {
 
     /// Every spooled element in trace `<` syntax, with its block.
     pub fn spool_lines(&self) -> Vec<String> {
-        let mut out = Vec::new();
-        for x in &self.exchanges {
-            for rec in &x.spooled {
-                let el = format_record(rec, self.axis_nr);
-                out.push(format!("< {el}    {}", block_comment(x.at)));
-            }
-        }
-        out
+        self.exchanges
+            .iter()
+            .flat_map(|x| spool_lines_of(x, self.axis_nr))
+            .collect()
     }
 
     /// The run as a conformance trace named `name`: every request with its
     /// answer as the expectation and the elements it spooled.
     pub fn trace(&self, name: &str) -> String {
-        let mut t = format!("@name NC program {name}\n");
+        let mut t = trace_head(name);
         for x in &self.exchanges {
-            let _ = write!(t, "{}", x.request);
-            if let Some(e) = expectation(&x.reply) {
-                let _ = write!(t, " => {e}");
-            }
-            let _ = writeln!(t, "    {}", block_comment(x.at));
-            for rec in &x.spooled {
-                let _ = writeln!(t, "< {}", format_record(rec, self.axis_nr));
-            }
+            t.push_str(&trace_lines(x, self.axis_nr));
         }
         t
     }

@@ -1,53 +1,97 @@
 //! One line of a program into one block: block number, header, comments,
 //! and the words between them.
 
-use winnow::ascii::space0;
 use winnow::error::{ContextError, ErrMode};
 use winnow::Parser;
 
 use crate::commands::command;
 use crate::control::statement;
 use crate::error::NcError;
-use crate::expr::{describe, integer};
+use crate::expr::{describe, integer, plain_number};
 use crate::model::{Block, Item};
-use crate::words::word;
+use crate::words::{plain_word, word};
 
 /// Where a line is being read: for the column and the error's block number.
 struct Cursor<'a> {
     line_text: &'a str,
+    ascii: bool,
+    /// Whether plain words are kept (else only checked: a check pass).
+    keep: bool,
     line: usize,
     number: Option<u32>,
 }
 
 impl Cursor<'_> {
-    fn error(&self, rest: &str, message: String) -> NcError {
+    /// The column (from 1, in characters) where `rest` starts.
+    fn column(&self, rest: &str) -> usize {
         let offset = self.line_text.len() - rest.len();
+        if self.ascii {
+            offset + 1
+        } else {
+            self.line_text[..offset].chars().count() + 1
+        }
+    }
+
+    fn error(&self, rest: &str, message: String) -> NcError {
         NcError {
             line: self.line,
             block_number: self.number,
-            column: self.line_text[..offset].chars().count() + 1,
+            column: self.column(rest),
             message,
         }
     }
 }
 
-/// Parses one line; `None` for a line with nothing but spaces and comments.
-pub fn parse_line(text: &str, line: usize) -> Option<Result<Block, NcError>> {
+/// Spaces and tabs at the start of `text` skipped.
+fn skip_blanks(text: &str) -> &str {
+    let n = text
+        .as_bytes()
+        .iter()
+        .take_while(|b| matches!(b, b' ' | b'\t'))
+        .count();
+    &text[n..]
+}
+
+/// Parses one line into `block` (its storage reused; on an error its
+/// content is unspecified); `None` for a line with nothing but spaces and
+/// comments. With `keep` false the plain words (`X10`, `G1`) are checked
+/// but not kept: the block then holds only the other words (a check pass).
+/// `ascii` tells whether `text` is ASCII (columns are then byte offsets).
+pub fn parse_line_into(
+    text: &str,
+    line: usize,
+    block: &mut Block,
+    keep: bool,
+    ascii: bool,
+) -> Option<Result<(), NcError>> {
     let text = text.strip_suffix('\r').unwrap_or(text);
     let mut cur = Cursor {
         line_text: text,
+        ascii,
+        keep,
         line,
         number: None,
     };
-    let mut rest = text.trim_start_matches([' ', '\t']);
+    block.line = line;
+    block.number = None;
+    block.items.clear();
+    block.columns.clear();
+    let mut rest = skip_blanks(text);
     if let Some(name) = rest.strip_prefix('%') {
-        return header(&cur, name);
+        return Some(header(&cur, name, block));
     }
-    if rest.starts_with(['N', 'n']) {
-        let mut after = &rest[1..];
-        match integer.parse_next(&mut after) {
+    if let Some(after) = rest.strip_prefix(['N', 'n']) {
+        let mut after = after;
+        // A plain number of up to 9 digits read by a byte scan, else by
+        // the parser (which also refuses what does not fit in u32).
+        let plain = plain_number(after.as_bytes(), true).map(|n| {
+            after = &after[n.len..];
+            n.whole()
+        });
+        match plain.map_or_else(|| integer.parse_next(&mut after), Ok) {
             Ok(n) => {
                 cur.number = Some(n);
+                block.number = Some(n);
                 rest = after;
             }
             Err(_) => {
@@ -56,75 +100,111 @@ pub fn parse_line(text: &str, line: usize) -> Option<Result<Block, NcError>> {
             }
         }
     }
-    match items(&cur, rest) {
-        Ok(items) if items.is_empty() && cur.number.is_none() => None,
-        Ok(items) => Some(Ok(Block {
-            line,
-            number: cur.number,
-            items,
-        })),
+    match items(&cur, rest, block) {
+        Ok(0) if cur.number.is_none() => None,
+        Ok(_) => Some(Ok(())),
         Err(e) => Some(Err(e)),
     }
 }
 
-fn header(cur: &Cursor<'_>, after_percent: &str) -> Option<Result<Block, NcError>> {
+fn header(cur: &Cursor<'_>, after_percent: &str, block: &mut Block) -> Result<(), NcError> {
     let end = after_percent
         .find(|c: char| c.is_whitespace() || c == '(' || c == ';')
         .unwrap_or(after_percent.len());
     let (name, rest) = after_percent.split_at(end);
     if name.is_empty() {
         let msg = "malformed program header: '%' needs a program name".to_string();
-        return Some(Err(cur.error(after_percent, msg)));
+        return Err(cur.error(after_percent, msg));
     }
-    let mut block = match items(cur, rest) {
-        Ok(items) => Block {
-            line: cur.line,
-            number: None,
-            items,
-        },
-        Err(e) => return Some(Err(e)),
-    };
-    block.items.insert(0, Item::ProgramName(name.to_string()));
-    Some(Ok(block))
+    block.items.push(Item::ProgramName(name.to_string()));
+    block.columns.push(cur.column(after_percent) - 1);
+    items(cur, rest, block).map(|_| ())
 }
 
-/// The words of a block up to its end, skipping comments.
-fn items(cur: &Cursor<'_>, mut rest: &str) -> Result<Vec<Item>, NcError> {
-    let mut items = Vec::new();
+/// Whether a word may end before `c`: a blank, a comment, the next word.
+fn ends_word(c: char) -> bool {
+    c.is_whitespace() || matches!(c, '(' | ';' | '#' | '$') || c.is_ascii_alphabetic()
+}
+
+/// The words of a block up to its end, skipping comments, appended to
+/// `block` (plain words only when the cursor keeps them); a `$` control
+/// statement must stand alone in its block. The number of words.
+fn items(cur: &Cursor<'_>, mut rest: &str, block: &mut Block) -> Result<usize, NcError> {
+    let mut words = Words {
+        count: block.items.len(),
+        second: 1,
+    };
     loop {
-        rest = rest.trim_start_matches([' ', '\t']);
-        if rest.is_empty() || rest.starts_with(';') {
-            return Ok(items);
-        }
-        if rest.starts_with('(') {
-            match rest.find(')') {
-                Some(end) => rest = &rest[end + 1..],
-                None => return Err(cur.error(rest, "unclosed comment: ')' missing".into())),
+        rest = skip_blanks(rest);
+        let Some(&first) = rest.as_bytes().first() else {
+            return alone(cur, block, &words);
+        };
+        match first {
+            b';' => return alone(cur, block, &words),
+            b'(' => {
+                match rest.find(')') {
+                    Some(end) => rest = &rest[end + 1..],
+                    None => return Err(cur.error(rest, "unclosed comment: ')' missing".into())),
+                }
+                continue;
             }
-            continue;
+            _ => {}
         }
         let start = rest;
-        let parsed: Result<Item, ErrMode<ContextError>> = match rest.chars().next() {
-            Some('#') => command.parse_next(&mut rest),
-            Some('$') => statement.parse_next(&mut rest),
-            _ => word.parse_next(&mut rest),
-        };
-        match parsed {
-            Ok(item) => items.push(item),
-            Err(e) => return Err(cur.error(start, word_message(start, &e))),
-        }
-        if let Some(c) = rest.chars().next() {
-            if !(c.is_whitespace()
-                || matches!(c, '(' | ';')
-                || c.is_ascii_alphabetic()
-                || matches!(c, '#' | '$'))
-            {
-                let msg = format!("unexpected '{c}' after a word");
-                return Err(cur.error(rest, msg));
+        let kept = cur.keep.then_some(&mut block.items);
+        if plain_word(&mut rest, kept) {
+            if cur.keep {
+                block.columns.push(cur.column(start));
+            }
+        } else {
+            let parsed: Result<Item, ErrMode<ContextError>> = match first {
+                b'#' => command.parse_next(&mut rest),
+                b'$' => statement.parse_next(&mut rest),
+                _ => word.parse_next(&mut rest),
+            };
+            match parsed {
+                Ok(item) => {
+                    block.items.push(item);
+                    block.columns.push(cur.column(start));
+                }
+                Err(e) => return Err(cur.error(start, word_message(start, &e))),
             }
         }
-        let _ = space0::<&str, ContextError>.parse_next(&mut rest);
+        words.count += 1;
+        if words.count == 2 {
+            words.second = cur.column(start);
+        }
+        let next = match rest.as_bytes().first() {
+            Some(&b) if b.is_ascii() => Some(char::from(b)),
+            Some(_) => rest.chars().next(),
+            None => None,
+        };
+        if let Some(c) = next.filter(|c| !ends_word(*c)) {
+            let msg = format!("unexpected '{c}' after a word");
+            return Err(cur.error(rest, msg));
+        }
     }
+}
+
+/// The words of a block read so far (plain ones included) and the column
+/// of the second.
+struct Words {
+    count: usize,
+    second: usize,
+}
+
+/// Refuses a `$` control statement that stands beside other words (at the
+/// column of the second word); the number of words.
+fn alone(cur: &Cursor<'_>, block: &Block, words: &Words) -> Result<usize, NcError> {
+    if words.count > 1 && block.items.iter().any(Item::is_control) {
+        return Err(NcError {
+            line: cur.line,
+            block_number: cur.number,
+            column: words.second,
+            message: "a $ control statement must stand alone in its block".into(),
+        });
+    }
+    Ok(words.count)
 }
 
 /// The message of a failed word: the word as written and what was wrong.

@@ -129,9 +129,9 @@ fn set_tool_param(i: &mut &str) -> ModalResult<Item> {
     let value = word_value.parse_next(i)?;
     closing(i)?;
     Ok(Item::SetToolParam {
-        line,
-        column,
-        value,
+        line: Box::new(line),
+        column: Box::new(column),
+        value: Box::new(value),
     })
 }
 
@@ -144,8 +144,8 @@ fn get_tool_param(i: &mut &str) -> ModalResult<Item> {
         .parse_next(i)?;
     closing(i)?;
     Ok(Item::GetToolParam {
-        line,
-        column,
+        line: Box::new(line),
+        column: Box::new(column),
         target,
     })
 }

@@ -71,8 +71,8 @@ fn for_head(i: &mut &str) -> ModalResult<Item> {
     let step = expr.parse_next(i)?;
     Ok(Item::For {
         var,
-        start,
-        end,
-        step,
+        start: Box::new(start),
+        end: Box::new(end),
+        step: Box::new(step),
     })
 }

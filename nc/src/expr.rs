@@ -35,7 +35,7 @@ pub enum Var {
         /// The scope letter after `V.`: P (program), G (global), L (local), S, E.
         scope: char,
         /// The dotted path after the scope.
-        path: Vec<Segment>,
+        path: Box<[Segment]>,
     },
 }
 
@@ -298,13 +298,94 @@ fn func_of(name: &str) -> Option<Func> {
 }
 
 /// An unsigned decimal number: `10`, `20.3`, `.5`, `5.`.
+#[inline]
 pub fn number(i: &mut &str) -> ModalResult<f64> {
-    alt(((digit1, opt(('.', digit0))).take(), ('.', digit1).take()))
+    (digit0, opt((one_of(|c: char| c == '.'), digit0)))
+        .take()
+        .verify(|t: &str| t.bytes().any(|b| b.is_ascii_digit()))
         .try_map(str::parse::<f64>)
         .parse_next(i)
 }
 
+/// Powers of ten that are exact doubles.
+const POW10: [f64; 16] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+];
+
+/// A plain number as read: its digits as an integer, how many of them
+/// follow the `.`, its sign and its length in bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PlainNumber {
+    /// The digits as an integer (at most 15 digits: below 2^53).
+    pub mantissa: u64,
+    /// Digits after the `.`.
+    pub fraction: usize,
+    /// A leading `-`.
+    pub negative: bool,
+    /// Bytes read.
+    pub len: usize,
+}
+
+impl PlainNumber {
+    /// The value: the digits and the power of ten are exact doubles, so
+    /// their quotient is the correctly rounded value, as `str::parse`
+    /// gives it.
+    pub fn value(&self) -> f64 {
+        let m = self.mantissa as f64;
+        let v = match self.fraction {
+            0 => m,
+            f => m / POW10[f],
+        };
+        if self.negative {
+            -v
+        } else {
+            v
+        }
+    }
+
+    /// The value of a whole number (read with `whole`: at most 9 digits,
+    /// so within u32).
+    pub fn whole(&self) -> u32 {
+        u32::try_from(self.mantissa).unwrap_or(u32::MAX)
+    }
+}
+
+/// A plain number at the start of `b`: digits (at most 9 and unsigned
+/// when `whole`), or a sign, digits, `.`, digits, at most 15 digits in
+/// all; `None` for anything else (the number parser reads it).
+pub fn plain_number(b: &[u8], whole: bool) -> Option<PlainNumber> {
+    let signed = !whole && matches!(b.first(), Some(b'-' | b'+'));
+    let mut k = usize::from(signed);
+    let mut mantissa = 0u64;
+    let mut digits = 0usize;
+    let mut fraction: Option<usize> = None;
+    while let Some(&c) = b.get(k) {
+        match c {
+            b'0'..=b'9' => {
+                mantissa = mantissa * 10 + u64::from(c - b'0');
+                digits += 1;
+                if let Some(f) = fraction.as_mut() {
+                    *f += 1;
+                }
+            }
+            b'.' if fraction.is_none() && !whole => fraction = Some(0),
+            _ => break,
+        }
+        k += 1;
+        if digits > if whole { 9 } else { 15 } {
+            return None;
+        }
+    }
+    (digits > 0).then_some(PlainNumber {
+        mantissa,
+        fraction: fraction.unwrap_or(0),
+        negative: b.first() == Some(&b'-'),
+        len: k,
+    })
+}
+
 /// An unsigned integer that fits in `u32`.
+#[inline]
 pub fn integer(i: &mut &str) -> ModalResult<u32> {
     digit1.try_map(str::parse::<u32>).parse_next(i)
 }
@@ -332,7 +413,10 @@ fn v_var(i: &mut &str) -> ModalResult<Var> {
     let rest: Vec<Segment> = repeat(0.., preceded('.', cut_err(segment))).parse_next(i)?;
     let mut path = vec![first];
     path.extend(rest);
-    Ok(Var::V { scope, path })
+    Ok(Var::V {
+        scope,
+        path: path.into_boxed_slice(),
+    })
 }
 
 fn segment(i: &mut &str) -> ModalResult<Segment> {
@@ -348,14 +432,23 @@ fn segment(i: &mut &str) -> ModalResult<Segment> {
 
 /// The value of an address word: a signed number or variable, or `[expr]`.
 /// No spaces inside, so `X10 Y-5` stays two words.
+#[inline]
 pub fn word_value(i: &mut &str) -> ModalResult<Expr> {
-    let minus = opt(one_of(['-', '+'])).parse_next(i)?;
-    let value = alt((
-        number.map(Expr::Number),
-        var.map(Expr::Var),
-        bracketed('[', ']'),
-    ))
-    .context(expected("a number, a parameter or [expression]"))
+    let minus = match i.as_bytes().first() {
+        Some(b'-') => Some('-'),
+        Some(b'+') => Some('+'),
+        _ => None,
+    };
+    if minus.is_some() {
+        *i = &i[1..];
+    }
+    // What may follow is told by its first character.
+    let value = (|i: &mut &str| match i.as_bytes().first() {
+        Some(b'0'..=b'9' | b'.') => number.map(Expr::Number).parse_next(i),
+        Some(b'[') => bracketed('[', ']').parse_next(i),
+        _ => var.map(Expr::Var).parse_next(i),
+    })
+    .context(expected_value())
     .parse_next(i)?;
     Ok(match minus {
         Some('-') => match value {
@@ -364,6 +457,10 @@ pub fn word_value(i: &mut &str) -> ModalResult<Expr> {
         },
         _ => value,
     })
+}
+
+fn expected_value() -> StrContext {
+    expected("a number, a parameter or [expression]")
 }
 
 /// The message of a failed parse, from its innermost context.
@@ -377,4 +474,33 @@ pub fn describe(e: &ErrMode<ContextError>) -> Option<String> {
         StrContext::Expected(v) => format!("expected {v}"),
         _ => c.to_string(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(5000))]
+
+        /// The exact short path gives what the number parser (and so
+        /// `str::parse`) gives, or leaves the number to it.
+        #[test]
+        fn plain_numbers_are_those_of_the_number_parser(
+            sign in "[-+]?", int in "[0-9]{0,18}", frac in proptest::option::of("[0-9]{0,18}")
+        ) {
+            let digits = match &frac {
+                Some(f) => format!("{int}.{f}"),
+                None => int.clone(),
+            };
+            let text = format!("{sign}{digits}");
+            if let Some(p) = plain_number(text.as_bytes(), false) {
+                let mut rest = digits.as_str();
+                let n = number.parse_next(&mut rest).unwrap_or(f64::NAN);
+                prop_assert_eq!(p.value(), if sign == "-" { -n } else { n });
+                prop_assert_eq!(p.len, text.len());
+            }
+        }
+    }
 }

@@ -1,5 +1,6 @@
-//! The NC front end's first part: a parser of NC programs in the ISG /
-//! DIN 66025 subset that the manuals' examples use, into a typed block model.
+//! The NC front end: a parser of NC programs in the ISG / DIN 66025 subset
+//! that the manuals' examples use, into a typed block model, and an
+//! interpreter that runs them as requests to a controller.
 //!
 //! **What is parsed.** One block per line: the block number `N`, the program
 //! header `%name`, comments `( ... )` and `;` to the end of the line; G
@@ -15,24 +16,36 @@
 //! `#TRAFO ON|OFF`, `#HSC ON[..]|OFF`.
 //!
 //! Words and expressions are parsed with winnow; the line/block split is
-//! plain code. Every unknown or malformed word is an [`NcError`] with line,
-//! block number and column; parsing goes on with the next line, so a program
-//! reports all its errors. Nothing panics on any input.
+//! plain code, and so is a fast path for the plain address words that make
+//! up most of a long program (`X10`, `G1`: a letter and a number), checked
+//! by a property test to read exactly what the winnow parser reads. Every
+//! unknown or malformed word is an [`NcError`] with line, block number and
+//! column; parsing goes on with the next line, so a program reports all its
+//! errors. Nothing panics on any input.
 //!
-//! **Running.** [`run::run_program`] interprets a parsed program into the
-//! requests of `tc-request` (object writes, motion commands, a final
-//! `EXEC`) sent to a [`run::Controller`]: modal state, parameters and
-//! variables, loops and conditions, the D table, `#OTC`. It has no
-//! geometry: the correction is the controller's.
+//! **Running.** [`run::run_blocks`] interprets a program into the requests
+//! of `tc-request` (object writes, motion commands, a final `EXEC`) sent to
+//! a [`run::Controller`]: modal state, parameters and variables, loops and
+//! conditions, the D table, `#OTC`. It has no geometry: the correction is
+//! the controller's. Its errors name the line, block and column of the
+//! word that caused them.
 //!
-//! **Not yet.** No plot, no streaming run (the interpreter holds the block
-//! list so that loops can jump back).
+//! **Streaming.** A program of any length runs in bounded memory: a first
+//! pass over the text ([`check_program`]) collects every error, and only a
+//! program without one runs, in a second pass ([`run::run_reader`]) that
+//! pulls its blocks from a [`Blocks`] reader as they are needed, into
+//! reused storage. The interpreter holds only the blocks of the outermost
+//! open `$FOR`/`$WHILE` (for jumping back) and works off a full spooler
+//! with `EXEC`, as a controller's interpreter waits for its interpolator.
+//! [`parse_program`] and [`run::run_program`] do the same on a program
+//! held whole (tests, small programs).
 
 mod block;
 mod commands;
 mod control;
 mod error;
 mod expr;
+mod lines;
 mod model;
 pub mod run;
 mod stream;
@@ -42,6 +55,21 @@ pub use error::NcError;
 pub use expr::{BinOp, Expr, Func, Segment, Var};
 pub use model::{Axis, Block, CentreAxis, GCode, Item, OtcCommand, OtcKind, OtcMode, OtcOption};
 pub use stream::Blocks;
+
+/// Reads a whole program from `reader` and keeps only its errors: the
+/// first pass of a streamed run (nothing runs when there is one). Memory
+/// stays bounded by the longest line (and the errors found).
+pub fn check_program<R: std::io::BufRead>(reader: R) -> Vec<NcError> {
+    let mut blocks = Blocks::checking(reader);
+    let mut scratch = Block::default();
+    let mut errors = Vec::new();
+    while let Some(result) = blocks.next_into(&mut scratch) {
+        if let Err(e) = result {
+            errors.push(e);
+        }
+    }
+    errors
+}
 
 /// Parses a whole program text: its blocks, and all its errors.
 pub fn parse_program(text: &str) -> (Vec<Block>, Vec<NcError>) {

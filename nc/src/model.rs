@@ -3,7 +3,7 @@
 use crate::expr::{Expr, Var};
 
 /// One block (one line) of an NC program.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Block {
     /// Line of the program, from 1.
     pub line: usize,
@@ -11,6 +11,16 @@ pub struct Block {
     pub number: Option<u32>,
     /// The block's words and commands, in the order written.
     pub items: Vec<Item>,
+    /// The column (from 1, in characters) where each item starts: the
+    /// position a run-time error of that item names.
+    pub columns: Vec<usize>,
+}
+
+impl Block {
+    /// The column of item `k`, 1 when it is not known.
+    pub fn column(&self, k: usize) -> usize {
+        self.columns.get(k).copied().unwrap_or(1)
+    }
 }
 
 /// One word or command of a block.
@@ -39,11 +49,11 @@ pub enum Item {
         /// The counter.
         var: Var,
         /// First value.
-        start: Expr,
+        start: Box<Expr>,
         /// Last value (inclusive).
-        end: Expr,
+        end: Box<Expr>,
         /// Increment per pass.
-        step: Expr,
+        step: Box<Expr>,
     },
     /// `$ENDFOR`.
     EndFor,
@@ -62,18 +72,18 @@ pub enum Item {
     /// `#set ToolParam(line; column; value)#`.
     SetToolParam {
         /// Data set (D number), 1..255.
-        line: Expr,
+        line: Box<Expr>,
         /// Column, 0..15.
-        column: Expr,
+        column: Box<Expr>,
         /// The value written.
-        value: Expr,
+        value: Box<Expr>,
     },
     /// `#get ToolParam(line; column; R-parameter)#`.
     GetToolParam {
         /// Data set (D number), 1..255.
-        line: Expr,
+        line: Box<Expr>,
         /// Column, 0..15.
-        column: Expr,
+        column: Box<Expr>,
         /// The parameter that receives the value.
         target: Var,
     },
@@ -88,6 +98,23 @@ pub enum Item {
         /// The text between the brackets, not interpreted.
         options: String,
     },
+}
+
+impl Item {
+    /// Whether it is a `$` control statement (`$FOR`, `$ENDFOR`, `$IF`,
+    /// `$ELSE`, `$ENDIF`, `$WHILE`, `$ENDWHILE`).
+    pub fn is_control(&self) -> bool {
+        matches!(
+            self,
+            Item::For { .. }
+                | Item::EndFor
+                | Item::If(_)
+                | Item::Else
+                | Item::EndIf
+                | Item::While(_)
+                | Item::EndWhile
+        )
+    }
 }
 
 /// The G functions this parser knows.

@@ -3,8 +3,9 @@
 
 use std::io::BufRead;
 
-use crate::block::parse_line;
+use crate::block::parse_line_into;
 use crate::error::NcError;
+use crate::lines::{Line, Lines};
 use crate::model::{Block, Item};
 
 /// A control structure still open, with where it was opened.
@@ -17,95 +18,158 @@ enum Open {
 }
 
 /// The blocks of a program read from `reader`, one at a time, in bounded
-/// memory: only the current line is held.
+/// memory: only the lines of the reader's buffer are held.
 ///
 /// Yields `Ok(block)` for each block and `Err` for each line in error (the
 /// reader then moves on to the next line); at the end, one `Err` per
 /// control structure left open.
 pub struct Blocks<R> {
-    reader: R,
-    buffer: Vec<u8>,
+    lines: Lines<R>,
     line: usize,
-    open: Vec<(Open, usize, Option<u32>)>,
+    open: Vec<(Open, NcError)>,
     done: bool,
+    /// Whether blocks keep their plain words (`X10`, `G1`).
+    keep: bool,
 }
 
 impl<R: BufRead> Blocks<R> {
     /// Blocks of the program that `reader` delivers.
     pub fn new(reader: R) -> Self {
         Blocks {
-            reader,
-            buffer: Vec::new(),
+            lines: Lines::new(reader),
             line: 0,
             open: Vec::new(),
             done: false,
+            keep: true,
         }
     }
 
-    fn next_line(&mut self) -> Option<Result<Block, NcError>> {
+    /// As [`Blocks::new`], for a check pass: every error is found the
+    /// same, but the blocks keep only their words that are not plain
+    /// address words with a number (`X10`, `G1`): `$` statements, `#`
+    /// commands, assignments, words with expressions.
+    pub fn checking(reader: R) -> Self {
+        Blocks {
+            keep: false,
+            ..Blocks::new(reader)
+        }
+    }
+
+    /// Lines read so far (the line of the last block or error yielded).
+    pub fn line(&self) -> usize {
+        self.line
+    }
+
+    /// Reads the next block into `block`, reusing its storage (no
+    /// allocation per block): `Ok` when `block` holds it, `Err` for a line
+    /// in error or a structure left open (then `block` holds nothing
+    /// useful), `None` at the end.
+    pub fn next_into(&mut self, block: &mut Block) -> Option<Result<(), NcError>> {
+        if !self.done {
+            match self.next_line(block) {
+                Some(Ok(())) => return Some(self.check_nesting(block)),
+                Some(Err(e)) => return Some(Err(e)),
+                None => self.done = true,
+            }
+        }
+        if self.open.is_empty() {
+            return None;
+        }
+        Some(Err(self.open.remove(0).1))
+    }
+
+    fn next_line(&mut self, block: &mut Block) -> Option<Result<(), NcError>> {
         loop {
-            self.buffer.clear();
-            match self.reader.read_until(b'\n', &mut self.buffer) {
-                Ok(0) => return None,
-                Ok(_) => self.line += 1,
-                Err(e) => {
-                    self.done = true;
-                    return Some(Err(self.error(
-                        self.line + 1,
-                        None,
-                        format!("read error: {e}"),
-                    )));
+            let result = match self.lines.next_line()? {
+                Ok(Line::Text(text, ascii)) => {
+                    parse_line_into(text, self.line + 1, block, self.keep, ascii)
                 }
-            }
-            let raw = self.buffer.strip_suffix(b"\n").unwrap_or(&self.buffer);
-            let Ok(text) = std::str::from_utf8(raw) else {
-                let msg = "line is not valid UTF-8 text".to_string();
-                return Some(Err(self.error(self.line, None, msg)));
+                Ok(Line::Bytes(raw)) => parse_raw(raw, self.line + 1, block, self.keep),
+                Err(e) => return Some(Err(self.read_error(&e))),
             };
-            if let Some(result) = parse_line(text, self.line) {
-                return Some(result);
+            self.line += 1;
+            if result.is_some() {
+                return result;
             }
         }
     }
 
-    fn error(&self, line: usize, block_number: Option<u32>, message: String) -> NcError {
+    /// A read error ends the program.
+    fn read_error(&mut self, e: &std::io::Error) -> NcError {
+        self.done = true;
+        plain_error(self.line + 1, None, format!("read error: {e}"))
+    }
+
+    /// An error at item `k` of `block`.
+    fn error_at(block: &Block, k: usize, message: String) -> NcError {
         NcError {
-            line,
-            block_number,
-            column: 1,
+            line: block.line,
+            block_number: block.number,
+            column: block.column(k),
             message,
         }
     }
 
     /// Follows `$FOR/$IF/$WHILE` nesting; an end without its start is an error.
     fn check_nesting(&mut self, block: &Block) -> Result<(), NcError> {
-        for item in &block.items {
-            let (closes, opens): (&[Open], Option<Open>) = match item {
-                Item::For { .. } => (&[], Some(Open::For)),
-                Item::If(_) => (&[], Some(Open::If)),
-                Item::While(_) => (&[], Some(Open::While)),
-                Item::Else => (&[Open::If], Some(Open::Else)),
-                Item::EndFor => (&[Open::For], None),
-                Item::EndIf => (&[Open::If, Open::Else], None),
-                Item::EndWhile => (&[Open::While], None),
-                _ => continue,
-            };
-            if !closes.is_empty() {
-                match self.open.last() {
-                    Some((kind, _, _)) if closes.contains(kind) => {
-                        self.open.pop();
-                    }
-                    _ => {
-                        let msg = format!("{} without its opening statement", end_name(item));
-                        return Err(self.error(block.line, block.number, msg));
-                    }
+        // A control statement stands alone in its block (the parser
+        // checks that).
+        let [item] = block.items.as_slice() else {
+            return Ok(());
+        };
+        let (closes, opens): (&[Open], Option<Open>) = match item {
+            Item::For { .. } => (&[], Some(Open::For)),
+            Item::If(_) => (&[], Some(Open::If)),
+            Item::While(_) => (&[], Some(Open::While)),
+            Item::Else => (&[Open::If], Some(Open::Else)),
+            Item::EndFor => (&[Open::For], None),
+            Item::EndIf => (&[Open::If, Open::Else], None),
+            Item::EndWhile => (&[Open::While], None),
+            _ => return Ok(()),
+        };
+        if !closes.is_empty() {
+            match self.open.last() {
+                Some((kind, _)) if closes.contains(kind) => {
+                    self.open.pop();
+                }
+                _ => {
+                    let msg = format!("{} without its opening statement", end_name(item));
+                    return Err(Self::error_at(block, 0, msg));
                 }
             }
-            if let Some(kind) = opens {
-                self.open.push((kind, block.line, block.number));
-            }
+        }
+        if let Some(kind) = opens {
+            let msg = open_name(kind).to_string();
+            self.open.push((kind, Self::error_at(block, 0, msg)));
         }
         Ok(())
+    }
+}
+
+/// One line's bytes (without its line end) into `block`; `None` for a
+/// line without a block.
+fn parse_raw(
+    raw: &[u8],
+    line: usize,
+    block: &mut Block,
+    keep: bool,
+) -> Option<Result<(), NcError>> {
+    match std::str::from_utf8(raw) {
+        Ok(text) => parse_line_into(text, line, block, keep, text.is_ascii()),
+        Err(_) => {
+            let msg = "line is not valid UTF-8 text".to_string();
+            Some(Err(plain_error(line, None, msg)))
+        }
+    }
+}
+
+/// An error of a whole line (column 1).
+fn plain_error(line: usize, block_number: Option<u32>, message: String) -> NcError {
+    NcError {
+        line,
+        block_number,
+        column: 1,
+        message,
     }
 }
 
@@ -130,19 +194,7 @@ impl<R: BufRead> Iterator for Blocks<R> {
     type Item = Result<Block, NcError>;
 
     fn next(&mut self) -> Option<Self::Item> {
-        if !self.done {
-            match self.next_line() {
-                Some(Ok(block)) => {
-                    return Some(self.check_nesting(&block).map(|()| block));
-                }
-                Some(Err(e)) => return Some(Err(e)),
-                None => self.done = true,
-            }
-        }
-        if self.open.is_empty() {
-            return None;
-        }
-        let (kind, line, number) = self.open.remove(0);
-        Some(Err(self.error(line, number, open_name(kind).to_string())))
+        let mut block = Block::default();
+        self.next_into(&mut block).map(|r| r.map(|()| block))
     }
 }

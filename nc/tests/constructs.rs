@@ -141,7 +141,10 @@ fn for_loop_with_spaces_and_commas() {
         panic!()
     };
     assert!(matches!(var, Var::V { scope: 'P', .. }));
-    assert_eq!((start, end, step), (&num(0.0), &num(100.0), &num(10.0)));
+    assert_eq!(
+        (&**start, &**end, &**step),
+        (&num(0.0), &num(100.0), &num(10.0))
+    );
     let (blocks, errors) = parse_program("N90 $FOR P1=0, 20, 1\nN120 $ENDFOR");
     assert!(errors.is_empty(), "{errors:?}");
     assert!(matches!(
@@ -206,16 +209,16 @@ fn tool_param_set_and_get() {
     assert_eq!(
         b.items[0],
         Item::SetToolParam {
-            line: Expr::Var(Var::R(1)),
-            column: Expr::Var(Var::R(2)),
-            value: Expr::Var(Var::R(3)),
+            line: Box::new(Expr::Var(Var::R(1))),
+            column: Box::new(Expr::Var(Var::R(2))),
+            value: Box::new(Expr::Var(Var::R(3))),
         }
     );
     assert_eq!(
         b.items[1],
         Item::GetToolParam {
-            line: num(10.0),
-            column: num(1.0),
+            line: Box::new(num(10.0)),
+            column: Box::new(num(1.0)),
             target: Var::R(20)
         }
     );

@@ -1,13 +1,20 @@
 //! `addipos run PROG.nc`: run an NC program on a fresh emulator, print
 //! what it spooled, the final position and the wear; `--trace` writes the
-//! equivalent conformance trace.
+//! equivalent conformance trace. The program is read twice (a first pass
+//! finds every error, and only a program without one runs) and streamed:
+//! the output and the trace are written as the run goes.
 
-use std::path::PathBuf;
+use std::fs::File;
+use std::io::{self, BufReader, BufWriter, Write};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Args;
 
-use addipos::nc_run::{axis_text, run_nc_with_tools, NcRun};
+use addipos::nc_run::{
+    axis_text, run_checked_nc, spool_lines_of, trace_head, trace_lines, NcOutcome,
+};
+use nc::{check_program, NcError};
 use tool_store::{ToolKey, ToolValue};
 
 use super::{EXIT_FAILED, EXIT_TROUBLE};
@@ -55,13 +62,6 @@ pub fn read_tool_values(
 /// Runs `addipos run`.
 pub fn cmd_run(args: &RunArgs) -> ExitCode {
     let name = args.program.display().to_string();
-    let text = match std::fs::read_to_string(&args.program) {
-        Ok(t) => t,
-        Err(e) => {
-            eprintln!("error: {name}: cannot read: {e}");
-            return ExitCode::from(EXIT_TROUBLE);
-        }
-    };
     let tools = match tool_values(args) {
         Ok(t) => t,
         Err(e) => {
@@ -69,44 +69,101 @@ pub fn cmd_run(args: &RunArgs) -> ExitCode {
             return ExitCode::from(EXIT_TROUBLE);
         }
     };
-    let run = run_nc_with_tools(&text, &tools);
-    print_run(&run);
-    report_problems(&run, &name);
-    if let Some(out) = args.trace.as_ref().filter(|_| run.parse_errors.is_empty()) {
-        if let Err(e) = std::fs::write(out, run.trace(&name)) {
-            eprintln!("error: {}: cannot write: {e}", out.display());
+    let parse_errors = match open(&args.program).map(check_program) {
+        Ok(errors) => errors,
+        Err(e) => {
+            eprintln!("error: {name}: cannot read: {e}");
             return ExitCode::from(EXIT_TROUBLE);
         }
+    };
+    if !parse_errors.is_empty() {
+        report_errors(&parse_errors, &name);
+        return ExitCode::from(EXIT_FAILED);
     }
-    if run.failed() {
-        ExitCode::from(EXIT_FAILED)
-    } else {
-        ExitCode::SUCCESS
-    }
-}
-
-fn print_run(run: &NcRun) {
-    for line in run.spool_lines() {
-        println!("{line}");
-    }
-    if let Some(p) = &run.position {
-        println!("POS {}", axis_text(p));
-    }
-    for (name, v) in &run.wear {
-        println!("{name} = {v}");
+    match run_streamed(args, &name, &tools) {
+        Ok(outcome) if failed(&outcome) => ExitCode::from(EXIT_FAILED),
+        Ok(_) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(EXIT_TROUBLE)
+        }
     }
 }
 
-fn report_problems(run: &NcRun, name: &str) {
-    for w in &run.report.warnings {
-        eprintln!("warning: {name}: {w}");
+fn open(path: &Path) -> io::Result<BufReader<File>> {
+    File::open(path).map(BufReader::new)
+}
+
+/// The second pass: the program run, each exchange printed and written to
+/// the trace as it happens; then the position, the wear and the problems.
+fn run_streamed(
+    args: &RunArgs,
+    name: &str,
+    tools: &[(u8, ToolKey, ToolValue)],
+) -> Result<NcOutcome, String> {
+    let cannot_write = |path: &Path, e: io::Error| format!("{}: cannot write: {e}", path.display());
+    let mut trace = match &args.trace {
+        Some(path) => {
+            let mut w = File::create(path)
+                .map(BufWriter::new)
+                .map_err(|e| cannot_write(path, e))?;
+            w.write_all(trace_head(name).as_bytes())
+                .map_err(|e| cannot_write(path, e))?;
+            Some((w, path))
+        }
+        None => None,
+    };
+    let mut out = BufWriter::new(io::stdout().lock());
+    let reader = open(&args.program).map_err(|e| format!("{name}: cannot read: {e}"))?;
+    let mut sink = |x: addipos::nc_run::Exchange, axis_nr: [u8; 3]| -> io::Result<()> {
+        for line in spool_lines_of(&x, axis_nr) {
+            writeln!(out, "{line}")?;
+        }
+        if let Some((w, path)) = &mut trace {
+            let text = trace_lines(&x, axis_nr);
+            w.write_all(text.as_bytes())
+                .map_err(|e| io::Error::new(e.kind(), cannot_write(path, e)))?;
+        }
+        Ok(())
+    };
+    let outcome = run_checked_nc(reader, tools, &mut sink).map_err(|e| e.to_string())?;
+    print_end(&mut out, &outcome).map_err(|e| format!("standard output: {e}"))?;
+    if let Some((mut w, path)) = trace {
+        w.flush().map_err(|e| cannot_write(path, e))?;
     }
-    let errors = run
-        .parse_errors
-        .iter()
-        .chain(&run.error)
-        .chain(&run.report.faults);
+    report_problems(&outcome, name);
+    Ok(outcome)
+}
+
+fn failed(outcome: &NcOutcome) -> bool {
+    outcome.error.is_some() || !outcome.report.faults.is_empty()
+}
+
+fn print_end(out: &mut impl Write, outcome: &NcOutcome) -> io::Result<()> {
+    if let Some(p) = &outcome.position {
+        writeln!(out, "POS {}", axis_text(p))?;
+    }
+    for (name, v) in &outcome.wear {
+        writeln!(out, "{name} = {v}")?;
+    }
+    out.flush()
+}
+
+fn report_errors(errors: &[NcError], name: &str) {
     for e in errors {
         eprintln!("error: {name}: {e}");
     }
+}
+
+fn report_problems(outcome: &NcOutcome, name: &str) {
+    for w in &outcome.report.warnings {
+        eprintln!("warning: {name}: {w}");
+    }
+    let errors: Vec<NcError> = outcome
+        .error
+        .iter()
+        .chain(&outcome.report.faults)
+        .cloned()
+        .collect();
+    report_errors(&errors, name);
 }

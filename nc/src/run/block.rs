@@ -1,7 +1,7 @@
 //! One block: its words gathered into a plan, then carried out in the
 //! controller's order: plane, transitions, tool, `#OTC`, TRC, motion.
 
-use tc_request::{ArcDir, AxisWords, Motion, Request, AXES};
+use tc_request::{ArcDir, AxisWords, Motion, Request};
 use uoi::Value;
 
 use super::eval::eval;
@@ -17,16 +17,19 @@ enum Trc {
     On(Side),
 }
 
-/// What one block asks for, gathered from its words.
+/// What one block asks for, gathered from its words, each with the column
+/// of the word that asked (for its errors).
 #[derive(Default)]
 struct Plan<'b> {
     words: AxisWords,
     centre: [Option<f64>; 3],
-    plane: Option<i32>,
-    transition: Option<i32>,
-    tool: Option<u32>,
-    trc: Option<Trc>,
-    otc: Vec<&'b OtcCommand>,
+    /// Column of the block's first axis or centre word.
+    motion_col: Option<usize>,
+    plane: Option<(i32, usize)>,
+    transition: Option<(i32, usize)>,
+    tool: Option<(u32, usize)>,
+    trc: Option<(Trc, usize)>,
+    otc: Vec<(&'b OtcCommand, usize)>,
     end: bool,
 }
 
@@ -47,11 +50,21 @@ impl Interpreter<'_> {
     /// Carries out a block (no control statement); true at the program's end.
     pub(super) fn block(&mut self, block: &Block) -> Result<bool, String> {
         let mut plan = Plan::default();
-        for item in &block.items {
+        for (k, item) in block.items.iter().enumerate() {
+            self.col = block.column(k);
             self.gather(item, &mut plan)?;
         }
         self.apply(&plan)?;
         Ok(plan.end)
+    }
+
+    /// The value of a word: a plain number at once, else evaluated.
+    #[inline]
+    fn value(&mut self, e: &crate::Expr) -> Result<f64, String> {
+        match e {
+            crate::Expr::Number(v) if v.is_finite() => Ok(*v),
+            e => eval(e, self),
+        }
     }
 
     fn warn(&mut self, message: String) {
@@ -63,24 +76,27 @@ impl Interpreter<'_> {
         match item {
             Item::ProgramName(_) | Item::Kinematic(_) | Item::Trafo(_) | Item::Hsc { .. } => {}
             Item::G(g) => self.g_code(*g, plan)?,
-            Item::Axis(a, e) => plan.words[axis_index(*a)] = Some(eval(e, self)?),
+            Item::Axis(a, e) => {
+                plan.words[axis_index(*a)] = Some(self.value(e)?);
+                plan.motion_col.get_or_insert(self.col);
+            }
             Item::Centre(c, e) => {
                 let k = match c {
                     CentreAxis::I => 0,
                     CentreAxis::J => 1,
                     CentreAxis::K => 2,
                 };
-                plan.centre[k] = Some(eval(e, self)?);
+                plan.centre[k] = Some(self.value(e)?);
+                plan.motion_col.get_or_insert(self.col);
             }
-            Item::Feed(e) => self.feed_pending = Some(eval(e, self)?),
+            Item::Feed(e) => self.feed_pending = Some(self.value(e)?),
             Item::ToolData(e) => {
                 let d = whole(eval(e, self)?, "D")?;
-                plan.tool = Some(
-                    u32::try_from(d)
-                        .ok()
-                        .filter(|d| *d <= 255)
-                        .ok_or_else(|| format!("D{d} is not a data set 0..255"))?,
-                );
+                let d = u32::try_from(d)
+                    .ok()
+                    .filter(|d| *d <= 255)
+                    .ok_or_else(|| format!("D{d} is not a data set 0..255"))?;
+                plan.tool = Some((d, self.col));
             }
             Item::Tool(_) => self.warn(
                 "T accepted without effect: the TC module has no tool magazine; D selects \
@@ -93,7 +109,7 @@ impl Interpreter<'_> {
                 let v = eval(e, self)?;
                 self.assign(var, v)?;
             }
-            Item::Otc(cmd) => plan.otc.push(cmd),
+            Item::Otc(cmd) => plan.otc.push((cmd, self.col)),
             Item::SetToolParam {
                 line,
                 column,
@@ -137,14 +153,14 @@ impl Interpreter<'_> {
             ArcCcw => self.motion = Some(MotionKind::Ccw),
             Absolute => self.incremental = false,
             Incremental => self.incremental = true,
-            PlaneXy => plan.plane = Some(17),
-            PlaneZx => plan.plane = Some(18),
-            PlaneYz => plan.plane = Some(19),
-            TransitionLinear => plan.transition = Some(1),
-            TransitionCircular => plan.transition = Some(0),
-            TrcOff => plan.trc = Some(Trc::Off),
-            TrcLeft => plan.trc = Some(Trc::On(Side::Left)),
-            TrcRight => plan.trc = Some(Trc::On(Side::Right)),
+            PlaneXy => plan.plane = Some((17, self.col)),
+            PlaneZx => plan.plane = Some((18, self.col)),
+            PlaneYz => plan.plane = Some((19, self.col)),
+            TransitionLinear => plan.transition = Some((1, self.col)),
+            TransitionCircular => plan.transition = Some((0, self.col)),
+            TrcOff => plan.trc = Some((Trc::Off, self.col)),
+            TrcLeft => plan.trc = Some((Trc::On(Side::Left), self.col)),
+            TrcRight => plan.trc = Some((Trc::On(Side::Right), self.col)),
             // The engine's one selection rule is G138's; constant feed and
             // no masking are what it does anyway.
             TrcDirect | FeedConstant | MaskingOff => {}
@@ -159,27 +175,37 @@ impl Interpreter<'_> {
     }
 
     fn apply(&mut self, plan: &Plan) -> Result<(), String> {
-        if let Some(p) = plan.plane.filter(|p| self.plane != Some(*p)) {
+        if let Some((p, col)) = plan.plane.filter(|(p, _)| self.plane != Some(*p)) {
+            self.col = col;
             self.write(objects::TC_PLANE, Value::I32(p))?;
             self.plane = Some(p);
         }
-        if let Some(t) = plan.transition.filter(|t| self.transition != Some(*t)) {
+        if let Some((t, col)) = plan.transition.filter(|(t, _)| self.transition != Some(*t)) {
+            self.col = col;
             self.write(objects::TRANSITION_MODE, Value::I32(t))?;
             self.transition = Some(t);
         }
-        if let Some(d) = plan.tool {
+        if let Some((d, col)) = plan.tool {
+            self.col = col;
             self.select_tool(d)?;
         }
-        for cmd in &plan.otc {
+        for (cmd, col) in &plan.otc {
+            self.col = *col;
             self.otc(cmd)?;
         }
-        match plan.trc {
-            Some(Trc::Off) if self.trc.is_some() => {
-                self.write(objects::STATUS, Value::I32(0))?;
-                self.trc = None;
+        if let Some((trc, col)) = plan.trc {
+            self.col = col;
+            match trc {
+                Trc::Off if self.trc.is_some() => {
+                    self.write(objects::STATUS, Value::I32(0))?;
+                    self.trc = None;
+                }
+                Trc::On(side) if self.trc != Some(side) => self.start_trc(side)?,
+                _ => {}
             }
-            Some(Trc::On(side)) if self.trc != Some(side) => self.start_trc(side)?,
-            _ => {}
+        }
+        if let Some(col) = plan.motion_col {
+            self.col = col;
         }
         self.motion_of(plan)
     }
@@ -224,24 +250,21 @@ impl Interpreter<'_> {
 
     /// The block's motion, if it has axis words (or an arc's centre).
     fn motion_of(&mut self, plan: &Plan) -> Result<(), String> {
-        let has_words = plan.words.iter().any(Option::is_some);
-        let has_centre = plan.centre.iter().any(Option::is_some);
-        if !has_words && !has_centre {
+        // An axis or centre word was read (its column kept).
+        if plan.motion_col.is_none() {
             return Ok(());
         }
+        let has_centre = plan.centre.iter().any(Option::is_some);
         let Some(kind) = self.motion else {
             return Err("axis words before any motion kind (G0, G1, G2, G3)".into());
         };
-        let mut words: AxisWords = [None; AXES];
-        for (k, w) in plan.words.iter().enumerate() {
+        let mut words: AxisWords = plan.words;
+        for (w, pos) in words.iter_mut().zip(self.pos.iter_mut()) {
             if let Some(v) = w {
-                let target = if self.incremental {
-                    self.pos[k] + v
-                } else {
-                    *v
-                };
-                words[k] = Some(target);
-                self.pos[k] = target;
+                if self.incremental {
+                    *v += *pos;
+                }
+                *pos = *v;
             }
         }
         let feed = self.feed_pending.take();
@@ -262,6 +285,6 @@ impl Interpreter<'_> {
                 feed,
             },
         };
-        self.request(&Request::Motion(motion)).map(|_| ())
+        self.send(&Request::Motion(motion))
     }
 }

@@ -5,8 +5,10 @@
 //! the parameters and variables and the D table; it has no geometry of its
 //! own: the correction is the controller's.
 //!
-//! The program is held as a block list so that `$FOR`, `$WHILE` and `$IF`
-//! can jump; at most [`MAX_EXECUTED_BLOCKS`] blocks are executed.
+//! The program is pulled block by block; only the blocks of the outermost
+//! open `$FOR`/`$WHILE` are held so that the loop can jump back, `$IF` and
+//! `$ELSE` skip forward. At most [`MAX_EXECUTED_BLOCKS`] blocks are
+//! executed.
 
 mod block;
 mod dtable;
@@ -15,14 +17,16 @@ mod flow;
 mod objects;
 mod otc;
 mod vars;
+mod window;
 
 use std::collections::HashMap;
+use std::io::BufRead;
 
 use tc_request::{AxisPos, Reply, Request};
 
 use crate::error::NcError;
-use crate::model::{Block, Item};
-use crate::Var;
+use crate::model::Block;
+use crate::stream::Blocks;
 
 pub use dtable::DTable;
 pub use objects::{wear_axis, WEAR_RADIUS, WEAR_RADIUS_CONT};
@@ -56,6 +60,9 @@ pub struct Report {
     /// Errors the controller signalled while the program ran on (OTC error
     /// bits with their ISG ids), with the block that caused them.
     pub faults: Vec<NcError>,
+    /// Most blocks held at once for jumping back (the body of the
+    /// outermost open loop; 1 for a program without loops).
+    pub peak_held_blocks: usize,
 }
 
 /// Motion kind of G0/G1/G2/G3.
@@ -79,6 +86,8 @@ struct Interpreter<'c> {
     report: &'c mut Report,
     ctl: &'c mut dyn Controller,
     at: At,
+    /// Column of the word being carried out, for its errors.
+    col: usize,
     pos: AxisPos,
     motion: Option<MotionKind>,
     incremental: bool,
@@ -91,26 +100,74 @@ struct Interpreter<'c> {
     p: HashMap<u32, f64>,
     v: HashMap<String, f64>,
     dtable: DTable,
-    for_state: HashMap<usize, (f64, f64)>,
+    loops: Vec<flow::Loop>,
     otc_seen: i32,
 }
 
-/// Runs `blocks` (a whole parsed program without errors) on `ctl`, ending
-/// with `EXEC` (run until the spooler is empty); warnings and controller
-/// faults go to `report`, also when the run stops. Stops at the first
-/// error: a construct not implemented, an unset variable, a request the
-/// controller refuses.
+/// Runs `blocks` (a whole parsed program without errors) on `ctl`; see
+/// [`run_blocks`].
 pub fn run_program(
     blocks: &[Block],
     ctl: &mut dyn Controller,
     report: &mut Report,
 ) -> Result<(), NcError> {
-    let jumps = flow::jumps(blocks)?;
+    run_blocks(blocks.iter().cloned().map(Ok), ctl, report)
+}
+
+/// Runs the blocks `blocks` yields, pulled one at a time, on `ctl`; see
+/// [`run_reader`], which does the same without an allocation per block.
+pub fn run_blocks<I>(
+    blocks: I,
+    ctl: &mut dyn Controller,
+    report: &mut Report,
+) -> Result<(), NcError>
+where
+    I: Iterator<Item = Result<Block, NcError>>,
+{
+    run_source(window::FromIter(blocks), ctl, report)
+}
+
+/// Runs the program `blocks` reads (checked before, e.g. by
+/// [`crate::check_program`]: a block in error stops the run there), pulled
+/// block by block, on `ctl`, ending with `EXEC` (run until the spooler is
+/// empty). Only the blocks of the outermost open `$FOR`/`$WHILE` are held,
+/// for jumping back; [`Blocks::line`] tells afterwards how far it read.
+///
+/// Warnings and controller faults go to `report`, also when the run stops.
+/// Stops at the first error: a construct not implemented, an unset
+/// variable, a request the controller refuses, a block in error.
+pub fn run_reader<R: BufRead>(
+    blocks: &mut Blocks<R>,
+    ctl: &mut dyn Controller,
+    report: &mut Report,
+) -> Result<(), NcError> {
+    run_source(blocks, ctl, report)
+}
+
+fn run_source<S: window::BlockSource>(
+    source: S,
+    ctl: &mut dyn Controller,
+    report: &mut Report,
+) -> Result<(), NcError> {
+    let mut window = window::Window::new(source);
     let mut it = Interpreter::new(ctl, report);
-    let start = blocks.first().map_or(At::default(), |b| At {
-        line: b.line,
-        number: b.number,
-    });
+    let result = run_window(&mut it, &mut window);
+    it.report.peak_held_blocks = it.report.peak_held_blocks.max(window.peak());
+    result
+}
+
+/// The run loop: block after block from the window, jumps and skips.
+fn run_window<S: window::BlockSource>(
+    it: &mut Interpreter<'_>,
+    window: &mut window::Window<S>,
+) -> Result<(), NcError> {
+    let start = match window.get(0)? {
+        Some(b) => At {
+            line: b.line,
+            number: b.number,
+        },
+        None => At::default(),
+    };
     it.at = start;
     it.pos = match it.ctl.call(&Request::Pos, start) {
         Reply::Pos(p) => p,
@@ -118,27 +175,38 @@ pub fn run_program(
     };
     let mut pc = 0;
     let mut executed = 0u64;
-    while let Some(block) = blocks.get(pc) {
+    while let Some(block) = window.get(pc).map_err(|e| it.located(e))? {
         it.at = At {
             line: block.line,
             number: block.number,
         };
+        it.col = block.column(0);
         executed += 1;
         if executed > MAX_EXECUTED_BLOCKS {
             let msg = format!("more than {MAX_EXECUTED_BLOCKS} blocks executed: endless loop?");
             return Err(it.error(msg));
         }
-        pc = match flow::control(block)? {
-            Some(item) => it.flow(item, pc, blocks, &jumps),
+        let next = match flow::control(block)? {
+            Some(item) => it.flow(item, pc),
             None => match it.block(block) {
                 Ok(true) => break,
-                Ok(false) => Ok(pc + 1),
+                Ok(false) => Ok(flow::Next::On),
                 Err(e) => Err(e),
             },
         }
         .map_err(|e| it.error(e))?;
+        pc = match next {
+            flow::Next::On => pc + 1,
+            flow::Next::Back(to) => to,
+            flow::Next::Skip(to) => window
+                .skip(pc, to, it.in_loop())
+                .map_err(|e| it.located(e))?,
+        };
+        if !it.in_loop() {
+            window.release_before(pc);
+        }
     }
-    it.request(&Request::Exec(None)).map_err(|e| it.error(e))?;
+    it.send(&Request::Exec(None)).map_err(|e| it.error(e))?;
     Ok(())
 }
 
@@ -148,6 +216,7 @@ impl<'c> Interpreter<'c> {
             ctl,
             report,
             at: At::default(),
+            col: 1,
             pos: [0.0; tc_request::AXES],
             motion: None,
             incremental: false,
@@ -160,83 +229,78 @@ impl<'c> Interpreter<'c> {
             p: HashMap::new(),
             v: HashMap::new(),
             dtable: DTable::default(),
-            for_state: HashMap::new(),
+            loops: Vec::new(),
             otc_seen: 0,
         }
     }
 
-    /// An error at the current block.
+    /// An error at the current block and word.
     fn error(&self, message: String) -> NcError {
         NcError {
             line: self.at.line,
             block_number: self.at.number,
-            column: 1,
+            column: self.col,
             message,
         }
     }
 
-    /// Sends `req`; an access or protocol error answer is an error.
-    fn request(&mut self, req: &Request) -> Result<Reply, String> {
-        match self.ctl.call(req, self.at) {
-            Reply::Access(uoi::AccessError::State) => Err(format!(
-                "`{req}`: the controller answered State: correction group 1 is faulted{}",
-                self.fault_bits()
-            )),
-            Reply::Access(e) => Err(format!("`{req}`: the controller answered {}", e.name())),
-            Reply::Protocol(e) => Err(format!("`{req}`: refused: {e}")),
-            reply => Ok(reply),
+    /// An error of the window placed at the current block when it has no
+    /// place of its own.
+    fn located(&self, e: NcError) -> NcError {
+        if e.line == 0 {
+            self.error(e.message)
+        } else {
+            e
         }
     }
 
-    /// Carries out a control statement at `pc`; the next block's index.
-    fn flow(
-        &mut self,
-        item: &Item,
-        pc: usize,
-        blocks: &[Block],
-        jumps: &flow::Jumps,
-    ) -> Result<usize, String> {
-        let partner = |map: &HashMap<usize, usize>| {
-            map.get(&pc)
-                .copied()
-                .ok_or_else(|| "control statement without its partner".to_string())
-        };
-        match item {
-            Item::For {
-                var,
-                start,
-                end,
-                step,
-            } => {
-                let first = eval::eval(start, self)?;
-                let last = eval::eval(end, self)?;
-                let step = eval::eval(step, self)?;
-                if step == 0.0 {
-                    return Err("$FOR with step 0 never ends".into());
-                }
-                self.assign(var, first)?;
-                self.for_state.insert(pc, (last, step));
-                Ok(if in_range(first, last, step) {
-                    pc + 1
-                } else {
-                    partner(&jumps.for_pair)? + 1
-                })
-            }
-            Item::EndFor => self.end_for(pc, partner(&jumps.for_pair)?, blocks),
-            Item::While(c) => Ok(if eval::eval(c, self)? != 0.0 {
-                pc + 1
-            } else {
-                partner(&jumps.while_pair)? + 1
-            }),
-            Item::EndWhile => partner(&jumps.while_pair),
-            Item::If(c) => Ok(if eval::eval(c, self)? != 0.0 {
-                pc + 1
-            } else {
-                partner(&jumps.if_next)? + 1
-            }),
-            Item::Else => Ok(partner(&jumps.if_next)? + 1),
-            _ => Ok(pc + 1),
+    /// Sends `req` and answers its reply; an access or protocol error
+    /// answer is an error. A full spooler (`Full`, nothing changed) is
+    /// worked off first, as a controller's interpreter waits for its
+    /// interpolator: `EXEC`, then the request once more.
+    fn request(&mut self, req: &Request) -> Result<Reply, String> {
+        let reply = self.ctl.call(req, self.at);
+        let reply = self.after_full(req, reply)?;
+        match self.refused(req, &reply) {
+            Some(e) => Err(e),
+            None => Ok(reply),
         }
+    }
+
+    /// As [`Self::request`], for a request whose answer is only `ok` or
+    /// an error (writes, motions, `EXEC`).
+    fn send(&mut self, req: &Request) -> Result<(), String> {
+        let reply = self.ctl.call(req, self.at);
+        if matches!(reply, Reply::Ok) {
+            return Ok(());
+        }
+        let reply = self.after_full(req, reply)?;
+        self.refused(req, &reply).map_or(Ok(()), Err)
+    }
+
+    /// `reply` to `req`, or when it was `Full` (the spooler full, nothing
+    /// changed) the answer to `req` sent once more after `EXEC`.
+    fn after_full(&mut self, req: &Request, reply: Reply) -> Result<Reply, String> {
+        if matches!(reply, Reply::Access(uoi::AccessError::Full))
+            && !matches!(req, Request::Exec(_))
+        {
+            self.send(&Request::Exec(None))?;
+            return Ok(self.ctl.call(req, self.at));
+        }
+        Ok(reply)
+    }
+
+    /// Why `reply` refuses `req`, if it does.
+    fn refused(&mut self, req: &Request, reply: &Reply) -> Option<String> {
+        Some(match reply {
+            Reply::Access(uoi::AccessError::State) => format!(
+                "`{req}`: the controller answered State: correction group 1 is faulted{}",
+                self.fault_bits()
+            ),
+            Reply::Access(e) => format!("`{req}`: the controller answered {}", e.name()),
+            Reply::Protocol(e) => format!("`{req}`: refused: {e}"),
+            _ => return None,
+        })
     }
 
     /// ` (ERROR: CalcError ..)`: the group's error bits, for a message.
@@ -251,38 +315,5 @@ impl<'c> Interpreter<'c> {
             .map(|(_, name)| *name)
             .collect();
         format!(" (ERROR: {})", names.join(", "))
-    }
-
-    /// `$ENDFOR` at `pc` of the `$FOR` at `f`: the counter stepped, and
-    /// back to the loop's first block while it is in range.
-    fn end_for(&mut self, pc: usize, f: usize, blocks: &[Block]) -> Result<usize, String> {
-        let for_item = blocks.get(f).and_then(|b| b.items.first());
-        let (Some(Item::For { var, .. }), Some(&(last, step))) = (for_item, self.for_state.get(&f))
-        else {
-            return Err("$ENDFOR without its $FOR".into());
-        };
-        let next = self.read_var(var)? + step;
-        self.assign(var, next)?;
-        Ok(if in_range(next, last, step) {
-            f + 1
-        } else {
-            pc + 1
-        })
-    }
-
-    fn read_var(&mut self, var: &Var) -> Result<f64, String> {
-        eval::Vars::read(self, var)
-    }
-}
-
-/// Whether a `$FOR` counter at `v` still runs towards `end` by `step`.
-fn in_range(v: f64, end: f64, step: f64) -> bool {
-    // A tolerance of a millionth of the step, so that decimal steps reach
-    // their end.
-    let slack = step.abs() * 1e-6;
-    if step > 0.0 {
-        v <= end + slack
-    } else {
-        v >= end - slack
     }
 }

@@ -24,7 +24,7 @@ impl Interpreter<'_> {
     /// (`EXEC`), so the wear is counted from ON to OFF along the path.
     pub(super) fn otc(&mut self, cmd: &OtcCommand) -> Result<(), String> {
         if cmd.switch.is_some() {
-            self.request(&tc_request::Request::Exec(None))?;
+            self.send(&tc_request::Request::Exec(None))?;
         }
         if cmd.switch == Some(false) {
             self.write(objects::OTC_ON, Value::I32(0))?;

@@ -58,7 +58,7 @@ impl Interpreter<'_> {
 
     /// Writes an object.
     pub(super) fn write(&mut self, addr: ObjectAddress, value: Value) -> Result<(), String> {
-        self.request(&Request::Write(addr, value)).map(|_| ())
+        self.send(&Request::Write(addr, value))
     }
 
     /// `var = value`.
