@@ -58,17 +58,33 @@ pub use stream::Blocks;
 
 /// Reads a whole program from `reader` and keeps only its errors: the
 /// first pass of a streamed run (nothing runs when there is one). Memory
-/// stays bounded by the longest line (and the errors found).
+/// stays bounded by the longest line and [`MAX_KEPT_ERRORS`].
 pub fn check_program<R: std::io::BufRead>(reader: R) -> Vec<NcError> {
+    check_program_counted(reader).0
+}
+
+/// Most errors, warnings or faults of one program kept for the report; the
+/// rest are only counted, so a program of a million bad lines cannot
+/// exhaust memory.
+pub const MAX_KEPT_ERRORS: usize = 1000;
+
+/// The check pass: the first [`MAX_KEPT_ERRORS`] errors of the program
+/// `reader` delivers, and how many more there were.
+pub fn check_program_counted<R: std::io::BufRead>(reader: R) -> (Vec<NcError>, u64) {
     let mut blocks = Blocks::checking(reader);
     let mut scratch = Block::default();
     let mut errors = Vec::new();
+    let mut more = 0u64;
     while let Some(result) = blocks.next_into(&mut scratch) {
         if let Err(e) = result {
-            errors.push(e);
+            if errors.len() < MAX_KEPT_ERRORS {
+                errors.push(e);
+            } else {
+                more += 1;
+            }
         }
     }
-    errors
+    (errors, more)
 }
 
 /// Parses a whole program text: its blocks, and all its errors.

@@ -162,6 +162,26 @@ fn g139_and_g05_run_as_g138_with_a_warning() {
     assert_eq!(report.warnings[0].block_number, Some(1));
 }
 
+#[test]
+fn warnings_beyond_the_bound_are_counted_not_kept() {
+    let extra = 7;
+    let text = "N1 T1\n".repeat(nc::MAX_KEPT_ERRORS + extra);
+    let (_, report, r) = run(&text);
+    r.unwrap();
+    assert_eq!(report.warnings.len(), nc::MAX_KEPT_ERRORS);
+    assert_eq!(report.more_warnings, extra as u64);
+}
+
+#[test]
+fn parse_errors_beyond_the_bound_are_counted_not_kept() {
+    let extra = 5;
+    let text = "N1 Q7\n".repeat(nc::MAX_KEPT_ERRORS + extra);
+    let (kept, more) = nc::check_program_counted(text.as_bytes());
+    assert_eq!(kept.len(), nc::MAX_KEPT_ERRORS);
+    assert_eq!(more, extra as u64);
+    assert_eq!(kept[0].line, 1);
+}
+
 mod never_panics {
     use super::*;
     use proptest::prelude::*;

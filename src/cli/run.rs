@@ -14,7 +14,7 @@ use clap::Args;
 use addipos::nc_run::{
     axis_text, run_checked_nc, spool_lines_of, trace_head, trace_lines, NcOutcome,
 };
-use nc::{check_program, NcError};
+use nc::{check_program_counted, NcError};
 use tool_store::{ToolKey, ToolValue};
 
 use super::{EXIT_FAILED, EXIT_TROUBLE};
@@ -69,8 +69,8 @@ pub fn cmd_run(args: &RunArgs) -> ExitCode {
             return ExitCode::from(EXIT_TROUBLE);
         }
     };
-    let parse_errors = match open(&args.program).map(check_program) {
-        Ok(errors) => errors,
+    let (parse_errors, more) = match open(&args.program).map(check_program_counted) {
+        Ok(found) => found,
         Err(e) => {
             eprintln!("error: {name}: cannot read: {e}");
             return ExitCode::from(EXIT_TROUBLE);
@@ -78,6 +78,7 @@ pub fn cmd_run(args: &RunArgs) -> ExitCode {
     };
     if !parse_errors.is_empty() {
         report_errors(&parse_errors, &name);
+        report_more(more, "errors", &name);
         return ExitCode::from(EXIT_FAILED);
     }
     match run_streamed(args, &name, &tools) {
@@ -155,10 +156,18 @@ fn report_errors(errors: &[NcError], name: &str) {
     }
 }
 
+/// Says how many problems of a kind were only counted, not kept.
+fn report_more(more: u64, what: &str, name: &str) {
+    if more > 0 {
+        eprintln!("note: {name}: {more} more {what} not shown");
+    }
+}
+
 fn report_problems(outcome: &NcOutcome, name: &str) {
     for w in &outcome.report.warnings {
         eprintln!("warning: {name}: {w}");
     }
+    report_more(outcome.report.more_warnings, "warnings", name);
     let errors: Vec<NcError> = outcome
         .error
         .iter()
@@ -166,4 +175,5 @@ fn report_problems(outcome: &NcOutcome, name: &str) {
         .cloned()
         .collect();
     report_errors(&errors, name);
+    report_more(outcome.report.more_faults, "faults", name);
 }

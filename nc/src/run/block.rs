@@ -69,7 +69,7 @@ impl Interpreter<'_> {
 
     fn warn(&mut self, message: String) {
         let w = self.error(message);
-        self.report.warnings.push(w);
+        self.report.warn(w);
     }
 
     fn gather<'b>(&mut self, item: &'b Item, plan: &mut Plan<'b>) -> Result<(), String> {

@@ -63,6 +63,32 @@ pub struct Report {
     /// Most blocks held at once for jumping back (the body of the
     /// outermost open loop; 1 for a program without loops).
     pub peak_held_blocks: usize,
+    /// Warnings beyond the first [`crate::MAX_KEPT_ERRORS`], only counted.
+    pub more_warnings: u64,
+    /// Faults beyond the first [`crate::MAX_KEPT_ERRORS`], only counted.
+    pub more_faults: u64,
+}
+
+impl Report {
+    /// Keeps warning `w`, or only counts it once [`crate::MAX_KEPT_ERRORS`]
+    /// are kept.
+    pub fn warn(&mut self, w: NcError) {
+        keep_or_count(&mut self.warnings, &mut self.more_warnings, w);
+    }
+
+    /// Keeps fault `f`, or only counts it once [`crate::MAX_KEPT_ERRORS`]
+    /// are kept.
+    pub fn fault(&mut self, f: NcError) {
+        keep_or_count(&mut self.faults, &mut self.more_faults, f);
+    }
+}
+
+fn keep_or_count(kept: &mut Vec<NcError>, more: &mut u64, e: NcError) {
+    if kept.len() < crate::MAX_KEPT_ERRORS {
+        kept.push(e);
+    } else {
+        *more += 1;
+    }
 }
 
 /// Motion kind of G0/G1/G2/G3.

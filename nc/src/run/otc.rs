@@ -81,7 +81,7 @@ impl Interpreter<'_> {
         for (bit, text) in objects::OTC_ERROR_BITS {
             if new & bit != 0 {
                 let fault = self.error(format!("OTC error {text}"));
-                self.report.faults.push(fault);
+                self.report.fault(fault);
             }
         }
         Ok(())
