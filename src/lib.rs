@@ -21,6 +21,7 @@ pub mod config;
 pub mod emulator;
 pub mod fuzz_checks;
 pub mod nc_run;
+pub mod opcua;
 pub mod path_plot;
 pub mod picture;
 pub mod reference;
