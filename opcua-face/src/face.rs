@@ -188,13 +188,8 @@ fn object_nodes(
         .unwrap_or_default();
     let plan = space::plan(&table);
     let map = nodes::insert(space, ns, &plan);
-    let ids = plan
-        .folders
-        .iter()
-        .map(|f| &f.id)
-        .chain(plan.vars.iter().map(|v| &v.id));
-    let order = ids
-        .enumerate()
+    let order = plan.order.iter().enumerate();
+    let order = order
         .map(|(i, id)| (NodeId::new(ns, id.as_str()), i))
         .collect();
     ObjectNodes::new(ns, Points::new(map, table.readings, core), order)

@@ -200,9 +200,11 @@ async fn run(
             idle.await;
             continue;
         }
-        tick.tick().await;
+        // The tick's own moment, not the time it is handled: an item due
+        // every tick is sampled every tick.
+        let at = tick.tick().await;
         let Some(me) = sampler.upgrade() else { return };
-        let due = me.due(Instant::now());
+        let due = me.due(at);
         let mut samples = Vec::with_capacity(due.len());
         for (id, source) in due {
             samples.push((id, points.sample(source).await));

@@ -60,6 +60,21 @@ pub(crate) struct Var {
 pub(crate) struct Plan {
     pub folders: Vec<Folder>,
     pub vars: Vec<Var>,
+    /// The NodeId strings of folders and variables in the order they were
+    /// planned: the order a browse lists them in.
+    pub order: Vec<String>,
+}
+
+impl Plan {
+    fn folder(&mut self, folder: Folder) {
+        self.order.push(folder.id.clone());
+        self.folders.push(folder);
+    }
+
+    fn var(&mut self, var: Var) {
+        self.order.push(var.id.clone());
+        self.vars.push(var);
+    }
 }
 
 /// The NodeId string of the dashboard folder.
@@ -69,7 +84,7 @@ pub(crate) const DASHBOARD: &str = "dashboard";
 pub(crate) fn plan(table: &Table) -> Plan {
     let mut plan = Plan::default();
     let bus = table.bus.to_string();
-    plan.folders.push(Folder {
+    plan.folder(Folder {
         id: bus.clone(),
         parent: Parent::Objects,
         name: format!("Bus{bus}"),
@@ -88,7 +103,7 @@ fn plan_device(plan: &mut Plan, table: &Table, number: u16) {
         return;
     };
     let id = format!("{}/{number}", table.bus);
-    plan.folders.push(Folder {
+    plan.folder(Folder {
         id: id.clone(),
         parent: Parent::Folder(table.bus.to_string()),
         name: format!("Device{number}"),
@@ -103,7 +118,7 @@ fn plan_device(plan: &mut Plan, table: &Table, number: u16) {
             IndexKind::Object => id.clone(),
             IndexKind::Instance { name, note } => {
                 let folder = format!("{id}/{index}");
-                plan.folders.push(Folder {
+                plan.folder(Folder {
                     id: folder.clone(),
                     parent: Parent::Folder(id.clone()),
                     name: format!("{name}{index}"),
@@ -121,7 +136,7 @@ fn plan_device(plan: &mut Plan, table: &Table, number: u16) {
                 } else {
                     row.name.clone()
                 };
-                plan.vars.push(Var {
+                plan.var(Var {
                     id: addr.to_string(),
                     parent: folder.clone(),
                     name,
@@ -165,7 +180,7 @@ fn plan_dashboard(plan: &mut Plan, table: &Table) {
     if table.readings.is_empty() {
         return;
     }
-    plan.folders.push(Folder {
+    plan.folder(Folder {
         id: DASHBOARD.into(),
         parent: Parent::Folder(table.bus.to_string()),
         name: "Dashboard".into(),
@@ -176,7 +191,7 @@ fn plan_dashboard(plan: &mut Plan, table: &Table) {
         for folder in &reading.path {
             let id = format!("{parent}/{folder}");
             if !plan.folders.iter().any(|f| f.id == id) {
-                plan.folders.push(Folder {
+                plan.folder(Folder {
                     id: id.clone(),
                     parent: Parent::Folder(parent.clone()),
                     name: folder.clone(),
@@ -185,7 +200,7 @@ fn plan_dashboard(plan: &mut Plan, table: &Table) {
             }
             parent = id;
         }
-        plan.vars.push(Var {
+        plan.var(Var {
             id: reading.id.clone(),
             parent,
             name: reading.name.clone(),
@@ -267,6 +282,7 @@ mod tests {
     #[test]
     fn folders_per_device_and_instance_and_one_variable_per_subindex() {
         let plan = plan(&table());
+        assert_eq!(plan.order[..4], ["7", "7/0", "7/0/2/0", "7/0/2/1"]);
         let folders: Vec<_> = plan
             .folders
             .iter()
