@@ -45,7 +45,14 @@ impl Serve {
         let dir = tempfile::tempdir().expect("dir");
         let mut child = Command::new(env!("CARGO_BIN_EXE_addipos"))
             .current_dir(dir.path())
-            .args(["serve", "--listen", "127.0.0.1:0", "--opcua", "127.0.0.1:0", "--no-persist"])
+            .args([
+                "serve",
+                "--listen",
+                "127.0.0.1:0",
+                "--opcua",
+                "127.0.0.1:0",
+                "--no-persist",
+            ])
             .stdout(Stdio::null())
             .stderr(Stdio::piped())
             .spawn()
@@ -56,7 +63,11 @@ impl Serve {
         while uoi.is_none() || url.is_none() {
             line.clear();
             assert!(err.read_line(&mut line).expect("log") > 0, "serve ended");
-            let field = |key: &str| line.split_whitespace().find_map(|w| w.strip_prefix(key)).map(str::to_string);
+            let field = |key: &str| {
+                line.split_whitespace()
+                    .find_map(|w| w.strip_prefix(key))
+                    .map(str::to_string)
+            };
             uoi = uoi.or_else(|| field("listen="));
             url = url.or_else(|| field("endpoint="));
         }
@@ -71,11 +82,17 @@ impl Serve {
 
     /// The server's CPU time so far (user + system).
     fn cpu(&self) -> Duration {
-        let stat = std::fs::read_to_string(format!("/proc/{}/stat", self.child.id())).expect("stat");
+        let stat =
+            std::fs::read_to_string(format!("/proc/{}/stat", self.child.id())).expect("stat");
         // Fields after the command's closing parenthesis; utime and stime
         // are the 14th and 15th of the line.
         let rest = &stat[stat.rfind(')').expect("comm") + 2..];
-        let f: Vec<u64> = rest.split_whitespace().skip(11).take(2).map(|v| v.parse().unwrap()).collect();
+        let f: Vec<u64> = rest
+            .split_whitespace()
+            .skip(11)
+            .take(2)
+            .map(|v| v.parse().unwrap())
+            .collect();
         Duration::from_secs_f64((f[0] + f[1]) as f64 / 100.0)
     }
 }
@@ -116,11 +133,19 @@ struct Rig {
 impl Rig {
     fn start() -> Rig {
         let serve = Serve::start();
-        let rt = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
-        let uoi = rt.block_on(Client::connect(serve.uoi.as_str())).expect("uoi");
+        let rt = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .unwrap();
+        let uoi = rt
+            .block_on(Client::connect(serve.uoi.as_str()))
+            .expect("uoi");
         let ua = rt.block_on(Ua::open(&serve.url));
         let nodes = objects().iter().map(|a| ua.node(&a.to_string())).collect();
-        let reads = objects().into_iter().map(|a| Request::Read(a, ty(a))).collect();
+        let reads = objects()
+            .into_iter()
+            .map(|a| Request::Read(a, ty(a)))
+            .collect();
         Rig {
             rt,
             serve,
@@ -132,12 +157,18 @@ impl Rig {
     }
 
     fn uoi_one(&mut self) {
-        let v = self.rt.block_on(self.uoi.read(ObjectAddress::new(1300, 1, 1, 6), ValueType::F64));
+        let v = self.rt.block_on(
+            self.uoi
+                .read(ObjectAddress::new(1300, 1, 1, 6), ValueType::F64),
+        );
         assert!(v.is_ok());
     }
 
     fn uoi_batch(&mut self) {
-        let v = self.rt.block_on(self.uoi.pipeline(&self.reads)).expect("pipeline");
+        let v = self
+            .rt
+            .block_on(self.uoi.pipeline(&self.reads))
+            .expect("pipeline");
         assert_eq!(v.len(), BATCH);
     }
 
@@ -152,7 +183,12 @@ impl Rig {
     }
 
     /// Server CPU per object read over `n` requests of `per` objects.
-    fn cpu_per_read(&mut self, n: usize, per: usize, mut one: impl FnMut(&mut Rig)) -> (Duration, Duration) {
+    fn cpu_per_read(
+        &mut self,
+        n: usize,
+        per: usize,
+        mut one: impl FnMut(&mut Rig),
+    ) -> (Duration, Duration) {
         let (cpu, t) = (self.serve.cpu(), Instant::now());
         for _ in 0..n {
             one(self);
@@ -184,7 +220,12 @@ fn reads(c: &mut Criterion) {
     ];
     for (name, n, per, one) in runs {
         let (wall, cpu) = rig.cpu_per_read(n, per, one);
-        println!("cpu/{name}: {:.2} µs server CPU per object read ({:.2} µs wall, {} objects)", us(cpu), us(wall), n * per);
+        println!(
+            "cpu/{name}: {:.2} µs server CPU per object read ({:.2} µs wall, {} objects)",
+            us(cpu),
+            us(wall),
+            n * per
+        );
     }
     latency(&mut rig);
 }

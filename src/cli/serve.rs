@@ -52,7 +52,8 @@ pub struct ServeArgs {
     /// Allow listening on a non-loopback address.
     #[arg(long)]
     pub allow_remote: bool,
-    /// Folder of the server's files (tool data, access token),
+    /// Folder of the server's files (tool data, access token, OPC UA
+    /// certificate),
     /// overriding `data_dir` of the settings (default `data`).
     #[arg(long, value_name = "DIR")]
     pub data_dir: Option<PathBuf>,
