@@ -38,5 +38,5 @@ pub mod status;
 pub use face::{Face, FaceConfig, APPLICATION_NAME, APPLICATION_URI};
 pub use layout::{answer_value, Device, IndexKind, Pick, Reading, Row, Table};
 pub use manager::NAMESPACE;
-pub use pki::{OWN_CERT, OWN_KEY};
+pub use pki::{OWN_CERT, OWN_KEY, RENEW_DAYS};
 pub use sampler::TICK as FASTEST_SAMPLING;

@@ -1,6 +1,7 @@
 //! The face's certificate store, in a folder the server owns (under its
 //! data directory): `own/cert.der` (the self-signed application instance
-//! certificate, made on the first start), `private/private.pem` (its key,
+//! certificate, made on the first start and again a month before it
+//! expires), `private/private.pem` (its key,
 //! readable by the owner only), `trusted/` and `rejected/` (client
 //! certificates). Without a key pair the OPC UA server logs errors on
 //! every connection and makes a `./pki` in the working directory.
@@ -9,17 +10,23 @@ use std::io;
 use std::path::{Path, PathBuf};
 
 use opcua::crypto::{CertificateStore, X509Data};
-use opcua::types::ApplicationDescription;
+use opcua::types::{ApplicationDescription, DateTime};
 
 /// The certificate, relative to the store.
 pub const OWN_CERT: &str = "own/cert.der";
 /// Its private key, relative to the store.
 pub const OWN_KEY: &str = "private/private.pem";
 
-/// Makes the store's key pair unless it has one; says whether it made it.
+/// Days a certificate must still be valid to be kept at a start; one
+/// closer to its end (they are made for a year) is made anew, so that
+/// clients never meet an expired one.
+pub const RENEW_DAYS: i64 = 30;
+
+/// Makes the store's key pair unless it has one valid for [`RENEW_DAYS`]
+/// more; says whether it made it.
 pub(crate) fn ensure_keypair(store: &Path, app: &ApplicationDescription) -> io::Result<bool> {
     let (cert, key) = (store.join(OWN_CERT), store.join(OWN_KEY));
-    if cert.is_file() && key.is_file() {
+    if key.is_file() && still_valid(&cert) {
         return Ok(false);
     }
     private_dir(&store.join("private"))?;
@@ -33,6 +40,17 @@ pub(crate) fn ensure_keypair(store: &Path, app: &ApplicationDescription) -> io::
     })?;
     owner_only(&key)?;
     Ok(true)
+}
+
+/// Whether the certificate at `cert` reads and is valid for
+/// [`RENEW_DAYS`] more.
+fn still_valid(cert: &Path) -> bool {
+    let Ok(cert) = CertificateStore::read_cert(cert) else {
+        return false;
+    };
+    let now = DateTime::now().as_chrono();
+    cert.not_after()
+        .is_ok_and(|end| (end - now).num_days() >= RENEW_DAYS)
 }
 
 /// A folder readable by its owner only.

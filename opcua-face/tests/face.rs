@@ -10,11 +10,11 @@
 mod ua;
 
 use std::sync::Arc;
-use std::time::Duration;
 
+use opcua::crypto::{CertificateStore, X509Data};
 use opcua::types::{
-    AttributeId, DataTypeId, EndpointDescription, MessageSecurityMode, StatusCode, UserTokenPolicy,
-    UserTokenType, Variant,
+    ApplicationDescription, AttributeId, DataTypeId, EndpointDescription, MessageSecurityMode,
+    StatusCode, UserTokenPolicy, UserTokenType, Variant,
 };
 use opcua_face::{answer_value, Device, Face, FaceConfig, IndexKind, Reading, Row, Table};
 use tokio::task::JoinHandle;
@@ -562,9 +562,10 @@ async fn the_certificate_store_is_in_its_folder_and_the_key_private() {
     rig.stop().await;
 }
 
-/// The same certificate serves the next start.
+/// The same certificate serves the next start, until a month before it
+/// expires.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn the_certificate_is_made_once() {
+async fn the_certificate_is_made_once_and_again_before_it_expires() {
     let pki = tempfile::tempdir().unwrap();
     let server = Server::bind(
         ServerConfig {
@@ -580,5 +581,24 @@ async fn the_certificate_is_made_once() {
     let first = std::fs::read(&cert).unwrap();
     drop(bind_face(&pki, None, server.core()).await);
     assert_eq!(std::fs::read(&cert).unwrap(), first);
-    let _ = Duration::ZERO;
+    // A certificate with less than a month to go is made anew.
+    let key = pki.path().join("opcua").join(opcua_face::OWN_KEY);
+    let mut short: X509Data = ApplicationDescription {
+        application_name: "short".into(),
+        application_uri: "urn:short".into(),
+        ..Default::default()
+    }
+    .into();
+    short.certificate_duration_days = u32::try_from(opcua_face::RENEW_DAYS - 1).unwrap();
+    CertificateStore::create_certificate_and_key(&short, true, &cert, &key).unwrap();
+    let expiring = std::fs::read(&cert).unwrap();
+    drop(bind_face(&pki, None, server.core()).await);
+    let renewed = std::fs::read(&cert).unwrap();
+    assert_ne!(renewed, expiring);
+    let end = CertificateStore::read_cert(&cert)
+        .unwrap()
+        .not_after()
+        .unwrap();
+    let now = opcua::types::DateTime::now().as_chrono();
+    assert!((end - now).num_days() > 300, "valid until {end}");
 }
