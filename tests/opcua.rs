@@ -487,6 +487,27 @@ impl Serve {
     }
 }
 
+impl Serve {
+    /// Stops the server gracefully (SIGTERM); its exit status, within the
+    /// hang guard.
+    fn terminate(&mut self) -> std::process::ExitStatus {
+        let pid = self.child.id().to_string();
+        let term = Command::new("kill")
+            .args(["-TERM", &pid])
+            .status()
+            .expect("kill");
+        assert!(term.success());
+        let t0 = Instant::now();
+        loop {
+            if let Some(status) = self.child.try_wait().expect("wait") {
+                return status;
+            }
+            assert!(t0.elapsed() < ua::GUARD, "serve did not stop on SIGTERM");
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+    }
+}
+
 impl Drop for Serve {
     fn drop(&mut self) {
         let _ = self.child.kill();
@@ -496,7 +517,7 @@ impl Drop for Serve {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn serve_opcua_shares_the_emulator_with_the_uoi_face() {
-    let serve = Serve::start(&[]);
+    let mut serve = Serve::start(&[]);
     let ua = Ua::open(&serve.url).await;
     let mut uoi = guarded("uoi", Client::connect(serve.uoi.as_str()))
         .await
@@ -512,7 +533,9 @@ async fn serve_opcua_shares_the_emulator_with_the_uoi_face() {
     until(&mut len, &Variant::Double(0.0)).await;
     uoi.write(tc(1, 2, 12), Value::F64(-4.5)).await.unwrap();
     until(&mut len, &Variant::Double(-4.5)).await;
-    ua.close().await;
+    // A stop signal ends both faces, with an OPC UA session open.
+    assert!(serve.terminate().success());
+    drop(ua);
     // The certificate store is in the data directory, nowhere else.
     assert!(serve
         .dir
