@@ -244,6 +244,39 @@ async fn each_device_read_and_written_through_either_face() {
     rig.stop().await;
 }
 
+/// Every object of the table and every reading, as NodeId strings.
+fn every_variable() -> Vec<String> {
+    let table = addipos::opcua::table();
+    let objects = table.rows.iter().flat_map(|r| {
+        r.index.clone().flat_map(move |i| {
+            r.sub
+                .clone()
+                .map(move |s| ObjectAddress::new(1300, r.device, i, s).to_string())
+        })
+    });
+    let readings = table.readings.iter().map(|r| r.id.clone());
+    objects.chain(readings).collect()
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn one_read_of_every_variable() {
+    let rig = Rig::start().await;
+    let ua = Ua::open(&rig.url).await;
+    let all: Vec<_> = every_variable().iter().map(|s| ua.node(s)).collect();
+    assert!(all.len() > 1_400, "{}", all.len());
+    let values = ua.read_many(&all).await;
+    assert_eq!(values.len(), all.len());
+    for (node, v) in all.iter().zip(&values) {
+        let s = v.status();
+        assert!(
+            s.is_good() || s == StatusCode::BadNotReadable,
+            "{node}: {s}"
+        );
+    }
+    ua.close().await;
+    rig.stop().await;
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn every_refusal_has_its_status_and_changes_nothing() {
     let rig = Rig::start().await;

@@ -33,6 +33,12 @@ pub const APPLICATION_URI: &str = "urn:addipos-tc:server";
 /// The product's URI.
 const PRODUCT_URI: &str = "urn:addipos-tc";
 
+/// Most nodes one request may name (the library's own limit of a Read).
+const MAX_NODES_PER_REQUEST: usize = 10_000;
+
+/// Most chunks of one message: room for a Read of that many nodes.
+const MAX_CHUNKS: usize = 64;
+
 /// Settings of the face.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct FaceConfig {
@@ -85,11 +91,14 @@ impl Face {
         let (id, ep) = endpoint(guarded);
         builder = builder.add_endpoint(id, ep);
         let fastest = TICK.as_secs_f64() * 1e3;
-        builder.limits_mut().subscriptions.min_sampling_interval_ms = fastest;
-        builder
-            .limits_mut()
-            .subscriptions
-            .min_publishing_interval_ms = fastest;
+        let limits = builder.limits_mut();
+        limits.subscriptions.min_sampling_interval_ms = fastest;
+        limits.subscriptions.min_publishing_interval_ms = fastest;
+        // One Read (or Write, or CreateMonitoredItems) may name every
+        // object of the table: the library's arrays stop at 1,000.
+        limits.max_array_length = MAX_NODES_PER_REQUEST;
+        limits.max_chunk_count = MAX_CHUNKS;
+        limits.max_message_size = limits.receive_buffer_size * MAX_CHUNKS;
         if pki::ensure_keypair(&cfg.pki_dir, &builder.config().application_description())? {
             let cert = pki::cert_path(&cfg.pki_dir);
             tracing::info!("made the OPC UA server certificate {}", cert.display());

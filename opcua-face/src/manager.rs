@@ -166,15 +166,19 @@ impl InMemoryNodeManagerImpl for ObjectNodes {
                 item.set_status(StatusCode::BadNotReadable);
                 continue;
             }
+            // Both stamps: the item's own choice applies when it is sent.
             let value = self
-                .read_one(context, space, &node, 0.0, item.timestamps_to_return())
+                .read_one(context, space, &node, 0.0, TimestampsToReturn::Both)
                 .await;
-            item.set_initial_value(value);
+            item.set_initial_value(value.clone());
             item.set_status(StatusCode::Good);
-            let every = Self::every(item.sampling_interval());
-            let (handle, mode) = (item.handle(), item.monitoring_mode());
+            let wishes = (
+                item.monitoring_mode(),
+                Self::every(item.sampling_interval()),
+            );
+            let handle = item.handle();
             self.sampler
-                .add(node.node_id, point.source, handle, mode, every);
+                .add(node.node_id, point.source, handle, wishes, value);
         }
     }
 

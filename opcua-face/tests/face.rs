@@ -602,3 +602,28 @@ async fn the_certificate_is_made_once_and_again_before_it_expires() {
     let now = opcua::types::DateTime::now().as_chrono();
     assert!((end - now).num_days() > 300, "valid until {end}");
 }
+
+/// Two items on one variable, sampled every 10 and every 200 ms: each
+/// gets every change that stays, the slow one at its own pace too (the
+/// library holds back a value that comes sooner than an item's interval
+/// after the last one, and sends it only on a further change).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_slower_item_still_gets_the_last_change() {
+    let rig = Rig::start(None).await;
+    let ua = Ua::open(&rig.url).await;
+    let mut uoi = Client::connect(rig.uoi).await.expect("uoi");
+    let speed = demo(0, 2, 0);
+    let mut fast = ua.watch(&speed, 10.0).await;
+    let mut slow = ua.watch(&speed, 200.0).await;
+    until(&mut fast, &Variant::Double(0.0)).await;
+    until(&mut slow, &Variant::Double(0.0)).await;
+    let addr = ObjectAddress::new(BUS, 0, 2, 0);
+    for v in [1.0, 2.0, 3.0] {
+        uoi.write(addr, Value::F64(v)).await.unwrap();
+        until(&mut fast, &Variant::Double(v)).await;
+    }
+    // 3 stays: the slow item gets it.
+    until(&mut slow, &Variant::Double(3.0)).await;
+    ua.close().await;
+    rig.stop().await;
+}

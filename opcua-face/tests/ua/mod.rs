@@ -67,6 +67,9 @@ impl Ua {
             .trust_server_certs(true)
             .session_retry_limit(0)
             .min_publish_interval(Duration::from_millis(10))
+            .max_array_length(100_000)
+            .max_chunk_count(64)
+            .max_message_size(64 * 65_535)
             .client()
             .expect("client");
         let (session, event_loop) = match login {
