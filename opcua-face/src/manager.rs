@@ -24,6 +24,10 @@ use crate::browse::Order;
 use crate::points::{bad, stamped, Points};
 use crate::sampler::{Sampler, TICK};
 
+/// The longest sampling interval kept: an item that asks for a longer
+/// one is sampled this often.
+const SLOWEST: Duration = Duration::from_secs(3600);
+
 /// The URI of the face's namespace.
 pub const NAMESPACE: &str = "urn:addipos-tc";
 
@@ -100,11 +104,13 @@ impl ObjectNodes {
         write.set_status(status);
     }
 
-    /// A monitored item's sampling interval: the revised one, or the
-    /// shortest for "the subscription's".
+    /// A monitored item's sampling interval: the revised one within
+    /// [`TICK`] ..= [`SLOWEST`], or the shortest for "the subscription's"
+    /// (a negative one).
     fn every(interval_ms: f64) -> Duration {
-        if interval_ms > 0.0 && interval_ms.is_finite() {
-            Duration::from_secs_f64(interval_ms * 1e-3).max(TICK)
+        if interval_ms > 0.0 {
+            Duration::try_from_secs_f64(interval_ms * 1e-3)
+                .map_or(SLOWEST, |d| d.clamp(TICK, SLOWEST))
         } else {
             TICK
         }
@@ -220,5 +226,21 @@ impl InMemoryNodeManagerImpl for ObjectNodes {
             self.write_one(write).await;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn any_sampling_interval_a_client_asks_for_is_one_the_sampler_keeps() {
+        assert_eq!(ObjectNodes::every(250.0), Duration::from_millis(250));
+        assert_eq!(ObjectNodes::every(1.0), TICK);
+        assert_eq!(ObjectNodes::every(-1.0), TICK);
+        assert_eq!(ObjectNodes::every(f64::NAN), TICK);
+        for huge in [1e300, f64::MAX, f64::INFINITY] {
+            assert_eq!(ObjectNodes::every(huge), SLOWEST, "{huge}");
+        }
     }
 }
