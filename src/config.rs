@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
+use opcua_face::FaceConfig;
 use serde::Deserialize;
 use tc_module::limits::{check_point, MAX_COORD};
 use tc_module::spooler::{check_capacity, DEFAULT_SPOOL_CAPACITY};
@@ -65,7 +66,34 @@ pub struct Config {
     pub spool_capacity: u64,
     /// Machine position at start.
     pub start: [f64; AXES],
+    /// The OPC UA face.
+    pub opcua: OpcuaSettings,
 }
+
+/// The `[opcua]` settings: the OPC UA face of the same emulator
+/// (docs/opcua.md).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct OpcuaSettings {
+    /// Serve OPC UA too.
+    pub enabled: bool,
+    /// Where OPC UA clients connect, in a form [`parse_address`] reads;
+    /// loopback only unless `allow_remote`.
+    pub listen: String,
+}
+
+impl Default for OpcuaSettings {
+    fn default() -> Self {
+        Self {
+            enabled: false,
+            listen: "127.0.0.1:4840".into(),
+        }
+    }
+}
+
+/// The folder of the OPC UA face's certificate store in the data
+/// directory.
+pub const OPCUA_PKI_DIR: &str = "opcua";
 
 impl Default for Config {
     fn default() -> Self {
@@ -85,6 +113,7 @@ impl Default for Config {
             cycle_ms: 1.0,
             spool_capacity: DEFAULT_SPOOL_CAPACITY as u64,
             start: [0.0; AXES],
+            opcua: OpcuaSettings::default(),
         }
     }
 }
@@ -163,6 +192,22 @@ impl Config {
         })
     }
 
+    /// The OPC UA face's settings, checked; `None` when it is off. It
+    /// asks for the access token whenever the UOI face does.
+    pub fn opcua(&self) -> Result<Option<FaceConfig>, ConfigError> {
+        if !self.opcua.enabled {
+            return Ok(None);
+        }
+        let listen = parse_address(&self.opcua.listen)
+            .map_err(|e| ConfigError(format!("[opcua] listen = \"{}\": {e}", self.opcua.listen)))?;
+        Ok(Some(FaceConfig {
+            listen,
+            allow_remote: self.allow_remote,
+            token: None,
+            pki_dir: self.data_dir.join(OPCUA_PKI_DIR),
+        }))
+    }
+
     /// The interpolation cycle, checked.
     pub fn cycle(&self) -> Result<CycleTime, ConfigError> {
         CycleTime::from_secs(self.cycle_ms * 1e-3)
@@ -196,6 +241,22 @@ mod tests {
         assert_eq!(s.evict_after, Some(Duration::from_secs(1)));
         assert_eq!(s.write_timeout, Duration::from_secs(30));
         assert!(!c.wants_token());
+        assert_eq!(c.opcua().unwrap(), None);
+    }
+
+    #[test]
+    fn opcua_face_on_loopback_port_4840_with_its_store_in_the_data_dir() {
+        let c = Config::parse("data_dir = \"d\"\n[opcua]\nenabled = true").unwrap();
+        let face = c.opcua().unwrap().expect("on");
+        assert_eq!(face.listen.to_string(), "127.0.0.1:4840");
+        assert!(!face.allow_remote);
+        assert_eq!(face.pki_dir, PathBuf::from("d").join("opcua"));
+        let c = Config::parse("[opcua]\nenabled = true\nlisten = \"nowhere\"").unwrap();
+        assert!(c.opcua().unwrap_err().0.contains("[opcua] listen"));
+        assert!(Config::parse("[opcua]\nport = 1")
+            .unwrap_err()
+            .0
+            .contains("port"));
     }
 
     #[test]

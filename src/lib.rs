@@ -3,7 +3,8 @@
 //! Wires the TC module ([`tc_module`]) with the OTC extension ([`otc_ext`])
 //! into one [`Emulator`] driven by the one request model ([`tc_request`]),
 //! serves it over TCP ([`service`], with a private emulator per
-//! conformance session: [`session`]), and replays conformance traces
+//! conformance session: [`session`]) and, beside it, over OPC UA
+//! ([`opcua`]: what the `opcua-face` crate shows), and replays conformance traces
 //! (docs/trace-format.md) in-process or over the wire ([`trace`],
 //! [`remote`]). [`picture`] draws paths in a plane as SVG for the docs.
 //!
@@ -21,6 +22,7 @@ pub mod config;
 pub mod emulator;
 pub mod fuzz_checks;
 pub mod nc_run;
+pub mod opcua;
 pub mod path_plot;
 pub mod picture;
 pub mod reference;

@@ -251,6 +251,11 @@ fn cmd_call(addr: &str, words: &[String], remote_args: &RemoteArgs) -> ExitCode 
     ExitCode::SUCCESS
 }
 
+/// What is logged unless `RUST_LOG` says otherwise: our lines from `info`
+/// on; of the OPC UA library only warnings (its `info` lines describe every
+/// connection).
+const DEFAULT_LOG: &str = "info,opcua_server=warn,opcua_crypto=warn,opcua_core=warn";
+
 /// Log lines on stderr; colour only on a terminal, and not with `NO_COLOR`
 /// set.
 fn init_log() {
@@ -259,7 +264,7 @@ fn init_log() {
     tracing_subscriber::fmt()
         .with_env_filter(
             tracing_subscriber::EnvFilter::try_from_default_env()
-                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
+                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new(DEFAULT_LOG)),
         )
         .with_writer(std::io::stderr)
         .with_ansi(colour)

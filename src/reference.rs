@@ -15,7 +15,7 @@ use uoi::{AccessError, Meaning, ObjectDesc};
 
 /// The devices of bus 1300, with the heading and the meaning of their
 /// index.
-const DEVICES: [(u16, &str, &str); 5] = [
+pub(crate) const DEVICES: [(u16, &str, &str); 5] = [
     (0, "Device 0: initialisation (global)", "Index: the object."),
     (1, "Device 1: compensation groups and their tool tables", "Index: the group, 1..=32. Each group has a tool table of 1024 entries (WKZINDEX 0..1023) holding a radius and a length."),
     (2, "Device 2: TC extensions", "Index: the group, 1..=32."),

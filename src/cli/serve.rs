@@ -11,6 +11,8 @@ use addipos::address::parse_address;
 use addipos::config::{Config, DEFAULT_CONFIG};
 use addipos::service::EmulatorService;
 use addipos::tools::open::open_tools;
+use opcua_face::{Face, FaceConfig};
+use tokio_util::sync::CancellationToken;
 use uoi::tcp::{AccessToken, Server};
 
 use super::{EXIT_FAILED, EXIT_TROUBLE};
@@ -50,7 +52,8 @@ pub struct ServeArgs {
     /// Allow listening on a non-loopback address.
     #[arg(long)]
     pub allow_remote: bool,
-    /// Folder of the server's files (tool data, access token),
+    /// Folder of the server's files (tool data, access token, OPC UA
+    /// certificate),
     /// overriding `data_dir` of the settings (default `data`).
     #[arg(long, value_name = "DIR")]
     pub data_dir: Option<PathBuf>,
@@ -62,12 +65,18 @@ pub struct ServeArgs {
     /// they are skipped and reported instead of refusing to start.
     #[arg(long)]
     pub ignore_bad_tools: bool,
+    /// Serve OPC UA too (docs/opcua.md), at ADDR or else at `listen` of
+    /// the `[opcua]` settings (127.0.0.1:4840).
+    #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = "")]
+    pub opcua: Option<String>,
 }
 
 /// What `serve` runs with.
 struct ServeSettings {
     server: uoi::tcp::ServerConfig,
     service: EmulatorService,
+    /// The OPC UA face, when it is on.
+    opcua: Option<FaceConfig>,
     /// The lock on the tool folder, held while serving.
     _tools_lock: Option<std::fs::File>,
 }
@@ -95,10 +104,22 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
     }
     cfg.persist &= !args.no_persist;
     cfg.ignore_bad_tools |= args.ignore_bad_tools;
+    if let Some(addr) = &args.opcua {
+        cfg.opcua.enabled = true;
+        if !addr.is_empty() {
+            cfg.opcua.listen = parse_address(addr)
+                .map_err(|e| format!("--opcua: {e}"))?
+                .to_string();
+        }
+    }
     let mut server = cfg.server().map_err(in_source)?;
     let mut service = cfg.service().map_err(in_source)?;
+    let mut opcua = cfg.opcua().map_err(in_source)?;
     if cfg.wants_token() {
         let token = server_token(&cfg.data_dir).map_err(|e| format!("access token: {e}"))?;
+        if let Some(face) = &mut opcua {
+            face.token = Some(token.clone());
+        }
         server.access.token = Some(token);
     }
     let lock = if cfg.persist {
@@ -114,6 +135,7 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
     Ok(ServeSettings {
         server,
         service,
+        opcua,
         _tools_lock: lock,
     })
 }
@@ -146,6 +168,49 @@ fn listen_error(addr: SocketAddr, e: &std::io::Error) -> String {
     }
 }
 
+/// Why the OPC UA face could not listen on `addr`, and what to do about it.
+fn opcua_listen_error(addr: SocketAddr, e: &std::io::Error) -> String {
+    const HINT: &str =
+        "choose another with --opcua ADDR or `listen` in [opcua] of the settings file";
+    match e.kind() {
+        std::io::ErrorKind::AddrInUse => {
+            format!("OPC UA: cannot listen on {addr}: address already in use ({HINT})")
+        }
+        _ if e.raw_os_error().is_none() => format!("OPC UA: {e}"),
+        _ => format!("OPC UA: cannot listen on {addr}: {e} ({HINT})"),
+    }
+}
+
+/// Serves the UOI face, and the OPC UA face when it is bound, until a
+/// stop signal (or until either ends: then both stop).
+async fn serve_faces<H: uoi::tcp::Handler>(
+    server: Server<H>,
+    face: Option<Face>,
+) -> std::io::Result<()> {
+    let stop = CancellationToken::new();
+    let signal = stop.clone();
+    let watch = tokio::spawn(async move {
+        tokio::select! {
+            () = shutdown_signal() => signal.cancel(),
+            () = signal.cancelled() => {}
+        }
+    });
+    let uoi = async {
+        let end = server.run(stop.cancelled()).await;
+        stop.cancel();
+        end
+    };
+    let opcua = async {
+        let Some(face) = face else { return Ok(()) };
+        let end = face.run(stop.cancelled()).await;
+        stop.cancel();
+        end
+    };
+    let (uoi, opcua) = tokio::join!(uoi, opcua);
+    watch.abort();
+    uoi.and(opcua)
+}
+
 /// Runs `serve` until a stop signal; the exit status says how it ended.
 pub fn cmd_serve(args: &ServeArgs) -> ExitCode {
     let settings = match serve_settings(args) {
@@ -175,7 +240,20 @@ pub fn cmd_serve(args: &ServeArgs) -> ExitCode {
             return ExitCode::from(EXIT_TROUBLE);
         }
     };
-    let end = match rt.block_on(server.run(shutdown_signal())) {
+    let face = match settings.opcua {
+        Some(cfg) => {
+            let at = cfg.listen;
+            match rt.block_on(Face::bind(cfg, addipos::opcua::table(), server.core())) {
+                Ok(face) => Some(face),
+                Err(e) => {
+                    eprintln!("error: {}", opcua_listen_error(at, &e));
+                    return ExitCode::from(EXIT_TROUBLE);
+                }
+            }
+        }
+        None => None,
+    };
+    let end = match rt.block_on(serve_faces(server, face)) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

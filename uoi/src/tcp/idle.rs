@@ -90,6 +90,12 @@ impl Activity {
         }
     }
 
+    /// The activity of no connection: never closed by the watchdog (the
+    /// requests another face submits through a [`super::CoreHandle`]).
+    pub(crate) fn unwatched() -> Self {
+        Self::new(None)
+    }
+
     /// Records progress: a complete request read.
     pub(crate) fn progress(&self) {
         self.progress.fetch_add(1, Ordering::Relaxed);

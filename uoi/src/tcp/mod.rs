@@ -4,6 +4,7 @@
 mod access;
 mod client;
 mod connection;
+mod core_handle;
 mod gate;
 mod halves;
 mod idle;
@@ -15,4 +16,5 @@ pub use access::{
     is_loopback_peer, AccessPolicy, AccessToken, BadToken, MAX_TOKEN_LEN, MIN_TOKEN_LEN,
 };
 pub use client::{answer_error, BlockingClient, Client, ClientError, ClientOptions, Waited};
+pub use core_handle::CoreHandle;
 pub use server::{Core, Handler, Served, Server, ServerConfig, Session, Slice, Wait};

@@ -13,6 +13,7 @@ use tokio::time::MissedTickBehavior;
 use tracing::{info, warn};
 
 use super::access::AccessPolicy;
+use super::core_handle::CoreHandle;
 use super::gate::Gate;
 use super::shared::Shared;
 use crate::wire::{Answer, Request};
@@ -201,6 +202,12 @@ impl<H: Handler> Server<H> {
     /// The address actually bound (port 0 picks a free port).
     pub fn local_addr(&self) -> io::Result<SocketAddr> {
         self.listener.local_addr()
+    }
+
+    /// A handle through which another face of the same object table
+    /// submits requests to the handler the connections share.
+    pub fn core(&self) -> CoreHandle {
+        CoreHandle::new(self.shared.clone())
     }
 
     /// Serves until `shutdown` completes, then stops accepting, lets every

@@ -1,0 +1,205 @@
+//! The OPC UA server of the face: its settings, the listening socket (on
+//! loopback unless remote access is allowed), the certificate store, the
+//! one endpoint, and its run until a stop signal.
+
+use std::future::Future;
+use std::io;
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use opcua::core::config::Config as _;
+use opcua::crypto::X509Data;
+use opcua::server::address_space::{add_namespaces, AddressSpace};
+use opcua::server::node_manager::memory::InMemoryNodeManagerBuilder;
+use opcua::server::node_manager::ServerContext;
+use opcua::server::{Server, ServerBuilder, ServerHandle};
+use opcua::types::NodeId;
+use tokio::net::TcpListener;
+use uoi::tcp::{AccessToken, CoreHandle};
+
+use crate::front::FrontBuilder;
+use crate::layout::Table;
+use crate::manager::{ObjectNodes, NAMESPACE};
+use crate::points::Points;
+use crate::sampler::TICK;
+use crate::security::{endpoint, TokenGate, ENDPOINT_PATH};
+use crate::{nodes, pki, space};
+
+/// The application's name, as OPC UA clients list it.
+pub const APPLICATION_NAME: &str = "addipos TC emulator";
+/// The application's URI (also in its certificate).
+pub const APPLICATION_URI: &str = "urn:addipos-tc:server";
+/// The product's URI.
+const PRODUCT_URI: &str = "urn:addipos-tc";
+
+/// Most nodes one request may name (the library's own limit of a Read).
+const MAX_NODES_PER_REQUEST: usize = 10_000;
+
+/// Most chunks of one message: room for a Read of that many nodes.
+const MAX_CHUNKS: usize = 64;
+
+/// Settings of the face.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FaceConfig {
+    /// Where OPC UA clients connect.
+    pub listen: SocketAddr,
+    /// Allow a non-loopback listen address (it also needs a token).
+    pub allow_remote: bool,
+    /// `Some`: guarded — no anonymous user; the token is the password,
+    /// on a Basic256Sha256 Sign&Encrypt endpoint only. `None`: open —
+    /// anonymous, no security (loopback only).
+    pub token: Option<AccessToken>,
+    /// The certificate store's folder (the data directory's `opcua`).
+    pub pki_dir: PathBuf,
+}
+
+/// A bound face, ready to run.
+pub struct Face {
+    server: Server,
+    handle: ServerHandle,
+    listener: TcpListener,
+    endpoint_url: String,
+    guarded: bool,
+}
+
+impl Face {
+    /// Binds the listen address and prepares the server of `table`, whose
+    /// values it reads and writes through `core`. A non-loopback address
+    /// is refused unless remote access is allowed and a token is given.
+    pub async fn bind(cfg: FaceConfig, table: Table, core: CoreHandle) -> io::Result<Self> {
+        check_listen(&cfg)?;
+        let listener = TcpListener::bind(cfg.listen).await?;
+        let addr = listener.local_addr()?;
+        let host = endpoint_host(addr);
+        let endpoint_url = format!("opc.tcp://{host}:{}{ENDPOINT_PATH}", addr.port());
+        let guarded = cfg.token.is_some();
+        let mut builder = ServerBuilder::new()
+            .application_name(APPLICATION_NAME)
+            .application_uri(APPLICATION_URI)
+            .product_uri(PRODUCT_URI)
+            .create_sample_keypair(false)
+            .pki_dir(cfg.pki_dir.clone())
+            // The token decides who gets in, not a list of client
+            // certificates.
+            .trust_client_certs(guarded)
+            .host(host)
+            .port(addr.port())
+            .discovery_urls(vec![endpoint_url.clone()])
+            .subscription_poll_interval_ms(TICK.as_millis() as u64)
+            .with_authenticator(Arc::new(TokenGate::new(cfg.token.clone())));
+        let (id, ep) = endpoint(guarded);
+        builder = builder.add_endpoint(id, ep);
+        let fastest = TICK.as_secs_f64() * 1e3;
+        let limits = builder.limits_mut();
+        limits.subscriptions.min_sampling_interval_ms = fastest;
+        limits.subscriptions.min_publishing_interval_ms = fastest;
+        // One Read (or Write, or CreateMonitoredItems) may name every
+        // object of the table: the library's arrays stop at 1,000.
+        limits.max_array_length = MAX_NODES_PER_REQUEST;
+        limits.max_chunk_count = MAX_CHUNKS;
+        limits.max_message_size = limits.receive_buffer_size * MAX_CHUNKS;
+        if pki::ensure_keypair(&cfg.pki_dir, &builder.config().application_description())? {
+            let cert = pki::cert_path(&cfg.pki_dir);
+            tracing::info!("made the OPC UA server certificate {}", cert.display());
+        }
+        let builder = builder.with_node_manager(FrontBuilder(InMemoryNodeManagerBuilder::new(
+            move |context: ServerContext, space: &mut AddressSpace| {
+                object_nodes(context, space, table, core)
+            },
+        )));
+        let (server, handle) = builder.build().map_err(io::Error::other)?;
+        Ok(Self {
+            server,
+            handle,
+            listener,
+            endpoint_url,
+            guarded,
+        })
+    }
+
+    /// The endpoint URL clients connect to.
+    pub fn endpoint_url(&self) -> &str {
+        &self.endpoint_url
+    }
+
+    /// Serves until `shutdown` completes, then closes every session.
+    pub async fn run(self, shutdown: impl Future<Output = ()>) -> io::Result<()> {
+        let security = if self.guarded {
+            "Basic256Sha256 Sign&Encrypt, access token as password"
+        } else {
+            "None, anonymous"
+        };
+        tracing::info!(endpoint = %self.endpoint_url, security, "serving OPC UA");
+        let Face {
+            server,
+            handle,
+            listener,
+            ..
+        } = self;
+        let run = server.run_with(listener);
+        tokio::pin!(run);
+        tokio::pin!(shutdown);
+        let end = tokio::select! {
+            end = &mut run => end,
+            () = &mut shutdown => {
+                handle.cancel();
+                run.await
+            }
+        };
+        end.map_err(io::Error::other)
+    }
+}
+
+/// The loopback rule of the UOI face: another machine's address needs
+/// remote access allowed and the access token.
+fn check_listen(cfg: &FaceConfig) -> io::Result<()> {
+    let refused = |why: &str| {
+        Err(io::Error::new(
+            io::ErrorKind::PermissionDenied,
+            format!("{} is not a loopback address: {why}", cfg.listen),
+        ))
+    };
+    if cfg.listen.ip().is_loopback() {
+        Ok(())
+    } else if !cfg.allow_remote {
+        refused("serving OPC UA there needs --allow-remote")
+    } else if cfg.token.is_none() {
+        refused("serving OPC UA there needs the access token")
+    } else {
+        Ok(())
+    }
+}
+
+/// The host named in endpoint URLs: the address listened on, or for "any
+/// address" this machine's name.
+fn endpoint_host(addr: SocketAddr) -> String {
+    match addr {
+        SocketAddr::V4(a) if !a.ip().is_unspecified() => a.ip().to_string(),
+        SocketAddr::V6(a) if !a.ip().is_unspecified() => format!("[{}]", a.ip()),
+        _ => X509Data::computer_hostnames()
+            .into_iter()
+            .next()
+            .unwrap_or_else(|| "localhost".into()),
+    }
+}
+
+/// The face's node manager: its namespace, its nodes from `table`.
+fn object_nodes(
+    context: ServerContext,
+    space: &mut AddressSpace,
+    table: Table,
+    core: CoreHandle,
+) -> ObjectNodes {
+    let ns = add_namespaces(&context, space, &[NAMESPACE])
+        .first()
+        .copied()
+        .unwrap_or_default();
+    let plan = space::plan(&table);
+    let map = nodes::insert(space, ns, &plan);
+    let order = plan.order.iter().enumerate();
+    let order = order
+        .map(|(i, id)| (NodeId::new(ns, id.as_str()), i))
+        .collect();
+    ObjectNodes::new(ns, Points::new(map, table.readings, core), order)
+}
