@@ -57,8 +57,9 @@ pub struct ServeArgs {
     /// overriding `data_dir` of the settings (default `data`).
     #[arg(long, value_name = "DIR")]
     pub data_dir: Option<PathBuf>,
-    /// Keep tool data in memory only: nothing is read or written on
-    /// disk (a throw-away emulator).
+    /// Keep tool data in memory only: no tool file or journal is read or
+    /// written (a throw-away emulator). The access token and the OPC UA
+    /// certificate, when used, are still kept in the data directory.
     #[arg(long)]
     pub no_persist: bool,
     /// Start even when tool files or the tool journal hold bad lines:
