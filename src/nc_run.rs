@@ -80,9 +80,13 @@ struct Recorder<'r, 's> {
 
 impl Controller for Recorder<'_, '_> {
     fn call(&mut self, req: &Request, at: At) -> Reply {
+        if self.failed.is_some() {
+            // The output failed: nothing more is run, the run stops here.
+            return Reply::Access(uoi::AccessError::State);
+        }
         let reply = self.emu.run(req);
         let spooled = self.emu.take_spool_log();
-        if self.failed.is_none() {
+        {
             let x = Exchange {
                 at,
                 request: req.clone(),

@@ -93,3 +93,65 @@ fn a_program_with_parse_errors_runs_nothing_and_writes_no_trace() {
     assert!(stderr.contains("block N99"), "{stderr}");
     assert!(!trace.exists());
 }
+
+/// `addipos run` on `prog` with `stdin` fed in and stdout as `stdout`.
+fn run_with(prog: &str, stdin: &str, stdout: std::process::Stdio) -> std::process::Child {
+    use std::io::Write;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_addipos"))
+        .arg("run")
+        .arg(prog)
+        .stdin(std::process::Stdio::piped())
+        .stdout(stdout)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run addipos");
+    let mut input = child.stdin.take().unwrap();
+    input.write_all(stdin.as_bytes()).unwrap();
+    drop(input);
+    child
+}
+
+/// A program from a pipe is read once into memory: both passes see it.
+#[test]
+fn a_program_from_a_pipe_runs() {
+    let child = run_with(
+        "/dev/stdin",
+        "G1 F1000 X10\nX20 Y5\nM30\n",
+        std::process::Stdio::piped(),
+    );
+    let out = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    assert!(stdout.contains("LIN X20 Y5"), "{stdout}");
+    assert!(stdout.contains("POS X20 Y5"), "{stdout}");
+}
+
+/// A directory is not a program: "cannot read", exit 2.
+#[test]
+fn a_directory_cannot_be_read() {
+    let child = run_with(
+        &dir().display().to_string(),
+        "",
+        std::process::Stdio::piped(),
+    );
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("cannot read"), "{stderr}");
+}
+
+/// When standard output goes away the run stops and says so (exit 2),
+/// rather than running the rest of a long program for nothing.
+#[test]
+fn a_closed_standard_output_stops_the_run() {
+    let path = dir().join("closed-stdout.nc");
+    std::fs::write(&path, program(20_000)).unwrap();
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let child = run_with(&path.display().to_string(), "", writer.into());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("standard output"), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+}

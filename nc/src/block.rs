@@ -19,6 +19,10 @@ struct Cursor<'a> {
     keep: bool,
     line: usize,
     number: Option<u32>,
+    /// The last column asked for on a line that is not ASCII: its byte
+    /// offset and the characters before it, so that columns asked for from
+    /// left to right cost the characters in between, not the whole line.
+    counted: std::cell::Cell<(usize, usize)>,
 }
 
 impl Cursor<'_> {
@@ -26,10 +30,15 @@ impl Cursor<'_> {
     fn column(&self, rest: &str) -> usize {
         let offset = self.line_text.len() - rest.len();
         if self.ascii {
-            offset + 1
-        } else {
-            self.line_text[..offset].chars().count() + 1
+            return offset + 1;
         }
+        let (mut from, mut chars) = self.counted.get();
+        if offset < from {
+            (from, chars) = (0, 0);
+        }
+        chars += self.line_text[from..offset].chars().count();
+        self.counted.set((offset, chars));
+        chars + 1
     }
 
     fn error(&self, rest: &str, message: String) -> NcError {
@@ -71,6 +80,7 @@ pub fn parse_line_into(
         keep,
         line,
         number: None,
+        counted: std::cell::Cell::new((0, 0)),
     };
     block.line = line;
     block.number = None;

@@ -54,7 +54,7 @@ mod words;
 pub use error::NcError;
 pub use expr::{BinOp, Expr, Func, Segment, Var};
 pub use model::{Axis, Block, CentreAxis, GCode, Item, OtcCommand, OtcKind, OtcMode, OtcOption};
-pub use stream::Blocks;
+pub use stream::{Blocks, MAX_CONTROL_NESTING};
 
 /// Reads a whole program from `reader` and keeps only its errors: the
 /// first pass of a streamed run (nothing runs when there is one). Memory

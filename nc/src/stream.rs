@@ -139,12 +139,22 @@ impl<R: BufRead> Blocks<R> {
             }
         }
         if let Some(kind) = opens {
+            if closes.is_empty() && self.open.len() >= MAX_CONTROL_NESTING {
+                let msg =
+                    format!("control structures nest deeper than {MAX_CONTROL_NESTING} levels");
+                return Err(Self::error_at(block, 0, msg));
+            }
             let msg = open_name(kind).to_string();
             self.open.push((kind, Self::error_at(block, 0, msg)));
         }
         Ok(())
     }
 }
+
+/// Deepest nesting of `$FOR/$IF/$WHILE` a program may have: deeper is an
+/// error, so that the structures still open stay few (a controller's
+/// interpreter has such a limit too).
+pub const MAX_CONTROL_NESTING: usize = 256;
 
 /// One line's bytes (without its line end) into `block`; `None` for a
 /// line without a block.

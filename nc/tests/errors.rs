@@ -118,3 +118,28 @@ fn deep_nesting_is_an_error_not_a_stack_overflow() {
     let signs = format!("R1 = {}1", "- ".repeat(100_000));
     assert_eq!(errors(&signs).len(), 1);
 }
+
+#[test]
+fn control_structures_nest_at_most_so_deep() {
+    let deep = nc::MAX_CONTROL_NESTING + 3;
+    let text = "N1 $IF 1\n".repeat(deep);
+    let e = errors(&text);
+    // The three too deep, then one error per structure left open.
+    assert_eq!(e.len(), 3 + nc::MAX_CONTROL_NESTING, "{:?}", &e[..4]);
+    let first = &e[0];
+    assert_eq!(first.line, nc::MAX_CONTROL_NESTING + 1);
+    assert!(first.message.contains("nest deeper"), "{}", first.message);
+    let ok = "N1 $IF 1\n".repeat(nc::MAX_CONTROL_NESTING)
+        + &"N2 $ENDIF\n".repeat(nc::MAX_CONTROL_NESTING);
+    assert!(errors(&ok).is_empty());
+}
+
+#[test]
+fn columns_on_a_line_with_umlauts_count_characters() {
+    // The words' columns are asked for left to right, the error's last.
+    let (blocks, _) = parse_program("(äöü) X1 Y2 Z3\n");
+    let columns: Vec<usize> = (0..3).map(|k| blocks[0].column(k)).collect();
+    assert_eq!(columns, [7, 10, 13]);
+    assert_eq!(at(&only("(äöü) X1 Y2 Q3")), (1, None, 13));
+    assert_eq!(at(&only("(ä) X1 (ö) Y2 (ü) Q3")), (1, None, 19));
+}

@@ -69,7 +69,14 @@ pub fn cmd_run(args: &RunArgs) -> ExitCode {
             return ExitCode::from(EXIT_TROUBLE);
         }
     };
-    let (parse_errors, more) = match open(&args.program).map(check_program_counted) {
+    let source = match Source::open(&args.program) {
+        Ok(source) => source,
+        Err(e) => {
+            eprintln!("error: {name}: cannot read: {e}");
+            return ExitCode::from(EXIT_TROUBLE);
+        }
+    };
+    let (parse_errors, more) = match source.reader().map(check_program_counted) {
         Ok(found) => found,
         Err(e) => {
             eprintln!("error: {name}: cannot read: {e}");
@@ -81,7 +88,7 @@ pub fn cmd_run(args: &RunArgs) -> ExitCode {
         report_more(more, "errors", &name);
         return ExitCode::from(EXIT_FAILED);
     }
-    match run_streamed(args, &name, &tools) {
+    match run_streamed(args, &source, &name, &tools) {
         Ok(outcome) if failed(&outcome) => ExitCode::from(EXIT_FAILED),
         Ok(_) => ExitCode::SUCCESS,
         Err(e) => {
@@ -91,14 +98,38 @@ pub fn cmd_run(args: &RunArgs) -> ExitCode {
     }
 }
 
-fn open(path: &Path) -> io::Result<BufReader<File>> {
-    File::open(path).map(BufReader::new)
+/// Where the program is read from, twice (the check pass, then the run):
+/// a regular file is opened again for the run, anything else (a pipe,
+/// `/dev/stdin`) is read into memory once.
+enum Source {
+    File(PathBuf),
+    Memory(Vec<u8>),
+}
+
+impl Source {
+    fn open(path: &Path) -> io::Result<Source> {
+        let mut file = File::open(path)?;
+        if file.metadata()?.is_file() {
+            return Ok(Source::File(path.to_path_buf()));
+        }
+        let mut text = Vec::new();
+        io::Read::read_to_end(&mut file, &mut text)?;
+        Ok(Source::Memory(text))
+    }
+
+    fn reader(&self) -> io::Result<Box<dyn io::BufRead + '_>> {
+        Ok(match self {
+            Source::File(path) => Box::new(BufReader::new(File::open(path)?)),
+            Source::Memory(text) => Box::new(text.as_slice()),
+        })
+    }
 }
 
 /// The second pass: the program run, each exchange printed and written to
 /// the trace as it happens; then the position, the wear and the problems.
 fn run_streamed(
     args: &RunArgs,
+    source: &Source,
     name: &str,
     tools: &[(u8, ToolKey, ToolValue)],
 ) -> Result<NcOutcome, String> {
@@ -115,10 +146,13 @@ fn run_streamed(
         None => None,
     };
     let mut out = BufWriter::new(io::stdout().lock());
-    let reader = open(&args.program).map_err(|e| format!("{name}: cannot read: {e}"))?;
+    let reader = source
+        .reader()
+        .map_err(|e| format!("{name}: cannot read: {e}"))?;
     let mut sink = |x: addipos::nc_run::Exchange, axis_nr: [u8; 3]| -> io::Result<()> {
         for line in spool_lines_of(&x, axis_nr) {
-            writeln!(out, "{line}")?;
+            writeln!(out, "{line}")
+                .map_err(|e| io::Error::new(e.kind(), format!("standard output: {e}")))?;
         }
         if let Some((w, path)) = &mut trace {
             let text = trace_lines(&x, axis_nr);

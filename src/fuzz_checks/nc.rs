@@ -1,7 +1,7 @@
 //! [`nc_program`](super::nc_program): the NC front end on any bytes,
 //! parsed and, when they parse, interpreted on the real emulator.
 
-use nc::run::{run_program, At, Controller, Report};
+use nc::run::{run_reader, At, Controller, Report};
 use nc::{Block, Blocks, NcError};
 use tc_module::{CycleTime, ExecLeft, AXES};
 use tc_request::{Reply, Request};
@@ -11,6 +11,9 @@ use uoi::AccessError;
 use crate::Emulator;
 
 use super::{MAX_NC_INPUT, NC_EXEC_SLICES, NC_REQUEST_BUDGET};
+
+/// Spooler capacity of the harness's emulator (the smallest allowed).
+const SMALL_SPOOLER: usize = 8;
 
 /// The emulator behind the interpreter, within the harness's bounds: at
 /// most [`NC_REQUEST_BUDGET`] requests (then every request is refused,
@@ -27,7 +30,9 @@ impl Bounded {
     /// A fresh emulator, its spool log on, with a grinding disc in entry 1
     /// of group 1 (so that `#OTC ON` runs OTC) and radii in entries 2..4.
     fn new() -> Self {
-        let mut emu = Emulator::new([0.0; AXES], CycleTime::DEFAULT);
+        // The smallest spooler, so that a long program meets a full one.
+        let mut emu =
+            Emulator::new([0.0; AXES], CycleTime::DEFAULT).with_spool_capacity(SMALL_SPOOLER);
         emu.set_spool_log(true);
         let key = |index, field| ToolKey::new(index, field);
         let values = [
@@ -100,6 +105,8 @@ fn check_error(what: &str, e: &NcError, lines: &[&[u8]]) {
         lines.len()
     );
     assert!(e.column >= 1, "{what} without a column: {e:?}");
+    let width = String::from_utf8_lossy(lines[e.line - 1]).chars().count();
+    assert!(e.column <= width + 1, "{what} beyond its line's end: {e:?}");
     assert!(!e.message.is_empty(), "{what} without a message: {e:?}");
     if let Some(n) = written_number(lines[e.line - 1]) {
         assert_eq!(e.block_number, Some(n), "{what} on a line of N{n}: {e:?}");
@@ -150,11 +157,17 @@ pub fn nc_program(data: &[u8]) {
         check_error("parse error", e, &lines);
     }
     if !errors.is_empty() {
+        assert_eq!(nc::check_program(data), errors, "the check pass");
         return;
     }
+    // The check pass finds the same errors; the run pulls the blocks
+    // through a small reader buffer, so lines straddle its refills.
+    let reader = |cap| std::io::BufReader::with_capacity(cap, data);
+    assert!(nc::check_program(reader(64)).is_empty(), "the check pass");
     let mut ctl = Bounded::new();
     let mut report = Report::default();
-    let result = run_program(&blocks, &mut ctl, &mut report);
+    let mut source = Blocks::new(reader(1 + data.len() % 61));
+    let result = run_reader(&mut source, &mut ctl, &mut report);
     for e in &report.warnings {
         check_error("warning", e, &lines);
     }
