@@ -19,6 +19,7 @@ use tokio::net::TcpListener;
 use uoi::tcp::{AccessToken, CoreHandle};
 
 use crate::front::FrontBuilder;
+use crate::guard::{self, Limits};
 use crate::layout::Table;
 use crate::manager::{ObjectNodes, NAMESPACE};
 use crate::points::Points;
@@ -61,6 +62,7 @@ pub struct Face {
     listener: TcpListener,
     endpoint_url: String,
     guarded: bool,
+    limits: Limits,
 }
 
 impl Face {
@@ -99,6 +101,7 @@ impl Face {
         limits.max_array_length = MAX_NODES_PER_REQUEST;
         limits.max_chunk_count = MAX_CHUNKS;
         limits.max_message_size = limits.receive_buffer_size * MAX_CHUNKS;
+        let door = Limits::new(u32::try_from(limits.receive_buffer_size).unwrap_or(u32::MAX));
         if pki::ensure_keypair(&cfg.pki_dir, &builder.config().application_description())? {
             let cert = pki::cert_path(&cfg.pki_dir);
             tracing::info!("made the OPC UA server certificate {}", cert.display());
@@ -115,6 +118,7 @@ impl Face {
             listener,
             endpoint_url,
             guarded,
+            limits: door,
         })
     }
 
@@ -123,7 +127,9 @@ impl Face {
         &self.endpoint_url
     }
 
-    /// Serves until `shutdown` completes, then closes every session.
+    /// Serves until `shutdown` completes, then closes every session. The
+    /// library listens on a loopback port of its own; clients come in
+    /// through the door ([`crate::guard`]) on the listen address.
     pub async fn run(self, shutdown: impl Future<Output = ()>) -> io::Result<()> {
         let security = if self.guarded {
             "Basic256Sha256 Sign&Encrypt, access token as password"
@@ -135,9 +141,13 @@ impl Face {
             server,
             handle,
             listener,
+            limits,
             ..
         } = self;
-        let run = server.run_with(listener);
+        let inner = TcpListener::bind((std::net::Ipv4Addr::LOCALHOST, 0)).await?;
+        let door = tokio::spawn(guard::serve(listener, inner.local_addr()?, limits));
+        let _close_door = DropAbort(door);
+        let run = server.run_with(inner);
         tokio::pin!(run);
         tokio::pin!(shutdown);
         let end = tokio::select! {
@@ -148,6 +158,15 @@ impl Face {
             }
         };
         end.map_err(io::Error::other)
+    }
+}
+
+/// Stops the door's task when the face stops.
+struct DropAbort(tokio::task::JoinHandle<()>);
+
+impl Drop for DropAbort {
+    fn drop(&mut self) {
+        self.0.abort();
     }
 }
 

@@ -25,6 +25,7 @@
 mod browse;
 mod face;
 mod front;
+mod guard;
 pub mod layout;
 mod manager;
 mod nodes;

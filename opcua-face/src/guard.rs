@@ -1,0 +1,399 @@
+//! The door in front of the OPC UA library: clients connect here, and each
+//! connection is relayed to the library's own listener on loopback. The
+//! door bounds what a client can make the server hold, where the library
+//! alone does not:
+//! * connections: at most [`Limits::connections`] in all and
+//!   [`Limits::per_peer`] from one address (as the UOI face);
+//! * chunk size: every OPC UA TCP chunk header (8 bytes: type, chunk kind,
+//!   size) is read, and a size over [`Limits::max_chunk`] closes the
+//!   connection before the library buffers it;
+//! * time: a chunk must arrive whole within [`Limits::chunk_time`], a
+//!   silent client is closed after [`Limits::idle`], and a client that
+//!   does not take its answers within [`Limits::write_stall`] is closed;
+//! * back-pressure: while an answer waits for the client, no further
+//!   request is read from it, so answers cannot pile up.
+//!
+//! A failed accept (no file descriptors left) is logged at most once a
+//! second and retried after a pause, so it cannot flood the log.
+
+use std::collections::HashMap;
+use std::net::{IpAddr, SocketAddr};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::time::Duration;
+
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
+use tokio::net::{TcpListener, TcpStream};
+use tokio::time::{sleep, timeout, Instant};
+
+/// Size of an OPC UA TCP chunk header.
+const HEADER: usize = 8;
+
+/// Pause after a failed accept.
+const ACCEPT_PAUSE: Duration = Duration::from_millis(100);
+
+/// What one client may make the face hold.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Limits {
+    /// Connections at once, from all clients.
+    pub connections: usize,
+    /// Connections at once from one address.
+    pub per_peer: usize,
+    /// Largest chunk, header included (the library's receive buffer).
+    pub max_chunk: u32,
+    /// Time for one chunk to arrive whole, from its first byte.
+    pub chunk_time: Duration,
+    /// A client silent this long is closed.
+    pub idle: Duration,
+    /// A client that takes no answer bytes this long is closed.
+    pub write_stall: Duration,
+}
+
+impl Limits {
+    /// The face's limits, for chunks of at most `max_chunk` bytes.
+    pub fn new(max_chunk: u32) -> Self {
+        Limits {
+            connections: 64,
+            per_peer: 16,
+            max_chunk,
+            chunk_time: Duration::from_secs(30),
+            idle: Duration::from_secs(300),
+            write_stall: Duration::from_secs(30),
+        }
+    }
+}
+
+/// Connections now open, in all and per address.
+#[derive(Debug, Default)]
+struct Open {
+    total: usize,
+    per_peer: HashMap<IpAddr, usize>,
+}
+
+/// A connection's place among the open ones, given back when dropped.
+struct Place {
+    open: Arc<Mutex<Open>>,
+    peer: IpAddr,
+}
+
+impl Place {
+    /// A place for `peer`, if the limits leave one.
+    fn take(open: &Arc<Mutex<Open>>, peer: IpAddr, limits: &Limits) -> Option<Place> {
+        let mut o = open.lock().unwrap_or_else(PoisonError::into_inner);
+        let mine = o.per_peer.get(&peer).copied().unwrap_or(0);
+        if o.total >= limits.connections || mine >= limits.per_peer {
+            return None;
+        }
+        o.total += 1;
+        o.per_peer.insert(peer, mine + 1);
+        Some(Place {
+            open: Arc::clone(open),
+            peer,
+        })
+    }
+}
+
+impl Drop for Place {
+    fn drop(&mut self) {
+        let mut o = self.open.lock().unwrap_or_else(PoisonError::into_inner);
+        o.total = o.total.saturating_sub(1);
+        if let Some(n) = o.per_peer.get_mut(&self.peer) {
+            *n = n.saturating_sub(1);
+            if *n == 0 {
+                o.per_peer.remove(&self.peer);
+            }
+        }
+    }
+}
+
+/// Accepts clients on `public` and relays each to `inner`, within
+/// `limits`, until the task is dropped.
+pub async fn serve(public: TcpListener, inner: SocketAddr, limits: Limits) {
+    let open = Arc::new(Mutex::new(Open::default()));
+    let mut last_complaint: Option<Instant> = None;
+    loop {
+        let (client, peer) = match public.accept().await {
+            Ok(accepted) => accepted,
+            Err(e) => {
+                if last_complaint.is_none_or(|t| t.elapsed() >= Duration::from_secs(1)) {
+                    tracing::warn!("OPC UA face cannot accept a connection: {e}");
+                    last_complaint = Some(Instant::now());
+                }
+                sleep(ACCEPT_PAUSE).await;
+                continue;
+            }
+        };
+        let Some(place) = Place::take(&open, peer.ip(), &limits) else {
+            tracing::debug!(%peer, "OPC UA connection refused: too many open");
+            continue;
+        };
+        tokio::spawn(async move {
+            let _place = place;
+            if let Ok(server) = TcpStream::connect(inner).await {
+                let _ = client.set_nodelay(true);
+                let _ = server.set_nodelay(true);
+                if let Err(why) = relay(client, server, &limits).await {
+                    tracing::debug!(%peer, "OPC UA connection closed: {why}");
+                }
+            }
+        });
+    }
+}
+
+/// Follows the chunk headers of what a client sends.
+#[derive(Debug, Default)]
+struct Chunks {
+    header: [u8; HEADER],
+    have: usize,
+    left: usize,
+    started: Option<Instant>,
+}
+
+impl Chunks {
+    /// Takes `bytes` from the client; an error names a chunk too large.
+    fn take(&mut self, mut bytes: &[u8], max: u32) -> Result<(), String> {
+        while !bytes.is_empty() {
+            if self.started.is_none() {
+                self.started = Some(Instant::now());
+            }
+            if self.have < HEADER {
+                let n = (HEADER - self.have).min(bytes.len());
+                self.header[self.have..self.have + n].copy_from_slice(&bytes[..n]);
+                self.have += n;
+                bytes = &bytes[n..];
+                if self.have == HEADER {
+                    let size = u32::from_le_bytes([
+                        self.header[4],
+                        self.header[5],
+                        self.header[6],
+                        self.header[7],
+                    ]);
+                    if !(HEADER as u32..=max).contains(&size) {
+                        return Err(format!("a chunk of {size} bytes (at most {max})"));
+                    }
+                    self.left = size as usize - HEADER;
+                }
+            } else {
+                let n = self.left.min(bytes.len());
+                self.left -= n;
+                bytes = &bytes[n..];
+            }
+            if self.have == HEADER && self.left == 0 {
+                *self = Chunks::default();
+            }
+        }
+        Ok(())
+    }
+
+    /// When the chunk under way must be whole, if one is.
+    fn deadline(&self, limits: &Limits) -> Option<Instant> {
+        self.started.map(|t| t + limits.chunk_time)
+    }
+}
+
+/// Relays one connection until either side closes or a limit is hit.
+async fn relay(
+    mut client: TcpStream,
+    mut server: TcpStream,
+    limits: &Limits,
+) -> Result<(), String> {
+    let mut chunks = Chunks::default();
+    let mut from_client = vec![0u8; 16 * 1024];
+    let mut from_server = vec![0u8; 16 * 1024];
+    loop {
+        let now = Instant::now();
+        let idle_end = now + limits.idle;
+        let end = chunks
+            .deadline(limits)
+            .map_or(idle_end, |d| d.min(idle_end));
+        tokio::select! {
+            read = client.read(&mut from_client) => {
+                let n = read.map_err(|e| e.to_string())?;
+                if n == 0 {
+                    return Ok(());
+                }
+                chunks.take(&from_client[..n], limits.max_chunk)?;
+                timeout(limits.write_stall, server.write_all(&from_client[..n]))
+                    .await
+                    .map_err(|_| "the server takes no requests".to_string())?
+                    .map_err(|e| e.to_string())?;
+            }
+            read = server.read(&mut from_server) => {
+                let n = read.map_err(|e| e.to_string())?;
+                if n == 0 {
+                    return Ok(());
+                }
+                // While this answer waits for the client, nothing more is
+                // read from it.
+                timeout(limits.write_stall, client.write_all(&from_server[..n]))
+                    .await
+                    .map_err(|_| "the client takes no answers".to_string())?
+                    .map_err(|e| e.to_string())?;
+            }
+            () = tokio::time::sleep_until(end) => {
+                return Err(if end < idle_end {
+                    "a chunk did not arrive in time".into()
+                } else {
+                    "the client was silent too long".into()
+                });
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used)]
+
+    use super::*;
+
+    /// An inner server that echoes every connection.
+    async fn echo() -> SocketAddr {
+        let l = TcpListener::bind("127.0.0.1:0").await.unwrap();
+        let addr = l.local_addr().unwrap();
+        tokio::spawn(async move {
+            while let Ok((mut s, _)) = l.accept().await {
+                tokio::spawn(async move {
+                    let (mut r, mut w) = s.split();
+                    let _ = tokio::io::copy(&mut r, &mut w).await;
+                });
+            }
+        });
+        addr
+    }
+
+    async fn door(limits: Limits) -> SocketAddr {
+        let inner = echo().await;
+        let public = TcpListener::bind("127.0.0.1:0").await.unwrap();
+        let addr = public.local_addr().unwrap();
+        tokio::spawn(serve(public, inner, limits));
+        addr
+    }
+
+    fn chunk(kind: &[u8; 4], body: usize) -> Vec<u8> {
+        let mut c = kind.to_vec();
+        c.extend_from_slice(&((HEADER + body) as u32).to_le_bytes());
+        c.resize(HEADER + body, 7);
+        c
+    }
+
+    /// Sends `bytes` and reads as many back (the echo), or `None` when
+    /// the door closed the connection.
+    async fn round(s: &mut TcpStream, bytes: &[u8]) -> Option<Vec<u8>> {
+        s.write_all(bytes).await.ok()?;
+        let mut back = vec![0u8; bytes.len()];
+        let guard = Duration::from_secs(20);
+        match timeout(guard, s.read_exact(&mut back))
+            .await
+            .expect("hang guard")
+        {
+            Ok(_) => Some(back),
+            Err(_) => None,
+        }
+    }
+
+    #[tokio::test]
+    async fn chunks_within_the_size_pass_in_any_pieces() {
+        let addr = door(Limits::new(1024)).await;
+        let mut s = TcpStream::connect(addr).await.unwrap();
+        let mut two = chunk(b"HELF", 20);
+        two.extend(chunk(b"MSGF", 1016));
+        for piece in [&two[..3], &two[3..30], &two[30..]] {
+            assert_eq!(round(&mut s, piece).await.as_deref(), Some(piece));
+        }
+    }
+
+    #[tokio::test]
+    async fn a_chunk_announced_too_large_closes_the_connection() {
+        let addr = door(Limits::new(1024)).await;
+        let mut s = TcpStream::connect(addr).await.unwrap();
+        let mut big = b"HELF".to_vec();
+        big.extend_from_slice(&0xFFFF_FFF0u32.to_le_bytes());
+        assert_eq!(round(&mut s, &big).await, None);
+        let mut s = TcpStream::connect(addr).await.unwrap();
+        let mut tiny = b"MSGF".to_vec();
+        tiny.extend_from_slice(&3u32.to_le_bytes());
+        assert_eq!(round(&mut s, &tiny).await, None);
+    }
+
+    #[tokio::test]
+    async fn connections_beyond_the_limit_per_peer_are_closed() {
+        let limits = Limits {
+            per_peer: 2,
+            ..Limits::new(1024)
+        };
+        let addr = door(limits).await;
+        let hello = chunk(b"HELF", 4);
+        let mut kept = Vec::new();
+        for _ in 0..2 {
+            let mut s = TcpStream::connect(addr).await.unwrap();
+            assert!(round(&mut s, &hello).await.is_some());
+            kept.push(s);
+        }
+        let mut third = TcpStream::connect(addr).await.unwrap();
+        assert_eq!(round(&mut third, &hello).await, None);
+        // A place comes back when a connection closes.
+        drop(kept.pop());
+        let mut again = None;
+        for _ in 0..200 {
+            let mut s = TcpStream::connect(addr).await.unwrap();
+            if round(&mut s, &hello).await.is_some() {
+                again = Some(s);
+                break;
+            }
+            sleep(Duration::from_millis(10)).await;
+        }
+        assert!(again.is_some());
+        assert!(round(&mut kept[0], &hello).await.is_some());
+    }
+
+    #[tokio::test]
+    async fn a_chunk_that_never_completes_is_closed() {
+        let limits = Limits {
+            chunk_time: Duration::from_millis(200),
+            ..Limits::new(1024)
+        };
+        let addr = door(limits).await;
+        let mut s = TcpStream::connect(addr).await.unwrap();
+        let half = &chunk(b"MSGF", 100)[..50];
+        assert!(round(&mut s, half).await.is_some());
+        let mut rest = [0u8; 1];
+        let read = timeout(Duration::from_secs(20), s.read(&mut rest));
+        assert_eq!(read.await.expect("hang guard").unwrap_or(0), 0);
+    }
+
+    #[tokio::test]
+    async fn a_client_that_takes_no_answers_is_closed() {
+        // An inner server that answers without end.
+        let l = TcpListener::bind("127.0.0.1:0").await.unwrap();
+        let inner = l.local_addr().unwrap();
+        tokio::spawn(async move {
+            while let Ok((mut s, _)) = l.accept().await {
+                tokio::spawn(async move {
+                    let block = vec![1u8; 64 * 1024];
+                    while s.write_all(&block).await.is_ok() {}
+                });
+            }
+        });
+        let public = TcpListener::bind("127.0.0.1:0").await.unwrap();
+        let addr = public.local_addr().unwrap();
+        let limits = Limits {
+            write_stall: Duration::from_millis(200),
+            ..Limits::new(1024)
+        };
+        tokio::spawn(serve(public, inner, limits));
+        let mut s = TcpStream::connect(addr).await.unwrap();
+        sleep(Duration::from_millis(600)).await;
+        // What the door passed on before it gave up is bounded by the
+        // sockets' buffers; then the connection ends.
+        let mut got = 0usize;
+        let mut buf = vec![0u8; 64 * 1024];
+        loop {
+            let read = timeout(Duration::from_secs(20), s.read(&mut buf));
+            match read.await.expect("hang guard") {
+                Ok(0) | Err(_) => break,
+                Ok(n) => got += n,
+            }
+        }
+        assert!(got < 64 * 1024 * 1024, "{got}");
+    }
+}
