@@ -7,8 +7,9 @@ use winnow::Parser;
 use crate::commands::command;
 use crate::control::statement;
 use crate::error::NcError;
-use crate::expr::{describe, integer, plain_number};
+use crate::expr::{describe, integer};
 use crate::model::{Block, Item};
+use crate::plain::plain_number;
 use crate::words::{plain_word, word};
 
 /// Where a line is being read: for the column and the error's block number.

@@ -47,6 +47,7 @@ mod error;
 mod expr;
 mod lines;
 mod model;
+mod plain;
 pub mod run;
 mod stream;
 mod words;

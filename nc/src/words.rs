@@ -6,8 +6,9 @@ use winnow::error::{ContextError, ErrMode, StrContext, StrContextValue};
 use winnow::token::any;
 use winnow::{ModalResult, Parser};
 
-use crate::expr::{expr, integer, plain_number, var, word_value, Expr, PlainNumber, Var};
+use crate::expr::{expr, integer, var, word_value, Expr, Var};
 use crate::model::{Axis, CentreAxis, GCode, Item};
+use crate::plain::{plain_number, PlainNumber};
 
 fn expected(text: &'static str) -> StrContext {
     StrContext::Expected(StrContextValue::Description(text))
