@@ -12,6 +12,10 @@ use crate::picture::{Plot, Stroke};
 use crate::trace::{fresh_emulator, Header, Trace};
 use crate::Emulator;
 
+mod points;
+
+use points::{arc_points, bounds, thin};
+
 /// Most executed positions kept (more are thinned out).
 pub const MAX_EXECUTED_POINTS: usize = 200_000;
 /// Most cycles stepped one by one; the rest of the run is executed at
@@ -26,8 +30,6 @@ const PIXEL: f64 = 1.0;
 const JOIN_PIXELS: f64 = 24.0;
 /// Least extent along an axis that counts as motion along it (units).
 const SPAN: f64 = 1e-9;
-/// Greatest angle of one chord when an arc is sampled (radians).
-const ARC_STEP: f64 = std::f64::consts::PI / 36.0;
 
 /// One request to plot, with where it came from (`N10 (line 3)`).
 #[derive(Debug, Clone)]
@@ -318,64 +320,6 @@ fn centre_in_plane(
         [start[0] + offset(plane[0])?, start[1] + offset(plane[1])?],
         arc.ccw,
     ))
-}
-
-/// Chords of the arc from `a` to `b` around `c` (a full circle when the
-/// ends meet), at most [`ARC_STEP`] each.
-fn arc_points(a: [f64; 2], b: [f64; 2], c: [f64; 2], ccw: bool) -> Vec<[f64; 2]> {
-    let r = (a[0] - c[0]).hypot(a[1] - c[1]);
-    let start = (a[1] - c[1]).atan2(a[0] - c[0]);
-    let end = (b[1] - c[1]).atan2(b[0] - c[0]);
-    let tau = std::f64::consts::TAU;
-    let mut sweep = if ccw { end - start } else { start - end };
-    sweep = sweep.rem_euclid(tau);
-    if sweep < 1e-12 {
-        sweep = tau;
-    }
-    let n = ((sweep / ARC_STEP).ceil() as usize).max(1);
-    let sign = if ccw { 1.0 } else { -1.0 };
-    let mut out: Vec<[f64; 2]> = (0..n)
-        .map(|k| {
-            let t = start + sign * sweep * k as f64 / n as f64;
-            [c[0] + r * t.cos(), c[1] + r * t.sin()]
-        })
-        .collect();
-    out.push(b);
-    out
-}
-
-/// Bounds of every point: min h, min v, max h, max v.
-fn bounds(paths: &Paths) -> [f64; 4] {
-    let all = paths
-        .programmed
-        .iter()
-        .chain(&paths.corrected)
-        .flat_map(|p| &p.points)
-        .chain(&paths.executed);
-    let mut b = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
-    for p in all {
-        b = [
-            b[0].min(p[0]),
-            b[1].min(p[1]),
-            b[2].max(p[0]),
-            b[3].max(p[1]),
-        ];
-    }
-    b
-}
-
-/// Drops points closer than `eps` to the last one kept (the ends stay).
-fn thin(points: &[[f64; 2]], eps: f64) -> Vec<[f64; 2]> {
-    let mut out: Vec<[f64; 2]> = Vec::with_capacity(points.len());
-    for (k, p) in points.iter().enumerate() {
-        let far = out
-            .last()
-            .is_none_or(|l| (l[0] - p[0]).hypot(l[1] - p[1]) > eps);
-        if far || k + 1 == points.len() {
-            out.push(*p);
-        }
-    }
-    out
 }
 
 /// Adds a path as pieces: consecutive pieces of the same kind are joined
