@@ -154,6 +154,34 @@ fn axis_names(svg: &str) -> Vec<String> {
         .collect()
 }
 
+/// Runs `addipos COMMAND PROG FLAG DIR/NAME.EXT [tools]` on a seed program
+/// (as prepared), checks its exit code (1 for a program that stops, else
+/// 0) and gives the path written.
+fn seed_command(
+    dir: &Path,
+    (command, flag, ext): (&str, &str, &str),
+    (name, tools, end): (&str, &str, End),
+) -> PathBuf {
+    let (prog, tool_args) = prepared(dir, name, tools, end);
+    let written = dir.join(format!("{name}.{ext}"));
+    let mut args = vec![
+        command,
+        prog.to_str().unwrap(),
+        flag,
+        written.to_str().unwrap(),
+    ];
+    args.extend(tool_args.iter().map(String::as_str));
+    let out = addipos(&args);
+    let code = if end == End::Stops { 1 } else { 0 };
+    assert_eq!(
+        out.status.code(),
+        Some(code),
+        "{name}: {}",
+        text(&out.stderr)
+    );
+    written
+}
+
 #[test]
 fn every_seed_program_is_drawn_with_its_three_paths() {
     check_the_list_is_complete();
@@ -162,23 +190,7 @@ fn every_seed_program_is_drawn_with_its_three_paths() {
         if end == End::BareY {
             assert_refused_as_printed("plot", name, 2);
         }
-        let (prog, tool_args) = prepared(&dir, name, tools, end);
-        let svg_path = dir.join(format!("{name}.svg"));
-        let mut args = vec![
-            "plot",
-            prog.to_str().unwrap(),
-            "-o",
-            svg_path.to_str().unwrap(),
-        ];
-        args.extend(tool_args.iter().map(String::as_str));
-        let out = addipos(&args);
-        let code = if end == End::Stops { 1 } else { 0 };
-        assert_eq!(
-            out.status.code(),
-            Some(code),
-            "{name}: {}",
-            text(&out.stderr)
-        );
+        let svg_path = seed_command(&dir, ("plot", "-o", "svg"), (name, tools, end));
         let svg = std::fs::read_to_string(&svg_path).unwrap();
         assert_three_paths(name, &svg);
         let plane = if IN_X_Z.contains(&name) {
@@ -198,23 +210,7 @@ fn every_seed_program_traced_by_run_replays_in_process_and_over_tcp() {
         if end == End::BareY {
             assert_refused_as_printed("run", name, 1);
         }
-        let (prog, tool_args) = prepared(&dir, name, tools, end);
-        let trace = dir.join(format!("{name}.trace"));
-        let mut args = vec![
-            "run",
-            prog.to_str().unwrap(),
-            "--trace",
-            trace.to_str().unwrap(),
-        ];
-        args.extend(tool_args.iter().map(String::as_str));
-        let out = addipos(&args);
-        let code = if end == End::Stops { 1 } else { 0 };
-        assert_eq!(
-            out.status.code(),
-            Some(code),
-            "{name}: {}",
-            text(&out.stderr)
-        );
+        let trace = seed_command(&dir, ("run", "--trace", "trace"), (name, tools, end));
         traces.push(trace.to_str().unwrap().to_owned());
     }
     let all: Vec<&str> = traces.iter().map(String::as_str).collect();

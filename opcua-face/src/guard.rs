@@ -3,7 +3,8 @@
 //! door bounds what a client can make the server hold, where the library
 //! alone does not:
 //! * connections: at most [`Limits::connections`] in all and
-//!   [`Limits::per_peer`] from one address (as the UOI face);
+//!   [`Limits::per_peer`] from one address, counted by the UOI server's
+//!   own [`Places`];
 //! * chunk size: every OPC UA TCP chunk header (8 bytes: type, chunk kind,
 //!   size) is read, and a size over [`Limits::max_chunk`] closes the
 //!   connection before the library buffers it;
@@ -16,14 +17,13 @@
 //! A failed accept (no file descriptors left) is logged at most once a
 //! second and retried after a pause, so it cannot flood the log.
 
-use std::collections::HashMap;
-use std::net::{IpAddr, SocketAddr};
-use std::sync::{Arc, Mutex, PoisonError};
+use std::net::SocketAddr;
 use std::time::Duration;
 
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
 use tokio::time::{sleep, timeout, Instant};
+use uoi::tcp::{PlaceLimits, Places};
 
 /// Size of an OPC UA TCP chunk header.
 const HEADER: usize = 8;
@@ -62,53 +62,14 @@ impl Limits {
     }
 }
 
-/// Connections now open, in all and per address.
-#[derive(Debug, Default)]
-struct Open {
-    total: usize,
-    per_peer: HashMap<IpAddr, usize>,
-}
-
-/// A connection's place among the open ones, given back when dropped.
-struct Place {
-    open: Arc<Mutex<Open>>,
-    peer: IpAddr,
-}
-
-impl Place {
-    /// A place for `peer`, if the limits leave one.
-    fn take(open: &Arc<Mutex<Open>>, peer: IpAddr, limits: &Limits) -> Option<Place> {
-        let mut o = open.lock().unwrap_or_else(PoisonError::into_inner);
-        let mine = o.per_peer.get(&peer).copied().unwrap_or(0);
-        if o.total >= limits.connections || mine >= limits.per_peer {
-            return None;
-        }
-        o.total += 1;
-        o.per_peer.insert(peer, mine + 1);
-        Some(Place {
-            open: Arc::clone(open),
-            peer,
-        })
-    }
-}
-
-impl Drop for Place {
-    fn drop(&mut self) {
-        let mut o = self.open.lock().unwrap_or_else(PoisonError::into_inner);
-        o.total = o.total.saturating_sub(1);
-        if let Some(n) = o.per_peer.get_mut(&self.peer) {
-            *n = n.saturating_sub(1);
-            if *n == 0 {
-                o.per_peer.remove(&self.peer);
-            }
-        }
-    }
-}
-
 /// Accepts clients on `public` and relays each to `inner`, within
 /// `limits`, until the task is dropped.
 pub async fn serve(public: TcpListener, inner: SocketAddr, limits: Limits) {
-    let open = Arc::new(Mutex::new(Open::default()));
+    let places = Places::new(PlaceLimits {
+        all: limits.connections,
+        per_peer: limits.per_peer,
+        per_peer_on_loopback: true,
+    });
     let mut last_complaint: Option<Instant> = None;
     loop {
         let (client, peer) = match public.accept().await {
@@ -122,9 +83,12 @@ pub async fn serve(public: TcpListener, inner: SocketAddr, limits: Limits) {
                 continue;
             }
         };
-        let Some(place) = Place::take(&open, peer.ip(), &limits) else {
-            tracing::debug!(%peer, "OPC UA connection refused: too many open");
-            continue;
+        let place = match places.take(peer.ip()) {
+            Ok(place) => place,
+            Err(full) => {
+                tracing::debug!(%peer, "OPC UA connection refused: {full} reached");
+                continue;
+            }
         };
         tokio::spawn(async move {
             let _place = place;

@@ -41,38 +41,19 @@ mod tests {
         for &e in AccessError::ALL {
             assert!(access_status(e).is_bad(), "{e:?}");
         }
-        assert_eq!(access_status(AccessError::Range), StatusCode::BadOutOfRange);
-        assert_eq!(
-            access_status(AccessError::ReadOnly),
-            StatusCode::BadNotWritable
-        );
-        assert_eq!(
-            access_status(AccessError::WriteOnly),
-            StatusCode::BadNotReadable
-        );
-        assert_eq!(
-            access_status(AccessError::TypeMismatch),
-            StatusCode::BadTypeMismatch
-        );
-        assert_eq!(
-            access_status(AccessError::NoObject),
-            StatusCode::BadNodeIdUnknown
-        );
-        assert_eq!(
-            access_status(AccessError::NoSubindex),
-            StatusCode::BadNodeIdUnknown
-        );
-        assert_eq!(
-            access_status(AccessError::State),
-            StatusCode::BadInvalidState
-        );
-        assert_eq!(
-            access_status(AccessError::Full),
-            StatusCode::BadResourceUnavailable
-        );
-        assert_eq!(
-            access_status(AccessError::Storage),
-            StatusCode::BadDeviceFailure
-        );
+        let expected = [
+            (AccessError::Range, StatusCode::BadOutOfRange),
+            (AccessError::ReadOnly, StatusCode::BadNotWritable),
+            (AccessError::WriteOnly, StatusCode::BadNotReadable),
+            (AccessError::TypeMismatch, StatusCode::BadTypeMismatch),
+            (AccessError::NoObject, StatusCode::BadNodeIdUnknown),
+            (AccessError::NoSubindex, StatusCode::BadNodeIdUnknown),
+            (AccessError::State, StatusCode::BadInvalidState),
+            (AccessError::Full, StatusCode::BadResourceUnavailable),
+            (AccessError::Storage, StatusCode::BadDeviceFailure),
+        ];
+        for (e, status) in expected {
+            assert_eq!(access_status(e), status, "{e:?}");
+        }
     }
 }

@@ -17,4 +17,5 @@ pub use access::{
 };
 pub use client::{answer_error, BlockingClient, Client, ClientError, ClientOptions, Waited};
 pub use core_handle::CoreHandle;
+pub use places::{Full as NoPlace, Limits as PlaceLimits, Places, Seat};
 pub use server::{Core, Handler, Served, Server, ServerConfig, Session, Slice, Wait};

@@ -13,7 +13,7 @@ use super::access::is_loopback_peer;
 
 /// Which limit a connection found reached.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Full {
+pub enum Full {
     /// `max_connections` are open.
     All,
     /// Its address has `max_connections_per_peer` open.
@@ -31,13 +31,13 @@ impl fmt::Display for Full {
 
 /// The limits on open connections.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct Limits {
+pub struct Limits {
     /// Most connections open at once.
-    pub(crate) all: usize,
+    pub all: usize,
     /// Most connections open at once from one peer address.
-    pub(crate) per_peer: usize,
+    pub per_peer: usize,
     /// Whether loopback peers count against `per_peer` too.
-    pub(crate) per_peer_on_loopback: bool,
+    pub per_peer_on_loopback: bool,
 }
 
 /// Connections open now.
@@ -49,14 +49,14 @@ struct Open {
 
 /// How many connections are open, in all and per address.
 #[derive(Debug)]
-pub(crate) struct Places {
+pub struct Places {
     open: Mutex<Open>,
     limits: Limits,
 }
 
 impl Places {
     /// Places within `limits`.
-    pub(crate) fn new(limits: Limits) -> Arc<Self> {
+    pub fn new(limits: Limits) -> Arc<Self> {
         Arc::new(Self {
             open: Mutex::new(Open::default()),
             limits,
@@ -70,7 +70,7 @@ impl Places {
     /// A place for one more connection from `ip`, or which limit stands in
     /// the way (its address's first). An IPv4 peer seen through a
     /// dual-stack listener counts as its IPv4 address.
-    pub(crate) fn take(self: &Arc<Self>, ip: IpAddr) -> Result<Seat, Full> {
+    pub fn take(self: &Arc<Self>, ip: IpAddr) -> Result<Seat, Full> {
         let ip = ip.to_canonical();
         let mut open = self.lock();
         let mine = open.per_peer.get(&ip).copied().unwrap_or(0);
@@ -92,14 +92,14 @@ impl Places {
 
 /// One connection's place; given back when dropped.
 #[derive(Debug)]
-pub(crate) struct Seat {
+pub struct Seat {
     places: Arc<Places>,
     ip: IpAddr,
 }
 
 impl Seat {
     /// The peer address it counts against.
-    pub(crate) fn ip(&self) -> IpAddr {
+    pub fn ip(&self) -> IpAddr {
         self.ip
     }
 }
