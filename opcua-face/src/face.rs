@@ -129,7 +129,7 @@ impl Face {
 
     /// Serves until `shutdown` completes, then closes every session. The
     /// library listens on a loopback port of its own; clients come in
-    /// through the door ([`crate::guard`]) on the listen address.
+    /// through the door (`guard.rs`) on the listen address.
     pub async fn run(self, shutdown: impl Future<Output = ()>) -> io::Result<()> {
         let security = if self.guarded {
             "Basic256Sha256 Sign&Encrypt, access token as password"
