@@ -65,7 +65,7 @@ impl Field {
     fn store(self) -> ToolField {
         match self {
             Field::Radius => ToolField::Radius,
-            Field::Length => ToolField::Laenge,
+            Field::Length => ToolField::Length,
         }
     }
 }

@@ -252,11 +252,11 @@ fn grinding_disc() -> Vec<(u8, tool_store::ToolKey, tool_store::ToolValue)> {
     use tool_store::{ToolField as F, ToolKey, ToolValue as V};
     let key = |f| ToolKey::new(1, f).unwrap();
     vec![
-        (1, key(F::Typ), V::I32(2)),
+        (1, key(F::ToolType), V::I32(2)),
         (1, key(F::Radius), V::F64(30.0)),
-        (1, key(F::Laenge), V::F64(50.0)),
-        (1, key(F::GrindingWearConst), V::F64(100_000.0)),
-        (1, key(F::GrindingMaxInfeed), V::F64(200_000.0)),
+        (1, key(F::Length), V::F64(50.0)),
+        (1, key(F::WearConst), V::F64(100_000.0)),
+        (1, key(F::MaxInfeed), V::F64(200_000.0)),
     ]
 }
 
@@ -410,7 +410,7 @@ fn otc_off_before_g40_in_wr_quad_disc_is_90050() {
 #[test]
 fn the_length_example_with_an_inclined_disc_wears_x_and_z() {
     use tool_store::{ToolField as F, ToolKey, ToolValue as V};
-    let tilt = (1, ToolKey::new(1, F::GrindingDiscTiltAngle).unwrap());
+    let tilt = (1, ToolKey::new(1, F::TiltAngle).unwrap());
     for (angle, x, z) in [(0.0, 0.0, 10.0), (300_000.0, 5.0, 10.0 * 0.75f64.sqrt())] {
         let mut tools = grinding_disc();
         tools.push((tilt.0, tilt.1, V::F64(angle)));

@@ -184,7 +184,7 @@ fn refused_write_changes_nothing(op: Op, kind: FaultKind) {
             1.5,
             "{op:?} {kind:?}"
         );
-        assert_eq!(stored(&store, 1, 5, ToolField::Laenge), 7.25);
+        assert_eq!(stored(&store, 1, 5, ToolField::Length), 7.25);
         assert_eq!(stored(&store, 1, 6, ToolField::Radius), 3.5);
         assert_eq!(store.values().count(), 3);
     }
@@ -389,7 +389,7 @@ fn a_refused_reset_or_otc_off_changes_nothing_at_all() {
     }
     // Booked on entry 1's length (−0.1), durably.
     let stored = reopen(rig.stop());
-    let length = stored.get(1, tool_store::ToolKey::new(1, ToolField::Laenge).unwrap());
+    let length = stored.get(1, tool_store::ToolKey::new(1, ToolField::Length).unwrap());
     match length {
         tool_store::ToolValue::F64(l) => assert!((l + 0.1).abs() < 1e-9, "length {l}"),
         other => panic!("{other:?}"),

@@ -45,16 +45,16 @@ fn set(group: u8, index: u16, field: ToolField, value: ToolValue) -> Record {
 fn awkward_records() -> Vec<Record> {
     use ToolField::*;
     vec![
-        set(1, 1, Typ, ToolValue::I32(2)),
+        set(1, 1, ToolType, ToolValue::I32(2)),
         set(1, 1, Radius, ToolValue::F64(30.0)),
-        set(1, 1, Laenge, ToolValue::F64(0.1 + 0.2)),
-        set(1, 1, GrindingWearConst, ToolValue::F64(100000.0)),
+        set(1, 1, Length, ToolValue::F64(0.1 + 0.2)),
+        set(1, 1, WearConst, ToolValue::F64(100000.0)),
         set(3, 0, Radius, ToolValue::F64(-0.0)),
-        set(3, 0, GrindingMaxInfeed, ToolValue::F64(5e-324)),
-        set(3, 1023, Laenge, ToolValue::F64(1.0 / 3.0)),
-        set(32, 7, GrindingDiscTiltAngle, ToolValue::F64(-450000.0)),
+        set(3, 0, MaxInfeed, ToolValue::F64(5e-324)),
+        set(3, 1023, Length, ToolValue::F64(1.0 / 3.0)),
+        set(32, 7, TiltAngle, ToolValue::F64(-450000.0)),
         set(32, 7, Radius, ToolValue::F64(1e9)),
-        set(32, 7, GrindingMaxInfeed, ToolValue::F64(f64::MAX)),
+        set(32, 7, MaxInfeed, ToolValue::F64(f64::MAX)),
     ]
 }
 
@@ -160,9 +160,9 @@ wz[2].grinding_wear_const  100000
         let k = ToolKey::new(i, f).unwrap();
         values.iter().find(|v| v.0 == g && v.1 == k).map(|v| v.2)
     };
-    assert_eq!(get(5, 1, ToolField::Typ), Some(ToolValue::I32(2)));
+    assert_eq!(get(5, 1, ToolField::ToolType), Some(ToolValue::I32(2)));
     assert_eq!(get(5, 1, ToolField::Radius), Some(ToolValue::F64(30.0)));
-    assert_eq!(get(5, 2, ToolField::Laenge), Some(ToolValue::F64(12.5)));
+    assert_eq!(get(5, 2, ToolField::Length), Some(ToolValue::F64(12.5)));
     // Entries the file does not name keep their values.
     assert_eq!(get(1, 1, ToolField::Radius), Some(ToolValue::F64(30.0)));
     assert_eq!(values.len(), awkward_records().len() + 4);
@@ -260,7 +260,7 @@ fn replace_makes_the_file_the_whole_tool_data() {
         out.contains("every other value is back at its default"),
         "{out}"
     );
-    let key = ToolKey::new(9, ToolField::Typ).unwrap();
+    let key = ToolKey::new(9, ToolField::ToolType).unwrap();
     assert_eq!(stored(&dir), [(4, key, ToolValue::I32(3))]);
 }
 

@@ -25,7 +25,6 @@
 //! assert_eq!(server.write(wear, Value::F64(1.0)), Err(AccessError::ReadOnly));
 //! ```
 
-mod meaning;
 mod objects;
 mod per_cycle;
 mod registers;

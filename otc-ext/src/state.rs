@@ -1,25 +1,11 @@
 //! The OTC state: of each compensation group (kept in the group), of each
 //! tool entry (kept in the entry), and of the machine axes' PLC units.
 
-use bitflags::bitflags;
 use tc_module::AXES;
 
 use crate::wear::WearState;
 
-bitflags! {
-    /// OtcError register bits (device 3 sub 7).
-    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-    pub struct OtcErrorBits: i32 {
-        /// bit0: OTC ON with a tool that is not a grinding tool (P-ERR-21391).
-        const TOOL_TYPE = 1;
-        /// bit1: command out of sequence (ISG 90050).
-        const SEQUENCE = 2;
-        /// bit2: position request refused while OTC is on (ISG 21572).
-        const POS_REQUEST = 4;
-        /// bit3: a PLC unit used with a type or mode that ignores it.
-        const NOT_ALLOWED = 8;
-    }
-}
+pub use tc_objects::OtcErrorBits;
 
 /// Tool type of a grinding tool (P-TOOL-00001; otc.md "Switching": `OtcOn=1`
 /// needs ToolType 2).

@@ -36,10 +36,10 @@ impl Bounded {
         emu.set_spool_log(true);
         let key = |index, field| ToolKey::new(index, field);
         let values = [
-            (key(1, ToolField::Typ), ToolValue::I32(2)),
+            (key(1, ToolField::ToolType), ToolValue::I32(2)),
             (key(1, ToolField::Radius), ToolValue::F64(30.0)),
-            (key(1, ToolField::GrindingWearConst), ToolValue::F64(1e5)),
-            (key(1, ToolField::GrindingMaxInfeed), ToolValue::F64(2e5)),
+            (key(1, ToolField::WearConst), ToolValue::F64(1e5)),
+            (key(1, ToolField::MaxInfeed), ToolValue::F64(2e5)),
             (key(2, ToolField::Radius), ToolValue::F64(10.0)),
             (key(3, ToolField::Radius), ToolValue::F64(0.5)),
             (key(4, ToolField::Radius), ToolValue::F64(-2.0)),

@@ -4,64 +4,38 @@
 
 use otc_ext::{OtcExtension, OtcTool};
 use tc_module::{TcModule, ToolEntry, WkzIndex};
-use tool_store::{GroupTable, Record, ToolField, ToolKey, ToolValue, TOOL_ENTRIES};
+use tc_objects::ToolEffect;
+use tool_store::{FileField, GroupTable, Record, ToolField, ToolKey, ToolValue, TOOL_ENTRIES};
 use uoi::{ObjectAddress, Value};
 
-/// Each tool field and the (device, sub) of the group object that sets it
-/// in the entry at the group's WKZINDEX: RADIUS, WkzLen and the OTC tool
-/// fields 30..33.
-const FIELD_OBJECTS: [(ToolField, u16, u16); 6] = [
-    (ToolField::Radius, 1, 6),
-    (ToolField::Laenge, 1, 12),
-    (ToolField::Typ, 3, 30),
-    (ToolField::GrindingWearConst, 3, 31),
-    (ToolField::GrindingMaxInfeed, 3, 32),
-    (ToolField::GrindingDiscTiltAngle, 3, 33),
-];
-
-/// The tool field a write to `addr` sets directly, if any.
+/// The tool field a write to `addr` sets directly, if any (RADIUS,
+/// WkzLen and the OTC tool fields of the entry at the group's WKZINDEX).
 pub fn direct_field(addr: ObjectAddress) -> Option<ToolField> {
-    if addr.bus != tc_module::TC_BUS {
-        return None;
-    }
-    FIELD_OBJECTS
-        .iter()
-        .find(|(_, d, s)| (*d, *s) == (addr.device, addr.sub))
-        .map(|(f, _, _)| *f)
+    ToolField::of_address(addr)
 }
 
 /// The object of `group` that writes `field` (the inverse of
 /// [`direct_field`]).
 pub fn field_object(group: u8, field: ToolField) -> ObjectAddress {
-    let (_, device, sub) = FIELD_OBJECTS
-        .iter()
-        .copied()
-        .find(|(f, _, _)| *f == field)
-        .unwrap_or(FIELD_OBJECTS[0]);
-    ObjectAddress::new(tc_module::TC_BUS, device, u16::from(group), sub)
+    field.address(u16::from(group))
 }
 
 /// Whether writing `value` to `addr` may change tool data other than
-/// through one field: Clean (0/1), Reset (0/12), a group RESET (1/g/2)
-/// and OTC switched off (3/g/1 = 0, the wear booked on the tool).
+/// through one field: Clean, Reset, a group RESET and OTC switched off
+/// (the wear booked on the tool).
 pub fn may_change_tools(addr: ObjectAddress, value: Value) -> bool {
-    addr.bus == tc_module::TC_BUS
-        && match (addr.device, addr.index, addr.sub) {
-            (0, 1, 0) | (0, 12, 0) | (1, _, 2) => true,
-            (3, _, 1) => value != Value::I32(1),
-            _ => false,
-        }
+    ToolEffect::of_write(addr, value) == ToolEffect::Many
 }
 
 /// The value of `field` in entry `e`.
 pub fn value_of(e: &ToolEntry<OtcTool>, field: ToolField) -> ToolValue {
     match field {
-        ToolField::Typ => ToolValue::I32(e.ext.tool_type),
+        ToolField::ToolType => ToolValue::I32(e.ext.tool_type),
         ToolField::Radius => ToolValue::F64(e.radius),
-        ToolField::Laenge => ToolValue::F64(e.length),
-        ToolField::GrindingWearConst => ToolValue::F64(e.ext.wear_const),
-        ToolField::GrindingMaxInfeed => ToolValue::F64(e.ext.max_infeed),
-        ToolField::GrindingDiscTiltAngle => ToolValue::F64(e.ext.tilt),
+        ToolField::Length => ToolValue::F64(e.length),
+        ToolField::WearConst => ToolValue::F64(e.ext.wear_const),
+        ToolField::MaxInfeed => ToolValue::F64(e.ext.max_infeed),
+        ToolField::TiltAngle => ToolValue::F64(e.ext.tilt),
     }
 }
 
@@ -73,7 +47,7 @@ pub fn set_value(e: &mut ToolEntry<OtcTool>, field: ToolField, value: ToolValue)
         ToolValue::I32(v) => f64::from(v),
     };
     match field {
-        ToolField::Typ => {
+        ToolField::ToolType => {
             e.ext.tool_type = match value {
                 ToolValue::I32(v) => v,
                 // Within the field's range 0..=3 once checked by the store.
@@ -81,10 +55,10 @@ pub fn set_value(e: &mut ToolEntry<OtcTool>, field: ToolField, value: ToolValue)
             }
         }
         ToolField::Radius => e.radius = f,
-        ToolField::Laenge => e.length = f,
-        ToolField::GrindingWearConst => e.ext.wear_const = f,
-        ToolField::GrindingMaxInfeed => e.ext.max_infeed = f,
-        ToolField::GrindingDiscTiltAngle => e.ext.tilt = f,
+        ToolField::Length => e.length = f,
+        ToolField::WearConst => e.ext.wear_const = f,
+        ToolField::MaxInfeed => e.ext.max_infeed = f,
+        ToolField::TiltAngle => e.ext.tilt = f,
     }
 }
 

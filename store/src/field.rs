@@ -7,29 +7,13 @@
 //! text, never by a float multiplication, so every value reads back
 //! bit-identical. The other fields have the same unit in both places.
 
-use crate::decimal::{self, Decimal};
 use std::fmt;
 
-/// Largest radius or length on the bus, mm: the emulator's coordinate
-/// limit, which RADIUS and WkzLen keep to.
-pub const MAX_LENGTH_MM: f64 = 1e9;
+use uoi::{Value, ValueType};
 
-/// One field of a tool entry, named as in the tool files (`wz[i].<name>`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum ToolField {
-    /// `typ`: tool type, 0 milling, 1 turning, 2 grinding, 3 wire.
-    Typ,
-    /// `radius`: tool radius; file 0.1 µm, bus mm.
-    Radius,
-    /// `laenge`: tool length; file 0.1 µm, bus mm.
-    Laenge,
-    /// `grinding_wear_const`: wear constant in 0.1 µm/m, >= 0.
-    GrindingWearConst,
-    /// `grinding_max_infeed`: largest discrete infeed in 0.1 µm.
-    GrindingMaxInfeed,
-    /// `grinding_disc_tilt_angle`: disc tilt angle in 0.0001°, ±450000.
-    GrindingDiscTiltAngle,
-}
+use crate::decimal::{self, Decimal};
+
+pub use tc_objects::ToolField;
 
 /// The value of one tool field, in the bus unit.
 ///
@@ -75,17 +59,17 @@ pub enum ValueError {
         expected: &'static str,
     },
     /// The number lies outside the field's range.
-    #[error("{value} is out of range for {field} (allowed: {range})")]
+    #[error("{value} is out of range for {} (allowed: {range})", field.name())]
     OutOfRange {
         /// The field.
         field: ToolField,
         /// The value as written.
         value: String,
         /// The allowed range, in words.
-        range: &'static str,
+        range: String,
     },
     /// An integer value for a floating-point field or the reverse.
-    #[error("{field} takes {expected}")]
+    #[error("{} takes {expected}", field.name())]
     WrongKind {
         /// The field.
         field: ToolField,
@@ -94,85 +78,80 @@ pub enum ValueError {
     },
 }
 
-impl fmt::Display for ToolField {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
+/// A tool field as the tool files know it: its name there (`wz[i].<name>`),
+/// the shift between the bus unit and the file unit, and the check of a
+/// value against the field's range, which is that of its object on the
+/// bus (docs/objects.md).
+pub trait FileField: Sized {
+    /// The field's name in the files (`typ`, `radius`, ...).
+    fn name(self) -> &'static str;
+    /// The field called `name` in the files.
+    fn from_name(name: &str) -> Option<Self>;
+    /// The value of a field nobody has set: 0.
+    fn default_value(self) -> ToolValue;
+    /// The allowed range of the field, in words (the same on bus and file
+    /// side, in the respective unit).
+    fn range_text(self) -> String;
+    /// Decimal places between the bus value and the file text: 4 for
+    /// radius and length (mm on the bus, 0.1 µm in the file), else 0.
+    fn file_shift(self) -> i32;
+    /// Checks a bus value: the right kind and inside the field's range.
+    fn check(self, value: ToolValue) -> Result<(), ValueError>;
+    /// The file text of a bus value (radius and length shifted by four
+    /// decimal places). The value is not range-checked here.
+    fn to_file_text(self, value: ToolValue) -> String;
+    /// The bus value written as `text` in a file, range-checked.
+    fn parse_file_text(self, text: &str) -> Result<ToolValue, ValueError>;
 }
 
-impl ToolField {
-    /// Every field, in the order the files list them.
-    pub const ALL: [ToolField; 6] = [
-        Self::Typ,
-        Self::Radius,
-        Self::Laenge,
-        Self::GrindingWearConst,
-        Self::GrindingMaxInfeed,
-        Self::GrindingDiscTiltAngle,
-    ];
-
-    /// The field's name in the files (`typ`, `radius`, ...).
-    pub const fn name(self) -> &'static str {
+impl FileField for ToolField {
+    fn name(self) -> &'static str {
         match self {
-            Self::Typ => "typ",
+            Self::ToolType => "typ",
             Self::Radius => "radius",
-            Self::Laenge => "laenge",
-            Self::GrindingWearConst => "grinding_wear_const",
-            Self::GrindingMaxInfeed => "grinding_max_infeed",
-            Self::GrindingDiscTiltAngle => "grinding_disc_tilt_angle",
+            Self::Length => "laenge",
+            Self::WearConst => "grinding_wear_const",
+            Self::MaxInfeed => "grinding_max_infeed",
+            Self::TiltAngle => "grinding_disc_tilt_angle",
         }
     }
 
-    /// The field called `name` in the files.
-    pub fn from_name(name: &str) -> Option<Self> {
+    fn from_name(name: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|f| f.name() == name)
     }
 
-    /// The value of a field nobody has set: 0.
-    pub const fn default_value(self) -> ToolValue {
-        match self {
-            Self::Typ => ToolValue::I32(0),
-            _ => ToolValue::F64(0.0),
+    fn default_value(self) -> ToolValue {
+        match self.value_type() {
+            ValueType::I32 => ToolValue::I32(0),
+            ValueType::F64 => ToolValue::F64(0.0),
         }
     }
 
-    /// The allowed range of the field, in words (the same on bus and file
-    /// side, in the respective unit).
-    pub const fn range_text(self) -> &'static str {
-        match self {
-            Self::Typ => "0..=3",
-            Self::Radius | Self::Laenge => "-1e9..=1e9 mm (the bus range of RADIUS and WkzLen)",
-            Self::GrindingMaxInfeed => "any finite number",
-            Self::GrindingWearConst => "finite and >= 0",
-            Self::GrindingDiscTiltAngle => "-450000..=450000",
+    fn range_text(self) -> String {
+        match self.file_shift() {
+            0 => self.range().to_string(),
+            _ => format!(
+                "{} mm (the bus range of {})",
+                self.range(),
+                self.object_name()
+            ),
         }
     }
 
-    /// Decimal places between the bus value and the file text: 4 for
-    /// radius and length (mm on the bus, 0.1 µm in the file), else 0.
-    pub const fn file_shift(self) -> i32 {
+    fn file_shift(self) -> i32 {
         match self {
-            Self::Radius | Self::Laenge => 4,
+            Self::Radius | Self::Length => 4,
             _ => 0,
         }
     }
 
-    /// Checks a bus value: the right kind and inside the field's range.
-    pub fn check(self, value: ToolValue) -> Result<(), ValueError> {
-        let in_range = match (self, value) {
-            (Self::Typ, ToolValue::I32(v)) => (0..=3).contains(&v),
-            (Self::Typ, ToolValue::F64(_)) => return Err(self.wrong_kind()),
-            (_, ToolValue::I32(_)) => return Err(self.wrong_kind()),
-            (Self::GrindingWearConst, ToolValue::F64(v)) => v.is_finite() && v >= 0.0,
-            (Self::GrindingDiscTiltAngle, ToolValue::F64(v)) => {
-                (-450_000.0..=450_000.0).contains(&v)
-            }
-            (Self::Radius | Self::Laenge, ToolValue::F64(v)) => {
-                (-MAX_LENGTH_MM..=MAX_LENGTH_MM).contains(&v)
-            }
-            (_, ToolValue::F64(v)) => v.is_finite(),
+    fn check(self, value: ToolValue) -> Result<(), ValueError> {
+        let bus = match (self.value_type(), value) {
+            (ValueType::I32, ToolValue::I32(v)) => Value::I32(v),
+            (ValueType::F64, ToolValue::F64(v)) => Value::F64(v),
+            _ => return Err(wrong_kind(self)),
         };
-        if in_range {
+        if self.range().contains(bus) {
             Ok(())
         } else {
             Err(ValueError::OutOfRange {
@@ -183,20 +162,7 @@ impl ToolField {
         }
     }
 
-    fn wrong_kind(self) -> ValueError {
-        let expected = match self {
-            Self::Typ => "an integer",
-            _ => "a decimal number",
-        };
-        ValueError::WrongKind {
-            field: self,
-            expected,
-        }
-    }
-
-    /// The file text of a bus value (radius and length shifted by four
-    /// decimal places). The value is not range-checked here.
-    pub fn to_file_text(self, value: ToolValue) -> String {
+    fn to_file_text(self, value: ToolValue) -> String {
         match value {
             ToolValue::I32(v) => v.to_string(),
             ToolValue::F64(v) => match Decimal::from_f64(v) {
@@ -207,14 +173,13 @@ impl ToolField {
         }
     }
 
-    /// The bus value written as `text` in a file, range-checked.
-    pub fn parse_file_text(self, text: &str) -> Result<ToolValue, ValueError> {
-        let value = match self {
-            Self::Typ => ToolValue::I32(text.parse().map_err(|_| ValueError::NotANumber {
+    fn parse_file_text(self, text: &str) -> Result<ToolValue, ValueError> {
+        let value = match self.value_type() {
+            ValueType::I32 => ToolValue::I32(text.parse().map_err(|_| ValueError::NotANumber {
                 text: text.to_owned(),
                 expected: "an integer",
             })?),
-            _ => {
+            ValueType::F64 => {
                 let not_a_number = || ValueError::NotANumber {
                     text: text.to_owned(),
                     expected: "a decimal number",
@@ -233,6 +198,15 @@ impl ToolField {
         })?;
         Ok(value)
     }
+}
+
+/// A value of the other kind than `field` takes.
+fn wrong_kind(field: ToolField) -> ValueError {
+    let expected = match field.value_type() {
+        ValueType::I32 => "an integer",
+        ValueType::F64 => "a decimal number",
+    };
+    ValueError::WrongKind { field, expected }
 }
 
 #[cfg(test)]
@@ -288,11 +262,16 @@ mod tests {
             0.30000000000000004,
         ];
         for v in edges {
-            for f in [ToolField::Radius, ToolField::GrindingMaxInfeed] {
-                if f == ToolField::Radius && v.abs() > MAX_LENGTH_MM {
+            for f in [ToolField::Radius, ToolField::MaxInfeed] {
+                if f == ToolField::Radius && v.abs() > tc_objects::MAX_COORD {
                     continue;
                 }
-                assert_eq!(round_trip(f, v).to_bits(), v.to_bits(), "{f} {v:?}");
+                assert_eq!(
+                    round_trip(f, v).to_bits(),
+                    v.to_bits(),
+                    "{} {v:?}",
+                    f.name()
+                );
             }
         }
     }
@@ -300,19 +279,17 @@ mod tests {
     #[test]
     fn ranges_per_field() {
         let f = |v| ToolValue::F64(v);
-        assert!(ToolField::Typ.check(ToolValue::I32(3)).is_ok());
-        assert!(ToolField::Typ.check(ToolValue::I32(4)).is_err());
-        assert!(ToolField::Typ.check(ToolValue::I32(-1)).is_err());
-        assert!(ToolField::Typ.check(f(2.0)).is_err());
+        assert!(ToolField::ToolType.check(ToolValue::I32(3)).is_ok());
+        assert!(ToolField::ToolType.check(ToolValue::I32(4)).is_err());
+        assert!(ToolField::ToolType.check(ToolValue::I32(-1)).is_err());
+        assert!(ToolField::ToolType.check(f(2.0)).is_err());
         assert!(ToolField::Radius.check(ToolValue::I32(2)).is_err());
-        assert!(ToolField::GrindingWearConst.check(f(-1e-9)).is_err());
-        assert!(ToolField::GrindingWearConst.check(f(-0.0)).is_ok());
-        assert!(ToolField::GrindingDiscTiltAngle.check(f(450_000.0)).is_ok());
-        assert!(ToolField::GrindingDiscTiltAngle
-            .check(f(450_000.1))
-            .is_err());
+        assert!(ToolField::WearConst.check(f(-1e-9)).is_err());
+        assert!(ToolField::WearConst.check(f(-0.0)).is_ok());
+        assert!(ToolField::TiltAngle.check(f(450_000.0)).is_ok());
+        assert!(ToolField::TiltAngle.check(f(450_000.1)).is_err());
         assert!(ToolField::Radius.check(f(f64::NAN)).is_err());
-        assert!(ToolField::Laenge.check(f(f64::INFINITY)).is_err());
+        assert!(ToolField::Length.check(f(f64::INFINITY)).is_err());
     }
 
     #[test]
@@ -329,11 +306,11 @@ mod tests {
             );
         }
         assert!(matches!(
-            ToolField::Typ.parse_file_text("2.0"),
+            ToolField::ToolType.parse_file_text("2.0"),
             Err(ValueError::NotANumber { .. })
         ));
         assert!(matches!(
-            ToolField::Typ.parse_file_text("7"),
+            ToolField::ToolType.parse_file_text("7"),
             Err(ValueError::OutOfRange { .. })
         ));
         // 1e13 in 0.1 µm is 1e9 mm, the bus limit; beyond is refused.
@@ -350,11 +327,11 @@ mod tests {
             Err(ValueError::OutOfRange { .. })
         ));
         assert!(matches!(
-            ToolField::Laenge.parse_file_text("1e9999"),
+            ToolField::Length.parse_file_text("1e9999"),
             Err(ValueError::OutOfRange { .. })
         ));
         assert!(matches!(
-            ToolField::GrindingDiscTiltAngle.parse_file_text("-450001"),
+            ToolField::TiltAngle.parse_file_text("-450001"),
             Err(ValueError::OutOfRange { .. })
         ));
     }
@@ -362,7 +339,7 @@ mod tests {
     proptest! {
         #[test]
         fn any_bus_value_reads_back_bit_identical(v in -1e9f64..=1e9f64) {
-            for f in [ToolField::Radius, ToolField::Laenge, ToolField::GrindingMaxInfeed] {
+            for f in [ToolField::Radius, ToolField::Length, ToolField::MaxInfeed] {
                 prop_assert_eq!(round_trip(f, v).to_bits(), v.to_bits());
             }
         }
@@ -372,7 +349,7 @@ mod tests {
             let v = f64::from_bits(bits);
             // Every finite value within the bus range (tiny and subnormal
             // ones included: the shift works on their decimal text).
-            prop_assume!(v.is_finite() && v.abs() <= MAX_LENGTH_MM);
+            prop_assume!(v.is_finite() && v.abs() <= tc_objects::MAX_COORD);
             prop_assert_eq!(round_trip(ToolField::Radius, v).to_bits(), bits);
         }
     }

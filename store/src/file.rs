@@ -1,7 +1,7 @@
 //! Tool files: one per compensation group, one `wz[i].field value` per
 //! line in the file unit, `#` comments and blank lines allowed.
 
-use crate::field::{ToolField, ToolValue, ValueError};
+use crate::field::{FileField, ToolField, ToolValue, ValueError};
 use crate::table::{GroupTable, ToolKey, TOOL_ENTRIES};
 use std::collections::HashMap;
 use std::fmt;
@@ -186,12 +186,12 @@ wz[1].grinding_wear_const 100000
 wz[1].grinding_disc_tilt_angle 0
 ";
         let t = parse_group_file("group01.wz", text).unwrap();
-        assert_eq!(t.get(key(1, ToolField::Typ)), ToolValue::I32(2));
+        assert_eq!(t.get(key(1, ToolField::ToolType)), ToolValue::I32(2));
         assert_eq!(t.get(key(1, ToolField::Radius)), ToolValue::F64(30.0));
-        assert_eq!(t.get(key(1, ToolField::Laenge)), ToolValue::F64(50.0));
-        let wear = t.get(key(1, ToolField::GrindingWearConst));
+        assert_eq!(t.get(key(1, ToolField::Length)), ToolValue::F64(50.0));
+        let wear = t.get(key(1, ToolField::WearConst));
         assert_eq!(wear, ToolValue::F64(100000.0));
-        let infeed = t.get(key(1, ToolField::GrindingMaxInfeed));
+        let infeed = t.get(key(1, ToolField::MaxInfeed));
         assert_eq!(infeed, ToolValue::F64(200000.0));
         assert_eq!(t.len(), 5);
     }
@@ -291,7 +291,7 @@ wz[1].grinding_disc_tilt_angle 0
         let (t, errors) = parse_group_file_lenient("g", text);
         let lines: Vec<_> = errors.iter().map(|e| e.line).collect();
         assert_eq!(lines, [2, 3, 4]);
-        assert_eq!(t.get(key(1, ToolField::Typ)), ToolValue::I32(2));
+        assert_eq!(t.get(key(1, ToolField::ToolType)), ToolValue::I32(2));
         assert_eq!(t.get(key(2, ToolField::Radius)), ToolValue::F64(0.001));
         assert_eq!(t.len(), 2);
     }
@@ -299,13 +299,10 @@ wz[1].grinding_disc_tilt_angle 0
     #[test]
     fn written_file_has_header_and_only_set_fields_sorted() {
         let mut t = GroupTable::new();
-        t.set(key(9, ToolField::Typ), ToolValue::I32(2));
-        t.set(
-            key(1, ToolField::GrindingWearConst),
-            ToolValue::F64(100000.0),
-        );
+        t.set(key(9, ToolField::ToolType), ToolValue::I32(2));
+        t.set(key(1, ToolField::WearConst), ToolValue::F64(100000.0));
         t.set(key(1, ToolField::Radius), ToolValue::F64(30.0));
-        t.set(key(1, ToolField::Laenge), ToolValue::F64(-0.0));
+        t.set(key(1, ToolField::Length), ToolValue::F64(-0.0));
         let text = write_group_file(3, &t);
         let body: Vec<_> = text.lines().filter(|l| !l.starts_with('#')).collect();
         assert!(text.starts_with("# addipos tool data, compensation group 3\n"));
@@ -322,11 +319,9 @@ wz[1].grinding_disc_tilt_angle 0
 
     fn any_value(field: ToolField) -> BoxedStrategy<ToolValue> {
         match field {
-            ToolField::Typ => (0..=3).prop_map(ToolValue::I32).boxed(),
-            ToolField::GrindingWearConst => (0.0..1e9).prop_map(ToolValue::F64).boxed(),
-            ToolField::GrindingDiscTiltAngle => {
-                (-450000.0..=450000.0).prop_map(ToolValue::F64).boxed()
-            }
+            ToolField::ToolType => (0..=3).prop_map(ToolValue::I32).boxed(),
+            ToolField::WearConst => (0.0..1e9).prop_map(ToolValue::F64).boxed(),
+            ToolField::TiltAngle => (-450000.0..=450000.0).prop_map(ToolValue::F64).boxed(),
             _ => prop_oneof![Just(-0.0), -1e9..1e9]
                 .prop_map(ToolValue::F64)
                 .boxed(),

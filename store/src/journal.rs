@@ -11,7 +11,7 @@
 //! last line is a torn tail (a write cut short by a crash): it is dropped
 //! and reported. A bad line anywhere before the last is corruption.
 
-use crate::field::ToolValue;
+use crate::field::{FileField, ToolValue};
 use crate::file::{format_assignment, parse_assignment, LineError};
 use crate::table::{ToolKey, GROUPS};
 

@@ -10,7 +10,7 @@
 mod decimal;
 pub mod field;
 
-pub use field::{ToolField, ToolValue, ValueError};
+pub use field::{FileField, ToolField, ToolValue, ValueError};
 pub mod file;
 pub mod journal;
 pub mod table;

@@ -1,7 +1,7 @@
 //! The tool store: the group files and the journal together, the current
 //! tool values in memory, never ahead of what is durable on disk.
 
-use crate::field::ToolValue;
+use crate::field::{FileField, ToolValue};
 use crate::file::{parse_group_file_lenient, write_group_file, ParseError};
 use crate::journal::{self, encode_batch, JournalError, Record, RecordError, TornTail};
 use crate::storage::{FsStorage, Storage, JOURNAL_FILE};

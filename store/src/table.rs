@@ -1,14 +1,15 @@
 //! The tool values of one compensation group, keyed by entry and field.
 
-use crate::field::{ToolField, ToolValue};
+use crate::field::{FileField, ToolField, ToolValue};
 use std::collections::BTreeMap;
 use std::ops::RangeInclusive;
 
-/// Compensation group numbers: one tool file each.
-pub const GROUPS: RangeInclusive<u8> = 1..=32;
+/// Compensation group numbers: one tool file each (the groups of bus
+/// 1300, 1..=32).
+pub const GROUPS: RangeInclusive<u8> = 1..=tc_objects::GROUP_COUNT as u8;
 
 /// Entries of a tool table (WKZINDEX 0..=1023).
-pub const TOOL_ENTRIES: u16 = 1024;
+pub const TOOL_ENTRIES: u16 = tc_objects::TOOL_ENTRIES as u16;
 
 /// One field of one tool entry of a group: `wz[index].field`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -28,7 +29,7 @@ impl ToolKey {
 
 impl std::fmt::Display for ToolKey {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "wz[{}].{}", self.index, self.field)
+        write!(f, "wz[{}].{}", self.index, self.field.name())
     }
 }
 
@@ -95,8 +96,8 @@ mod tests {
 
     #[test]
     fn key_bounds() {
-        assert!(ToolKey::new(1023, ToolField::Typ).is_some());
-        assert!(ToolKey::new(1024, ToolField::Typ).is_none());
+        assert!(ToolKey::new(1023, ToolField::ToolType).is_some());
+        assert!(ToolKey::new(1024, ToolField::ToolType).is_none());
         assert_eq!(key(5, ToolField::Radius).to_string(), "wz[5].radius");
     }
 
@@ -106,10 +107,10 @@ mod tests {
         t.set(key(1, ToolField::Radius), ToolValue::F64(3.0));
         t.set(key(1, ToolField::Radius), ToolValue::F64(0.0));
         assert!(t.is_empty());
-        t.set(key(2, ToolField::Laenge), ToolValue::F64(-0.0));
+        t.set(key(2, ToolField::Length), ToolValue::F64(-0.0));
         assert_eq!(t.len(), 1);
-        assert_eq!(t.get(key(2, ToolField::Laenge)), ToolValue::F64(-0.0));
-        assert_eq!(t.get(key(3, ToolField::Typ)), ToolValue::I32(0));
+        assert_eq!(t.get(key(2, ToolField::Length)), ToolValue::F64(-0.0));
+        assert_eq!(t.get(key(3, ToolField::ToolType)), ToolValue::I32(0));
         t.clear();
         assert!(t.is_empty());
     }
@@ -117,9 +118,9 @@ mod tests {
     #[test]
     fn iteration_is_sorted_by_index_then_field() {
         let mut t = GroupTable::new();
-        t.set(key(7, ToolField::Typ), ToolValue::I32(2));
-        t.set(key(1, ToolField::Laenge), ToolValue::F64(1.0));
-        t.set(key(1, ToolField::Typ), ToolValue::I32(1));
+        t.set(key(7, ToolField::ToolType), ToolValue::I32(2));
+        t.set(key(1, ToolField::Length), ToolValue::F64(1.0));
+        t.set(key(1, ToolField::ToolType), ToolValue::I32(1));
         let keys: Vec<_> = t.iter().map(|(k, _)| k.to_string()).collect();
         assert_eq!(keys, ["wz[1].typ", "wz[1].laenge", "wz[7].typ"]);
     }

@@ -31,7 +31,6 @@ pub mod group;
 pub mod limits;
 pub mod module;
 pub mod object_map;
-pub mod object_meaning;
 pub mod plane;
 pub mod rotation;
 pub mod spooler;

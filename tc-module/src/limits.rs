@@ -19,8 +19,10 @@ use uoi::AccessError;
 /// Largest coordinate, offset or feed magnitude accepted (interpolation
 /// units), for what a client programs and for every end point and arc
 /// centre that enters the spooler (after rotation, correction and tool
-/// length): beyond it a command is refused with `Range`.
-pub const MAX_COORD: f64 = 1e9;
+/// length): beyond it a command is refused with `Range`. The registers
+/// that add to a point (RADIUS, WkzLen, the rotation centre) take the same
+/// range in the object table.
+pub use tc_objects::MAX_COORD;
 
 /// Smallest path step per interpolation cycle (units): a feed `F` is
 /// refused with `Range` when `F · cycle / 60` is smaller (0.6 units/min at

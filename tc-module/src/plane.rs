@@ -1,6 +1,7 @@
 //! Main planes and axis allocation (uoi-map.md device 0 index 2 and 3;
 //! trc-geometry.md "Coordinates").
 
+use tc_objects::{PLANE_XY, PLANE_YZ, PLANE_ZX};
 pub use tc_request::axes::{axis_index, AxisPos, AxisWords, AXES, AXIS_NAMES};
 
 /// The main plane for circles and correction: 17 X-Y, 18 Z-X, 19 Y-Z
@@ -20,9 +21,9 @@ impl TcPlane {
     /// The plane for a register value 17/18/19.
     pub fn from_code(code: i32) -> Option<Self> {
         match code {
-            17 => Some(TcPlane::Xy),
-            18 => Some(TcPlane::Zx),
-            19 => Some(TcPlane::Yz),
+            PLANE_XY => Some(TcPlane::Xy),
+            PLANE_ZX => Some(TcPlane::Zx),
+            PLANE_YZ => Some(TcPlane::Yz),
             _ => None,
         }
     }
@@ -30,9 +31,9 @@ impl TcPlane {
     /// The register value 17/18/19.
     pub const fn code(self) -> i32 {
         match self {
-            TcPlane::Xy => 17,
-            TcPlane::Zx => 18,
-            TcPlane::Yz => 19,
+            TcPlane::Xy => PLANE_XY,
+            TcPlane::Zx => PLANE_ZX,
+            TcPlane::Yz => PLANE_YZ,
         }
     }
 

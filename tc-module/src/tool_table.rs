@@ -1,10 +1,9 @@
-//! Tool tables: 1024 entries per compensation group (uoi-map.md device 1,
-//! RADIUS/WKZINDEX/WkzLen). An extension keeps its own fields of every
-//! entry in the entry itself (`ext`).
+//! Tool tables: 1024 entries per compensation group (docs/objects.md,
+//! device 1: RADIUS/WKZINDEX/WkzLen). An extension keeps its own fields of
+//! every entry in the entry itself (`ext`).
 
-/// Number of entries in a tool table (uoi-map.md: "a tool table of 1024
-/// entries (WKZINDEX 0..1023)").
-pub const TOOL_ENTRIES: usize = 1024;
+/// Number of entries in a tool table (WKZINDEX 0..1023).
+pub use tc_objects::TOOL_ENTRIES;
 
 /// An index into a tool table (WKZINDEX, 0..=1023).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]

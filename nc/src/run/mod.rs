@@ -335,11 +335,6 @@ impl<'c> Interpreter<'c> {
         let Reply::Value(uoi::Value::I32(bits)) = self.ctl.call(&read, self.at) else {
             return String::new();
         };
-        let names: Vec<&str> = objects::ERROR_BITS
-            .iter()
-            .filter(|(bit, _)| bits & bit != 0)
-            .map(|(_, name)| *name)
-            .collect();
-        format!(" (ERROR: {})", names.join(", "))
+        format!(" (ERROR: {})", objects::error_bit_names(bits).join(", "))
     }
 }

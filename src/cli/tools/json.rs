@@ -5,7 +5,7 @@
 use std::collections::{BTreeMap, HashMap};
 
 use serde::{Deserialize, Serialize};
-use tool_store::{ToolField, ToolKey, ToolValue, GROUPS};
+use tool_store::{FileField, ToolField, ToolKey, ToolValue, GROUPS};
 
 use super::{Import, ToolSet};
 
@@ -50,15 +50,12 @@ impl EntryJson {
     fn fields(&self) -> Vec<(ToolField, ToolValue)> {
         let f64s = [
             (ToolField::Radius, self.radius),
-            (ToolField::Laenge, self.laenge),
-            (ToolField::GrindingWearConst, self.grinding_wear_const),
-            (ToolField::GrindingMaxInfeed, self.grinding_max_infeed),
-            (
-                ToolField::GrindingDiscTiltAngle,
-                self.grinding_disc_tilt_angle,
-            ),
+            (ToolField::Length, self.laenge),
+            (ToolField::WearConst, self.grinding_wear_const),
+            (ToolField::MaxInfeed, self.grinding_max_infeed),
+            (ToolField::TiltAngle, self.grinding_disc_tilt_angle),
         ];
-        let typ = self.typ.map(|v| (ToolField::Typ, ToolValue::I32(v)));
+        let typ = self.typ.map(|v| (ToolField::ToolType, ToolValue::I32(v)));
         typ.into_iter()
             .chain(
                 f64s.into_iter()
@@ -73,7 +70,7 @@ impl EntryJson {
             ToolValue::I32(_) => None,
         };
         match field {
-            ToolField::Typ => {
+            ToolField::ToolType => {
                 self.typ = if let ToolValue::I32(v) = value {
                     Some(v)
                 } else {
@@ -81,10 +78,10 @@ impl EntryJson {
                 }
             }
             ToolField::Radius => self.radius = f,
-            ToolField::Laenge => self.laenge = f,
-            ToolField::GrindingWearConst => self.grinding_wear_const = f,
-            ToolField::GrindingMaxInfeed => self.grinding_max_infeed = f,
-            ToolField::GrindingDiscTiltAngle => self.grinding_disc_tilt_angle = f,
+            ToolField::Length => self.laenge = f,
+            ToolField::WearConst => self.grinding_wear_const = f,
+            ToolField::MaxInfeed => self.grinding_max_infeed = f,
+            ToolField::TiltAngle => self.grinding_disc_tilt_angle = f,
         }
     }
 }
@@ -168,7 +165,7 @@ fn check_entry(
         let key = ToolKey::new(e.entry, field).ok_or("entry out of range (0..=1023)")?;
         field
             .check(value)
-            .map_err(|err| format!("{field}: {err}"))?;
+            .map_err(|err| format!("{}: {err}", field.name()))?;
         sets.push((e.group, key, value));
     }
     Ok(sets)
@@ -183,14 +180,10 @@ mod tests {
     fn written_json_parses_back_bit_identical() {
         let key = |i, f| ToolKey::new(i, f).unwrap();
         let values = vec![
-            (2, key(7, ToolField::Typ), ToolValue::I32(2)),
+            (2, key(7, ToolField::ToolType), ToolValue::I32(2)),
             (2, key(7, ToolField::Radius), ToolValue::F64(0.1 + 0.2)),
-            (2, key(7, ToolField::Laenge), ToolValue::F64(-0.0)),
-            (
-                9,
-                key(0, ToolField::GrindingMaxInfeed),
-                ToolValue::F64(5e-324),
-            ),
+            (2, key(7, ToolField::Length), ToolValue::F64(-0.0)),
+            (9, key(0, ToolField::MaxInfeed), ToolValue::F64(5e-324)),
         ];
         let back = parse("x", &write(&values), None).unwrap().values;
         // The entry comes back with every field, the unset ones at 0.

@@ -3,18 +3,18 @@
 
 use std::collections::BTreeMap;
 
-use tool_store::{ToolField, ToolValue};
+use tool_store::{FileField, ToolField, ToolValue};
 
 use super::ToolSet;
 
 /// The unit of each field on the bus, as printed under its name.
 fn unit(field: ToolField) -> &'static str {
     match field {
-        ToolField::Typ => "0..3",
-        ToolField::Radius | ToolField::Laenge => "mm",
-        ToolField::GrindingWearConst => "0.1 um/m",
-        ToolField::GrindingMaxInfeed => "0.1 um",
-        ToolField::GrindingDiscTiltAngle => "0.0001 deg",
+        ToolField::ToolType => "0..3",
+        ToolField::Radius | ToolField::Length => "mm",
+        ToolField::WearConst => "0.1 um/m",
+        ToolField::MaxInfeed => "0.1 um",
+        ToolField::TiltAngle => "0.0001 deg",
     }
 }
 
@@ -87,9 +87,9 @@ mod tests {
     fn one_row_per_entry_with_every_field() {
         let key = |i, f| ToolKey::new(i, f).unwrap();
         let values = [
-            (1, key(1, ToolField::Typ), ToolValue::I32(2)),
+            (1, key(1, ToolField::ToolType), ToolValue::I32(2)),
             (1, key(1, ToolField::Radius), ToolValue::F64(30.0)),
-            (12, key(1023, ToolField::Laenge), ToolValue::F64(-0.5)),
+            (12, key(1023, ToolField::Length), ToolValue::F64(-0.5)),
         ];
         let text = write(&values);
         let lines: Vec<Vec<&str>> = text

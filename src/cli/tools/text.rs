@@ -6,7 +6,7 @@
 
 use std::collections::HashMap;
 
-use tool_store::{Record, ToolKey};
+use tool_store::{FileField, Record, ToolKey};
 
 use super::{Import, ToolSet};
 
@@ -105,7 +105,7 @@ mod tests {
         assert_eq!(
             i.values,
             [
-                (3, key(1, ToolField::Typ), ToolValue::I32(2)),
+                (3, key(1, ToolField::ToolType), ToolValue::I32(2)),
                 (3, key(1, ToolField::Radius), ToolValue::F64(30.0)),
             ]
         );
@@ -134,12 +134,8 @@ mod tests {
     fn written_text_parses_back_bit_identical() {
         let values = vec![
             (1, key(0, ToolField::Radius), ToolValue::F64(0.1 + 0.2)),
-            (1, key(0, ToolField::Laenge), ToolValue::F64(-0.0)),
-            (
-                32,
-                key(1023, ToolField::GrindingMaxInfeed),
-                ToolValue::F64(5e-324),
-            ),
+            (1, key(0, ToolField::Length), ToolValue::F64(-0.0)),
+            (32, key(1023, ToolField::MaxInfeed), ToolValue::F64(5e-324)),
         ];
         let back = parse("x", &write(&values), None).unwrap().values;
         assert_eq!(back, values);

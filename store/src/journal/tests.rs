@@ -35,7 +35,7 @@ fn reset_and_clean_records_round_trip() {
 fn check_refuses_bad_group_and_value() {
     assert!(Record::ResetGroup { group: 0 }.check().is_err());
     assert!(Record::ResetGroup { group: 33 }.check().is_err());
-    assert!(set(1, 0, ToolField::Typ, ToolValue::I32(4))
+    assert!(set(1, 0, ToolField::ToolType, ToolValue::I32(4))
         .check()
         .is_err());
     assert!(set(1, 0, ToolField::Radius, ToolValue::F64(f64::NAN))
@@ -44,7 +44,7 @@ fn check_refuses_bad_group_and_value() {
     assert!(set(1, 0, ToolField::Radius, ToolValue::I32(1))
         .check()
         .is_err());
-    assert!(set(32, 1023, ToolField::Typ, ToolValue::I32(3))
+    assert!(set(32, 1023, ToolField::ToolType, ToolValue::I32(3))
         .check()
         .is_ok());
 }
@@ -84,17 +84,12 @@ fn decode_reports_what_is_wrong() {
 
 fn sample() -> Vec<Record> {
     vec![
-        set(1, 1, ToolField::Typ, ToolValue::I32(2)),
+        set(1, 1, ToolField::ToolType, ToolValue::I32(2)),
         set(1, 1, ToolField::Radius, ToolValue::F64(30.0)),
         Record::ResetGroup { group: 2 },
-        set(2, 7, ToolField::Laenge, ToolValue::F64(-0.0)),
+        set(2, 7, ToolField::Length, ToolValue::F64(-0.0)),
         Record::Clean,
-        set(
-            4,
-            1023,
-            ToolField::GrindingDiscTiltAngle,
-            ToolValue::F64(-450000.0),
-        ),
+        set(4, 1023, ToolField::TiltAngle, ToolValue::F64(-450000.0)),
     ]
 }
 
@@ -159,15 +154,14 @@ fn bad_record_before_the_last_is_corruption_with_line() {
 
 fn any_record() -> impl Strategy<Value = Record> {
     let value = prop_oneof![
-        (0..=3).prop_map(|v| (ToolField::Typ, ToolValue::I32(v))),
+        (0..=3).prop_map(|v| (ToolField::ToolType, ToolValue::I32(v))),
         any::<f64>()
             .prop_filter("within the bus range", |v| v.abs() <= 1e9)
             .prop_map(|v| (ToolField::Radius, ToolValue::F64(v))),
-        (-1e9..1e9f64).prop_map(|v| (ToolField::Laenge, ToolValue::F64(v))),
-        (0.0..1e9f64).prop_map(|v| (ToolField::GrindingWearConst, ToolValue::F64(v))),
-        (-1e9..1e9f64).prop_map(|v| (ToolField::GrindingMaxInfeed, ToolValue::F64(v))),
-        (-450000.0..=450000.0f64)
-            .prop_map(|v| (ToolField::GrindingDiscTiltAngle, ToolValue::F64(v))),
+        (-1e9..1e9f64).prop_map(|v| (ToolField::Length, ToolValue::F64(v))),
+        (0.0..1e9f64).prop_map(|v| (ToolField::WearConst, ToolValue::F64(v))),
+        (-1e9..1e9f64).prop_map(|v| (ToolField::MaxInfeed, ToolValue::F64(v))),
+        (-450000.0..=450000.0f64).prop_map(|v| (ToolField::TiltAngle, ToolValue::F64(v))),
     ];
     prop_oneof![
         8 => (1..=32u8, 0..1024u16, value).prop_map(|(g, i, (f, v))| set(g, i, f, v)),

@@ -1,5 +1,5 @@
 use super::*;
-use crate::field::ToolField;
+use crate::field::{FileField, ToolField};
 use crate::storage::{FaultKind, FaultyStorage, MemStorage, Op};
 use proptest::prelude::*;
 
@@ -49,7 +49,7 @@ fn model_apply(model: &mut Model, records: &[Record]) {
 fn empty_storage_opens_with_defaults() {
     let (store, report) = open(MemStorage::new());
     assert_eq!(store.values().count(), 0);
-    assert_eq!(store.get(1, key(0, ToolField::Typ)), ToolValue::I32(0));
+    assert_eq!(store.get(1, key(0, ToolField::ToolType)), ToolValue::I32(0));
     assert!(store.group(1).is_none());
     assert_eq!(report, OpenReport::default());
 }
@@ -61,12 +61,12 @@ fn hand_written_group_file_loads() {
     mem.put_file("group03.wz", text);
     let (store, report) = open(mem);
     assert_eq!(report.files_loaded, [3]);
-    assert_eq!(store.get(3, key(1, ToolField::Typ)), ToolValue::I32(2));
+    assert_eq!(store.get(3, key(1, ToolField::ToolType)), ToolValue::I32(2));
     assert_eq!(
         store.get(3, key(1, ToolField::Radius)),
         ToolValue::F64(30.0)
     );
-    let wear = store.get(3, key(1, ToolField::GrindingWearConst));
+    let wear = store.get(3, key(1, ToolField::WearConst));
     assert_eq!(wear, ToolValue::F64(100000.0));
     assert_eq!(store.group(3).map(GroupTable::len), Some(3));
 }
@@ -82,7 +82,7 @@ fn bad_group_file_refuses_strict_open_with_file_and_line() {
     );
     let (store, report) = ToolStore::open(mem, Strictness::Lenient).unwrap();
     assert_eq!(report.file_errors.len(), 1);
-    assert_eq!(store.get(2, key(1, ToolField::Typ)), ToolValue::I32(2));
+    assert_eq!(store.get(2, key(1, ToolField::ToolType)), ToolValue::I32(2));
 }
 
 #[test]
@@ -92,7 +92,7 @@ fn appended_records_survive_reopen() {
         .append(&[radius(1, 5, 30.0), radius(2, 0, -0.0)])
         .unwrap();
     store
-        .append(&[set(1, 5, ToolField::Typ, ToolValue::I32(2))])
+        .append(&[set(1, 5, ToolField::ToolType, ToolValue::I32(2))])
         .unwrap();
     let before = snapshot(&store);
     let (again, report) = open(store.into_storage());
@@ -311,11 +311,11 @@ fn compaction_cut_short_loses_nothing() {
 
 fn any_record() -> impl Strategy<Value = Record> {
     let value = prop_oneof![
-        (0..=3).prop_map(|v| (ToolField::Typ, ToolValue::I32(v))),
+        (0..=3).prop_map(|v| (ToolField::ToolType, ToolValue::I32(v))),
         prop_oneof![Just(0.0), Just(-0.0), -1e9..1e9f64]
             .prop_map(|v| (ToolField::Radius, ToolValue::F64(v))),
-        (-1e9..1e9f64).prop_map(|v| (ToolField::Laenge, ToolValue::F64(v))),
-        (0.0..1e9f64).prop_map(|v| (ToolField::GrindingWearConst, ToolValue::F64(v))),
+        (-1e9..1e9f64).prop_map(|v| (ToolField::Length, ToolValue::F64(v))),
+        (0.0..1e9f64).prop_map(|v| (ToolField::WearConst, ToolValue::F64(v))),
     ];
     prop_oneof![
         12 => (1..=4u8, 0..4u16, value).prop_map(|(g, i, (f, v))| set(g, i, f, v)),

@@ -1,9 +1,9 @@
 //! What each OTC object means to a user: the text of the object
-//! reference (`docs/objects.md`), kept beside the OTC rows.
+//! reference (`docs/objects.md`).
 
 use uoi::Meaning;
 
-use crate::objects::OtcObject as O;
+use crate::otc::OtcObject as O;
 
 impl Meaning for O {
     fn meaning(&self) -> &'static str {

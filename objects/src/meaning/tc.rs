@@ -1,9 +1,9 @@
 //! What each object of the TC module means to a user: the text of the
-//! object reference (`docs/objects.md`), kept beside the one table.
+//! object reference (`docs/objects.md`).
 
 use uoi::Meaning;
 
-use crate::object_map::{TcKey, TcObject};
+use crate::tc::TcObject;
 
 impl Meaning for TcObject {
     fn meaning(&self) -> &'static str {
@@ -75,15 +75,6 @@ impl Meaning for TcObject {
                 "What is inserted at an outside corner: 0 an arc around the corner (default, \
                  NC G26), 1 straight lines (NC G25)."
             }
-        }
-    }
-}
-
-impl<K: Meaning> Meaning for TcKey<K> {
-    fn meaning(&self) -> &'static str {
-        match self {
-            TcKey::Tc(o) => o.meaning(),
-            TcKey::Group(k) | TcKey::Ext(k) => k.meaning(),
         }
     }
 }
