@@ -33,13 +33,13 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use addipos::service::EmulatorService;
-use addipos::tools::durable::Durable;
-use addipos::tools::writer::Writer;
 use bytes::BytesMut;
+use emulator::tools::durable::Durable;
+use emulator::EmulatorService;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::TcpStream;
 use tokio_util::codec::Decoder;
+use tool_store::writer::Writer;
 use tool_store::{FsStorage, Storage, Strictness, ToolStore};
 use uoi::tcp::{Server, ServerConfig};
 use uoi::wire::{decode_answer, encode_request, Answer, ClientCodec, Op, Request};

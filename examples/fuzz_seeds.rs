@@ -7,8 +7,8 @@
 
 use std::path::Path;
 
-use addipos::fuzz_checks::{request_stream, trace_requests};
-use addipos::trace::load_corpus;
+use fuzz_checks::{request_stream, trace_requests};
+use trace::load_corpus;
 
 fn main() -> Result<(), String> {
     let traces = load_corpus(Path::new("traces"))?;

@@ -6,10 +6,10 @@
 //! Run: `cargo run --example otc_picture`. `tests/docs.rs` checks that the
 //! committed picture is what this code draws.
 
-use addipos::picture::{Plot, Stroke};
-use addipos::trace::{fresh_emulator, parse_trace};
-use addipos::Emulator;
+use emulator::Emulator;
+use plot::{Plot, Stroke};
 use tc_request::{Reply, Request};
+use trace::{fresh_emulator, parse_trace};
 
 /// Where the picture is written, relative to the repository.
 pub const PICTURE: &str = "docs/otc-path.svg";

@@ -8,10 +8,10 @@
 
 use std::fmt::Write as _;
 
-use addipos::trace::parse_trace;
-use addipos::Emulator;
+use emulator::Emulator;
 use tc_module::{Origin, SpoolElement};
 use tc_request::Reply;
+use trace::parse_trace;
 
 struct Picture {
     file: &'static str,

@@ -3,21 +3,16 @@
 mod cli;
 
 use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use addipos::config::DEFAULT_CONFIG;
-use addipos::remote::{setup_failed, RemoteTarget};
-use addipos::trace::{fresh_emulator, open_trace, replay_stream, trace_files, Target};
-use cli::plot::{cmd_plot, PlotArgs};
-use cli::remote_args::{connect, protocol_hint, token_hint, RemoteArgs};
-use cli::run::{cmd_run, RunArgs};
-use cli::serve::{cmd_serve, ServeArgs};
-use cli::{EXIT_FAILED, EXIT_HELP, EXIT_TROUBLE};
-use tc_request::text::parse_request;
-use tc_request::Reply;
+use cli::plot::PlotArgs;
+use cli::remote_args::RemoteArgs;
+use cli::run::RunArgs;
+use cli::serve::ServeArgs;
+use cli::{exit, Outcome, EXIT_HELP};
 
 /// Emulator of the ADDIPOS TC module (UOI bus 1300) with OTC wear compensation.
 #[derive(Parser)]
@@ -100,156 +95,6 @@ enum Command {
         command: cli::tools::ToolsCommand,
     },
 }
-/// The trace files the arguments name: files as given, folders as their
-/// `*.trace` files. A path that does not exist, or a folder without
-/// traces, is an error.
-fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
-    let mut out = Vec::new();
-    for p in paths {
-        let meta = std::fs::metadata(p).map_err(|e| match e.kind() {
-            std::io::ErrorKind::NotFound => format!("{}: no such file or folder", p.display()),
-            _ => format!("{}: {e}", p.display()),
-        })?;
-        if !meta.is_dir() {
-            out.push(p.clone());
-            continue;
-        }
-        let files = trace_files(p).map_err(|e| format!("{}: {e}", p.display()))?;
-        if files.is_empty() {
-            return Err(format!(
-                "no traces found: {} holds no *.trace file",
-                p.display()
-            ));
-        }
-        out.extend(files);
-    }
-    Ok(out)
-}
-
-/// Replays one trace file as it is read, printing every mismatch; true
-/// when it passed.
-fn replay_file(path: &Path, remote: Option<&mut RemoteTarget>, verbose: bool) -> bool {
-    let mut reader = match open_trace(path) {
-        Ok(r) => r,
-        Err(e) => {
-            println!("{e}");
-            return false;
-        }
-    };
-    let header = reader.header().clone();
-    let mut emulator;
-    let target: &mut dyn Target = match remote {
-        Some(r) => match r.prepare(&header) {
-            Ok(()) => r,
-            Err(e) => {
-                println!("{}", setup_failed(&header, e));
-                return false;
-            }
-        },
-        None => {
-            emulator = fresh_emulator(&header);
-            &mut emulator
-        }
-    };
-    match replay_stream(&mut reader, target, &mut |m| println!("{m}")) {
-        Ok(done) if done.mismatches == 0 => {
-            if verbose {
-                println!("{}: ok ({} requests)", header.file, done.steps);
-            }
-            true
-        }
-        Ok(_) => false,
-        Err(e) => {
-            println!("{e}");
-            false
-        }
-    }
-}
-
-fn cmd_replay(
-    files: &[PathBuf],
-    server: Option<&str>,
-    verbose: bool,
-    remote_args: &RemoteArgs,
-) -> ExitCode {
-    let files = match expand(files) {
-        Ok(f) => f,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(EXIT_TROUBLE);
-        }
-    };
-    let mut remote = match server.map(|s| connect(s, remote_args)) {
-        None => None,
-        Some(Ok(r)) => Some(r),
-        Some(Err(e)) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(EXIT_TROUBLE);
-        }
-    };
-    let (mut passed, mut failed) = (0usize, 0usize);
-    for f in &files {
-        if replay_file(f, remote.as_mut(), verbose) {
-            passed += 1;
-        } else {
-            failed += 1;
-        }
-    }
-    println!("{passed} passed, {failed} failed");
-    if failed == 0 {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(EXIT_FAILED)
-    }
-}
-
-fn cmd_call(addr: &str, words: &[String], remote_args: &RemoteArgs) -> ExitCode {
-    let text = words.join(" ");
-    let req = match parse_request(&text) {
-        Ok(r) => r,
-        Err(e) => {
-            eprintln!("error: `{text}`: {e}");
-            return ExitCode::from(EXIT_TROUBLE);
-        }
-    };
-    let mut client = match connect(addr, remote_args) {
-        Ok(c) => c,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(EXIT_TROUBLE);
-        }
-    };
-    match client.call(&req) {
-        Ok(Reply::Ok) => println!("ok"),
-        Ok(Reply::Value(v)) => println!("{v}"),
-        Ok(Reply::Queue(n)) => println!("{n}"),
-        Ok(Reply::Pos(p)) => {
-            let words: Vec<String> = tc_module::AXIS_NAMES
-                .iter()
-                .zip(p)
-                .map(|(n, v)| format!("{n}{v}"))
-                .collect();
-            println!("{}", words.join(" "));
-        }
-        Ok(Reply::Access(e)) => {
-            println!("err {}", e.name());
-            return ExitCode::FAILURE;
-        }
-        Ok(Reply::Protocol(e)) => {
-            eprintln!("error: {e}{}", protocol_hint(e));
-            return ExitCode::FAILURE;
-        }
-        Ok(other) => {
-            eprintln!("error: unexpected answer {other:?}");
-            return ExitCode::FAILURE;
-        }
-        Err(e) => {
-            eprintln!("error: {e}{}", token_hint(&e));
-            return ExitCode::FAILURE;
-        }
-    }
-    ExitCode::SUCCESS
-}
 
 /// What is logged unless `RUST_LOG` says otherwise: our lines from `info`
 /// on; of the OPC UA library only warnings (its `info` lines describe every
@@ -274,34 +119,30 @@ fn init_log() {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     init_log();
-    match cli.command {
+    exit(dispatch(cli.command))
+}
+
+/// Runs the command.
+fn dispatch(command: Command) -> Outcome {
+    match command {
         Command::Serve {
             args,
             print_default_config,
-        } => {
-            if print_default_config {
-                print!("{DEFAULT_CONFIG}");
-                return ExitCode::SUCCESS;
-            }
-            cmd_serve(&args)
-        }
+        } => cli::serve::cmd_serve(&args, print_default_config),
         Command::Call {
             addr,
             request,
             remote,
-        } => cmd_call(&addr, &request, &remote),
+        } => cli::call::cmd_call(&addr, &request, &remote),
         Command::Replay {
             files,
             server,
             verbose,
             remote,
-        } => cmd_replay(&files, server.as_deref(), verbose, &remote),
-        Command::Run { args } => cmd_run(&args),
-        Command::Plot { args } => cmd_plot(&args),
-        Command::Objects => {
-            print!("{}", addipos::reference::object_reference());
-            ExitCode::SUCCESS
-        }
+        } => cli::replay::cmd_replay(&files, server.as_deref(), verbose, &remote),
+        Command::Run { args } => cli::run::cmd_run(&args),
+        Command::Plot { args } => cli::plot::cmd_plot(&args),
+        Command::Objects => cli::objects::cmd_objects(),
         Command::Tools { command } => cli::tools::cmd_tools(command),
     }
 }

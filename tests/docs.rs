@@ -5,7 +5,7 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use addipos::reference::{bits_without_meaning, devices_without_section, object_reference};
+use emulator::{bits_without_meaning, devices_without_section, object_reference};
 
 /// The generator of docs/otc-path.svg (its `main` writes the file).
 #[path = "../examples/otc_picture.rs"]

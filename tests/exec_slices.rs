@@ -11,8 +11,8 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-use addipos::service::EmulatorService;
-use addipos::Emulator;
+use emulator::Emulator;
+use emulator::EmulatorService;
 use tc_module::extension::NoKey;
 use tc_module::{AxisPos, Cycle, CycleTime, Groups, TcExtension, AXES};
 use tc_request::{Reply, Request};

@@ -1,5 +1,5 @@
 //! The fuzz targets on stable (docs/fuzzing.md): the checks of
-//! `addipos::fuzz_checks` run on the seed corpus, on the saved
+//! `fuzz_checks` run on the seed corpus, on the saved
 //! regressions, and on a bounded number of proptest cases each, so that
 //! `cargo test` keeps them exercised without nightly or libFuzzer.
 
@@ -8,17 +8,17 @@
 
 use std::path::Path;
 
-use addipos::fuzz_checks::{
+use bytes::{Bytes, BytesMut};
+use fuzz_checks::{
     frame_decoder, frame_sequence, request_stream, serve_stream, trace_line, Connection,
 };
-use addipos::trace::MAX_LINE_BYTES;
-use bytes::{Bytes, BytesMut};
 use otc_ext::OtcExtension;
 use proptest::prelude::*;
 use tc_module::object_map::object_table;
 use tc_module::MAX_COORD;
 use tc_request::{ArcDir, Motion, Request, AXES};
 use tokio_util::codec::Encoder;
+use trace::MAX_LINE_BYTES;
 use uoi::wire::{ClientCodec, Request as WireRequest};
 use uoi::{ObjectAddress, Value, ValueType};
 

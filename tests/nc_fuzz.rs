@@ -1,5 +1,5 @@
 //! The NC front end under random and mutated programs, through parse and
-//! interpretation on the real emulator (`addipos::fuzz_checks::nc_program`,
+//! interpretation on the real emulator (`fuzz_checks::nc_program`,
 //! the body of the `nc_program` fuzz target, docs/fuzzing.md): nothing
 //! panics or hangs, and every error names its line and the block number
 //! written there.
@@ -7,7 +7,7 @@
 // Test helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
-use addipos::fuzz_checks::nc_program;
+use fuzz_checks::nc_program;
 use proptest::prelude::*;
 use proptest::sample::Index;
 

@@ -11,11 +11,11 @@ use std::process::Command;
 
 mod common;
 
-use addipos::nc_run::{run_nc, NcRun};
-use addipos::remote::{replay_remote, RemoteTarget};
-use addipos::trace::{parse_trace, replay};
 use nc::run::{run_program, At, Controller, Report};
 use tc_request::{Origin, Reply, Request, SpoolRecord};
+use trace::nc_run::{run_nc, NcRun};
+use trace::remote::{replay_remote, RemoteTarget};
+use trace::{parse_trace, replay};
 use uoi::tcp::Core;
 use uoi::{Value, ValueType};
 
@@ -266,7 +266,7 @@ fn grinding_disc() -> Vec<(u8, tool_store::ToolKey, tool_store::ToolValue)> {
 /// replays.
 #[test]
 fn the_general_otc_example_wears_the_disc_along_the_corrected_line() {
-    let run = addipos::nc_run::run_nc_with_tools(&program("otc_general.nc"), &grinding_disc());
+    let run = trace::nc_run::run_nc_with_tools(&program("otc_general.nc"), &grinding_disc());
     assert!(!run.failed(), "{:?} {:?}", run.error, run.report.faults);
     let wear = |n: &str| run.wear.iter().find(|(k, _)| k == n).map(|w| w.1);
     let w = wear("V.G.WZ_AKT.WEAR_RADIUS").unwrap();
@@ -302,7 +302,7 @@ fn tool_data_change_corrects_the_full_circle_as_a_whole_turn() {
     // Radius 5 left of a CW circle: radius 20, cut where N130's offset
     // line (10,10)→(20,20) shifted 5 to its left meets it.
     let tools = [(1, ToolKey::new(100, F::Radius).unwrap(), V::F64(5.0))];
-    let run = addipos::nc_run::run_nc_with_tools(&program("tool_data_change.nc"), &tools);
+    let run = trace::nc_run::run_nc_with_tools(&program("tool_data_change.nc"), &tools);
     let arcs = circle(&run);
     assert_eq!(arcs.len(), 1, "{arcs:?}");
     let arc = arcs[0];
@@ -328,7 +328,7 @@ fn tool_data_change_corrects_the_full_circle_as_a_whole_turn() {
 /// with a command of 2 mm (20000 × 0.1 µm) before the program starts; its
 /// `state_r` is read where `#OTC OFF` switches OTC off.
 struct PlcOffset {
-    emu: addipos::Emulator,
+    emu: emulator::Emulator,
     state_at_off: Option<Reply>,
 }
 
@@ -355,10 +355,10 @@ fn wr_quad_disc_with_a_plc_offset_of_2_mm_ends_at_state_20000() {
     let (blocks, errors) = nc::parse_program(&program("wr_quad_disc.nc"));
     assert!(errors.is_empty(), "{errors:?}");
     let mut plc = PlcOffset {
-        emu: addipos::Emulator::default(),
+        emu: emulator::Emulator::default(),
         state_at_off: None,
     };
-    addipos::tools::entries::load(plc.emu.tc_mut(), grinding_disc().into_iter());
+    emulator::tools::entries::load(plc.emu.tc_mut(), grinding_disc().into_iter());
     for (sub, v) in [(50, 20_000), (51, 1)] {
         assert_eq!(
             plc.emu.run(&Request::Write(otc_object(sub), Value::I32(v))),
@@ -390,13 +390,13 @@ fn wr_quad_disc_with_a_plc_offset_of_2_mm_ends_at_state_20000() {
 #[test]
 fn otc_off_before_g40_in_wr_quad_disc_is_90050() {
     let printed = program("wr_quad_disc.nc");
-    let run = addipos::nc_run::run_nc_with_tools(&printed, &grinding_disc());
+    let run = trace::nc_run::run_nc_with_tools(&printed, &grinding_disc());
     assert!(!run.failed(), "{:?} {:?}", run.error, run.report.faults);
     let swapped = printed
         .replace("N100 G40 G1 X0", "N100 #OTC OFF")
         .replace("N110 #OTC OFF", "N110 G40 G1 X0");
     assert_ne!(swapped, printed);
-    let run = addipos::nc_run::run_nc_with_tools(&swapped, &grinding_disc());
+    let run = trace::nc_run::run_nc_with_tools(&swapped, &grinding_disc());
     assert_eq!(run.report.faults.len(), 1, "{:?}", run.report.faults);
     let f = &run.report.faults[0];
     assert!(f.message.contains("90050"), "{f}");
@@ -414,7 +414,7 @@ fn the_length_example_with_an_inclined_disc_wears_x_and_z() {
     for (angle, x, z) in [(0.0, 0.0, 10.0), (300_000.0, 5.0, 10.0 * 0.75f64.sqrt())] {
         let mut tools = grinding_disc();
         tools.push((tilt.0, tilt.1, V::F64(angle)));
-        let run = addipos::nc_run::run_nc_with_tools(&program("otc_length.nc"), &tools);
+        let run = trace::nc_run::run_nc_with_tools(&program("otc_length.nc"), &tools);
         assert!(!run.failed(), "{:?} {:?}", run.error, run.report.faults);
         let wear = |n: &str| run.wear.iter().find(|(k, _)| k == n).unwrap().1;
         let (wx, wz) = (wear("V.G.WZ_AKT.WEAR[0]"), wear("V.G.WZ_AKT.WEAR[2]"));

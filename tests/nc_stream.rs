@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use addipos::nc_run::{axis_text, run_nc};
-use addipos::trace::{parse_trace, replay};
+use trace::nc_run::{axis_text, run_nc};
+use trace::{parse_trace, replay};
 
 /// A program of lines and half circles with TRC on, a loop and a
 /// condition, `n` moves in the loop's body.

@@ -15,7 +15,7 @@ use std::net::SocketAddr;
 use std::process::{Child, Command, Stdio};
 use std::time::Instant;
 
-use addipos::service::EmulatorService;
+use emulator::EmulatorService;
 use opcua::types::{ObjectId, StatusCode, Variant};
 use opcua_face::{Face, FaceConfig};
 use tc_module::CycleTime;
@@ -57,7 +57,7 @@ impl Rig {
             token: None,
             pki_dir: data.path().join("opcua"),
         };
-        let face = Face::bind(face_cfg, addipos::opcua::table(), server.core())
+        let face = Face::bind(face_cfg, emulator::opcua::table(), server.core())
             .await
             .expect("face");
         let url = face.endpoint_url().to_string();
@@ -246,7 +246,7 @@ async fn each_device_read_and_written_through_either_face() {
 
 /// Every object of the table and every reading, as NodeId strings.
 fn every_variable() -> Vec<String> {
-    let table = addipos::opcua::table();
+    let table = emulator::opcua::table();
     let objects = table.rows.iter().flat_map(|r| {
         r.index.clone().flat_map(move |i| {
             r.sub
@@ -357,8 +357,8 @@ async fn every_refusal_has_its_status_and_changes_nothing() {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_value_the_disk_refuses_is_a_device_failure_and_nothing_changes() {
-    use addipos::tools::durable::Durable;
-    use addipos::tools::writer::Writer;
+    use emulator::tools::durable::Durable;
+    use tool_store::writer::Writer;
     use tool_store::{FaultKind, FaultyStorage, MemStorage, Op, Strictness, ToolStore};
     // The second journal append fails: the first write is kept, the second refused.
     let storage = FaultyStorage::new(MemStorage::default()).fail_at(Op::Append, 2, FaultKind::Fail);

@@ -4,8 +4,8 @@
 // Test and bench helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
-use addipos::trace::parse_trace;
 use proptest::prelude::*;
+use trace::parse_trace;
 
 /// Integers at the limits of i32, u32, i64 and u64, with signs in every
 /// position.
@@ -118,7 +118,7 @@ proptest! {
         match parse_trace("fuzz.trace", &text) {
             Ok(trace) => {
                 // A parsed trace must also replay without a panic.
-                let _ = addipos::trace::replay(&trace);
+                let _ = trace::replay(&trace);
             }
             Err(e) => {
                 prop_assert!(e.line >= 1 && e.line <= lines.len());

@@ -9,10 +9,10 @@ use std::net::TcpStream;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use addipos::remote::{replay_remote, RemoteTarget};
-use addipos::service::EmulatorService;
 use bytes::BytesMut;
+use emulator::EmulatorService;
 use tc_request::{Reply, Request as TcRequest};
+use trace::remote::{replay_remote, RemoteTarget};
 use uoi::tcp::{BlockingClient, Client, Core, Server, ServerConfig};
 use uoi::wire::{encode_request, Answer, Op, ProtocolError, Request, PREFIX_LEN};
 use uoi::{AccessError, ObjectAddress, Value, ValueType};
@@ -20,9 +20,9 @@ use uoi::{AccessError, ObjectAddress, Value, ValueType};
 mod common;
 use common::TestServer;
 
-fn corpus() -> Vec<addipos::trace::Trace> {
+fn corpus() -> Vec<trace::Trace> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("traces");
-    addipos::trace::load_corpus(&dir).unwrap_or_else(|e| panic!("{e}"))
+    trace::load_corpus(&dir).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn replay_corpus_over(core: Core) {

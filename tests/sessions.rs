@@ -161,7 +161,7 @@ fn short(r: &Reply) -> String {
 #[test]
 fn a_full_session_log_is_reported_until_the_next_setup() {
     let (addr, _stop) = serve(Core::Lock);
-    let cap = addipos::session::LOG_CAPACITY;
+    let cap = emulator::LOG_CAPACITY;
     let replies = spool_lines(addr, true, cap + 1);
     let n = replies.len();
     // The log overflowed: SPOOL_LOG says so instead of a partial log...

@@ -13,12 +13,12 @@ use std::io;
 use std::sync::{Arc, Barrier, Mutex};
 use std::time::Duration;
 
-use addipos::service::EmulatorService;
-use addipos::tools::durable::Durable;
-use addipos::tools::writer::Writer;
 use common::{loopback, TestServer};
+use emulator::tools::durable::Durable;
+use emulator::EmulatorService;
 use tc_module::CycleTime;
 use tool_store::journal::replay;
+use tool_store::writer::Writer;
 use tool_store::{
     FaultKind, FaultyStorage, MemStorage, Op, Record, Storage, Strictness, ToolField, ToolKey,
     ToolStore, ToolValue,

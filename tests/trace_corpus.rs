@@ -6,14 +6,14 @@
 
 use std::path::PathBuf;
 
-use addipos::trace::{replay, Expect, Trace};
-use addipos::Emulator;
+use emulator::Emulator;
 use tc_request::Request;
+use trace::{replay, Expect, Trace};
 use uoi::{AccessError, Bus};
 
 fn corpus() -> Vec<Trace> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("traces");
-    addipos::trace::load_corpus(&dir).unwrap_or_else(|e| panic!("{e}"))
+    trace::load_corpus(&dir).unwrap_or_else(|e| panic!("{e}"))
 }
 
 #[test]

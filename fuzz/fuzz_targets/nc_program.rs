@@ -1,8 +1,8 @@
 //! NC program text: parsed and, when it parses, run by the interpreter on
-//! the real emulator. The checks are `addipos::fuzz_checks::nc_program`
+//! the real emulator. The checks are `fuzz_checks::nc_program`
 //! (docs/fuzzing.md).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 
-fuzz_target!(|data: &[u8]| addipos::fuzz_checks::nc_program(data));
+fuzz_target!(|data: &[u8]| fuzz_checks::nc_program(data));

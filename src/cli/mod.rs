@@ -1,11 +1,19 @@
-//! Parts of the `addipos` command line, one concern each: how `call` and
-//! `replay --server` reach a server, and how `serve` starts and stops.
+//! The commands of `addipos`, one module each, and the one way a command
+//! ends: [`Outcome`], which `main` turns into the exit status and the
+//! `error:` line on standard error.
 
+pub mod call;
+pub mod objects;
 pub mod plot;
 pub mod remote_args;
+pub mod replay;
 pub mod run;
 pub mod serve;
+pub mod token;
 pub mod tools;
+
+use std::fmt::Display;
+use std::process::ExitCode;
 
 /// Exit status when the command ran and found a failure: a trace that
 /// differs, an error answer to `call`, a server that failed while serving.
@@ -21,3 +29,52 @@ pub const EXIT_HELP: &str = "Exit status: 0 success; 1 ran and found a failure (
 an error answer, the server failed while serving); 2 could not start (bad arguments or \
 settings, no traces found, a path that does not exist, an address that cannot be listened \
 on or connected to).";
+
+/// Why a command did not succeed: its exit status and what it says.
+#[derive(Debug)]
+pub struct Failure {
+    status: u8,
+    /// Said on standard error after `error: `; empty when the command has
+    /// reported the failure itself (mismatches, errors of a program).
+    message: String,
+}
+
+impl Failure {
+    /// The command could not do its job (exit 2).
+    pub fn trouble(message: impl Display) -> Self {
+        Self {
+            status: EXIT_TROUBLE,
+            message: message.to_string(),
+        }
+    }
+
+    /// The command ran and failed (exit 1), for the reason given.
+    pub fn failed(message: impl Display) -> Self {
+        Self {
+            status: EXIT_FAILED,
+            message: message.to_string(),
+        }
+    }
+
+    /// The command ran and found a failure it has reported already
+    /// (exit 1).
+    pub fn reported() -> Self {
+        Self::failed("")
+    }
+}
+
+/// How a command ended.
+pub type Outcome = Result<(), Failure>;
+
+/// The exit status of `outcome`, saying its failure on standard error.
+pub fn exit(outcome: Outcome) -> ExitCode {
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(f) => {
+            if !f.message.is_empty() {
+                eprintln!("error: {}", f.message);
+            }
+            ExitCode::from(f.status)
+        }
+    }
+}

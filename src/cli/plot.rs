@@ -2,16 +2,15 @@
 //! (programmed contour, corrected tool-centre path, executed path).
 
 use std::path::PathBuf;
-use std::process::ExitCode;
 
 use clap::Args;
 
-use addipos::nc_run::run_nc_with_tools;
-use addipos::path_plot::{collect_paths, nc_steps, render, trace_steps, Paths};
-use addipos::trace::{load_trace, Header};
+use plot::{collect_paths, nc_steps, render, trace_steps, Paths};
+use trace::nc_run::run_nc_with_tools;
+use trace::{load_trace, Header};
 
 use super::run::read_tool_values;
-use super::{EXIT_FAILED, EXIT_TROUBLE};
+use super::{Failure, Outcome};
 
 /// Arguments of `addipos plot`.
 #[derive(Args, Debug)]
@@ -42,19 +41,12 @@ fn nc_paths(args: &PlotArgs, name: &str) -> Result<(Paths, bool), String> {
     for e in run.error.iter().chain(&run.report.faults) {
         eprintln!("error: {name}: {e}");
     }
-    let header = Header {
-        file: name.to_owned(),
-        name: None,
-        tol: addipos::trace::DEFAULT_TOL,
-        start: [0.0; tc_request::AXES],
-        cycle: tc_module::CycleTime::DEFAULT,
-        spool_capacity: tc_module::spooler::DEFAULT_SPOOL_CAPACITY,
-    };
+    let header = Header::new(name);
     Ok((collect_paths(&header, &nc_steps(&run)), run.failed()))
 }
 
 /// Runs `addipos plot`.
-pub fn cmd_plot(args: &PlotArgs) -> ExitCode {
+pub fn cmd_plot(args: &PlotArgs) -> Outcome {
     let name = args.file.display().to_string();
     let is_trace = args.file.extension().is_some_and(|e| e == "trace");
     let paths = if is_trace {
@@ -62,21 +54,13 @@ pub fn cmd_plot(args: &PlotArgs) -> ExitCode {
     } else {
         nc_paths(args, &name)
     };
-    let (paths, failed) = match paths {
-        Ok(p) => p,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(EXIT_TROUBLE);
-        }
-    };
+    let (paths, failed) = paths.map_err(Failure::trouble)?;
     let svg = render(&paths, &name);
-    if let Err(e) = std::fs::write(&args.output, svg) {
-        eprintln!("error: {}: cannot write: {e}", args.output.display());
-        return ExitCode::from(EXIT_TROUBLE);
-    }
+    std::fs::write(&args.output, svg)
+        .map_err(|e| Failure::trouble(format!("{}: cannot write: {e}", args.output.display())))?;
     if failed {
-        ExitCode::from(EXIT_FAILED)
+        Err(Failure::reported())
     } else {
-        ExitCode::SUCCESS
+        Ok(())
     }
 }

@@ -6,9 +6,8 @@ use std::time::Duration;
 
 use clap::Args;
 
-use addipos::access;
-use addipos::address::parse_address;
-use addipos::remote::RemoteTarget;
+use emulator::parse_address;
+use trace::remote::RemoteTarget;
 use uoi::tcp::{AccessToken, ClientError, ClientOptions};
 use uoi::wire::ProtocolError;
 
@@ -51,7 +50,7 @@ impl RemoteArgs {
             opts.request_timeout = t;
         }
         opts.token = match (&self.token_file, &self.token) {
-            (Some(f), _) => Some(access::read_token_file(f).map_err(|e| e.to_string())?),
+            (Some(f), _) => Some(super::token::read_token_file(f).map_err(|e| e.to_string())?),
             (None, Some(t)) => Some(AccessToken::new(t).map_err(|e| format!("--token: {e}"))?),
             (None, None) => None,
         };

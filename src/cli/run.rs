@@ -7,17 +7,16 @@
 use std::fs::File;
 use std::io::{self, BufReader, BufWriter, Write};
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
 use clap::Args;
 
-use addipos::nc_run::{
-    axis_text, run_checked_nc, spool_lines_of, trace_head, trace_lines, NcOutcome,
-};
 use nc::{check_program_counted, NcError};
 use tool_store::{ToolKey, ToolValue};
+use trace::nc_run::{
+    axis_text, run_checked_nc, spool_lines_of, trace_head, trace_lines, NcOutcome,
+};
 
-use super::{EXIT_FAILED, EXIT_TROUBLE};
+use super::{Failure, Outcome};
 
 /// Arguments of `addipos run`.
 #[derive(Args, Debug)]
@@ -60,41 +59,23 @@ pub fn read_tool_values(
 }
 
 /// Runs `addipos run`.
-pub fn cmd_run(args: &RunArgs) -> ExitCode {
+pub fn cmd_run(args: &RunArgs) -> Outcome {
     let name = args.program.display().to_string();
-    let tools = match tool_values(args) {
-        Ok(t) => t,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(EXIT_TROUBLE);
-        }
-    };
-    let source = match Source::open(&args.program) {
-        Ok(source) => source,
-        Err(e) => {
-            eprintln!("error: {name}: cannot read: {e}");
-            return ExitCode::from(EXIT_TROUBLE);
-        }
-    };
-    let (parse_errors, more) = match source.reader().map(check_program_counted) {
-        Ok(found) => found,
-        Err(e) => {
-            eprintln!("error: {name}: cannot read: {e}");
-            return ExitCode::from(EXIT_TROUBLE);
-        }
-    };
+    let tools = tool_values(args).map_err(Failure::trouble)?;
+    let cannot_read = |e: io::Error| Failure::trouble(format!("{name}: cannot read: {e}"));
+    let source = Source::open(&args.program).map_err(cannot_read)?;
+    let (parse_errors, more) = source
+        .reader()
+        .map(check_program_counted)
+        .map_err(cannot_read)?;
     if !parse_errors.is_empty() {
         report_errors(&parse_errors, &name);
         report_more(more, "errors", &name);
-        return ExitCode::from(EXIT_FAILED);
+        return Err(Failure::reported());
     }
-    match run_streamed(args, &source, &name, &tools) {
-        Ok(outcome) if failed(&outcome) => ExitCode::from(EXIT_FAILED),
-        Ok(_) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(EXIT_TROUBLE)
-        }
+    match run_streamed(args, &source, &name, &tools).map_err(Failure::trouble)? {
+        outcome if failed(&outcome) => Err(Failure::reported()),
+        _ => Ok(()),
     }
 }
 
@@ -149,7 +130,7 @@ fn run_streamed(
     let reader = source
         .reader()
         .map_err(|e| format!("{name}: cannot read: {e}"))?;
-    let mut sink = |x: addipos::nc_run::Exchange, axis_nr: [u8; 3]| -> io::Result<()> {
+    let mut sink = |x: trace::nc_run::Exchange, axis_nr: [u8; 3]| -> io::Result<()> {
         for line in spool_lines_of(&x, axis_nr) {
             writeln!(out, "{line}")
                 .map_err(|e| io::Error::new(e.kind(), format!("standard output: {e}")))?;

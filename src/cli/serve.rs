@@ -4,18 +4,15 @@
 
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
-use addipos::access;
-use addipos::address::parse_address;
-use addipos::config::{Config, DEFAULT_CONFIG};
-use addipos::service::EmulatorService;
-use addipos::tools::open::open_tools;
+use emulator::tools::open::open_tools;
+use emulator::{parse_address, Config, ConfigError, EmulatorService, DEFAULT_CONFIG};
 use opcua_face::{Face, FaceConfig};
 use tokio_util::sync::CancellationToken;
 use uoi::tcp::{AccessToken, Server};
 
-use super::{EXIT_FAILED, EXIT_TROUBLE};
+use super::token;
+use super::{Failure, Outcome};
 
 async fn shutdown_signal() {
     let ctrl_c = async {
@@ -92,7 +89,7 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
         None => DEFAULT_CONFIG.to_string(),
         Some(p) => std::fs::read_to_string(p).map_err(|e| format!("cannot read {source}: {e}"))?,
     };
-    let in_source = |e: addipos::config::ConfigError| format!("{source}: {e}");
+    let in_source = |e: ConfigError| format!("{source}: {e}");
     let mut cfg = Config::parse(&text).map_err(in_source)?;
     if let Some(l) = listen {
         cfg.listen = parse_address(l)
@@ -144,7 +141,7 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
 /// The server's access token, read or generated; the log names its file
 /// (not the token itself: logs are often read more widely than the file).
 fn server_token(data_dir: &Path) -> std::io::Result<AccessToken> {
-    let t = access::load_or_create(data_dir)?;
+    let t = token::load_or_create(data_dir)?;
     let path = std::path::absolute(&t.path).unwrap_or_else(|_| t.path.clone());
     let file = path.display();
     if t.created {
@@ -212,55 +209,36 @@ async fn serve_faces<H: uoi::tcp::Handler>(
     uoi.and(opcua)
 }
 
-/// Runs `serve` until a stop signal; the exit status says how it ended.
-pub fn cmd_serve(args: &ServeArgs) -> ExitCode {
-    let settings = match serve_settings(args) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(EXIT_TROUBLE);
-        }
-    };
-    let rt = match tokio::runtime::Builder::new_multi_thread()
+/// Runs `serve` until a stop signal (or prints the built-in settings);
+/// the outcome says how it ended.
+pub fn cmd_serve(args: &ServeArgs, print_default_config: bool) -> Outcome {
+    if print_default_config {
+        print!("{DEFAULT_CONFIG}");
+        return Ok(());
+    }
+    let settings = serve_settings(args).map_err(Failure::trouble)?;
+    let rt = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .build()
-    {
-        Ok(rt) => rt,
-        Err(e) => {
-            eprintln!("error: cannot start the runtime: {e}");
-            return ExitCode::from(EXIT_TROUBLE);
-        }
-    };
+        .map_err(|e| Failure::trouble(format!("cannot start the runtime: {e}")))?;
     let addr = settings.server.listen;
     // The server logs its one start line (address, limits) once bound.
     let lock = settings._tools_lock;
-    let server = match rt.block_on(Server::bind(settings.server, settings.service)) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("error: {}", listen_error(addr, &e));
-            return ExitCode::from(EXIT_TROUBLE);
-        }
-    };
+    let server = rt
+        .block_on(Server::bind(settings.server, settings.service))
+        .map_err(|e| Failure::trouble(listen_error(addr, &e)))?;
     let face = match settings.opcua {
         Some(cfg) => {
             let at = cfg.listen;
-            match rt.block_on(Face::bind(cfg, addipos::opcua::table(), server.core())) {
-                Ok(face) => Some(face),
-                Err(e) => {
-                    eprintln!("error: {}", opcua_listen_error(at, &e));
-                    return ExitCode::from(EXIT_TROUBLE);
-                }
-            }
+            let table = emulator::opcua::table();
+            let face = rt.block_on(Face::bind(cfg, table, server.core()));
+            Some(face.map_err(|e| Failure::trouble(opcua_listen_error(at, &e)))?)
         }
         None => None,
     };
-    let end = match rt.block_on(serve_faces(server, face)) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(EXIT_FAILED)
-        }
-    };
+    let end = rt
+        .block_on(serve_faces(server, face))
+        .map_err(Failure::failed);
     // The emulator (and with it the tool writer, which compacts the
     // journal into the tool files) goes with the runtime; the lock after.
     drop(rt);

@@ -8,14 +8,13 @@ mod table;
 mod text;
 
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
 use clap::{Args, Subcommand};
 use tool_store::{Record, Strictness, ToolKey, ToolStore, ToolValue};
 
-use addipos::config::{Config, DEFAULT_CONFIG};
+use emulator::{Config, DEFAULT_CONFIG};
 
-use super::{EXIT_FAILED, EXIT_TROUBLE};
+use super::{Failure, Outcome};
 
 /// Exit statuses of the `tools` commands, for `--help`.
 pub const TOOLS_EXIT_HELP: &str = "Exit status: 0 success; 1 the file to import is invalid \
@@ -122,7 +121,7 @@ impl DirArgs {
     /// The tool folder: `--data-dir`, or the settings' data_dir, + tools.
     fn tools_dir(&self) -> Result<PathBuf, String> {
         if let Some(d) = &self.data_dir {
-            return Ok(addipos::tools::lock::tools_dir(d));
+            return Ok(tool_store::lock::tools_dir(d));
         }
         let (source, text) = match &self.config {
             None => ("built-in settings".to_owned(), DEFAULT_CONFIG.to_owned()),
@@ -133,12 +132,12 @@ impl DirArgs {
             ),
         };
         let cfg = Config::parse(&text).map_err(|e| format!("{source}: {e}"))?;
-        Ok(addipos::tools::lock::tools_dir(&cfg.data_dir))
+        Ok(tool_store::lock::tools_dir(&cfg.data_dir))
     }
 }
 
 /// Runs a `tools` subcommand.
-pub fn cmd_tools(command: ToolsCommand) -> ExitCode {
+pub fn cmd_tools(command: ToolsCommand) -> Outcome {
     let result = match command {
         ToolsCommand::Show { dir, group, json } => {
             read_values(&dir, group).map(|values| print(&render(&values, json, true)))
@@ -160,13 +159,7 @@ pub fn cmd_tools(command: ToolsCommand) -> ExitCode {
             return cmd_import(&dir, &file, group, json, replace);
         }
     };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(EXIT_TROUBLE)
-        }
-    }
+    result.map_err(Failure::trouble)
 }
 
 /// The values that differ from their defaults (of `group` only, if
@@ -211,56 +204,34 @@ fn export(text: &str, file: Option<&Path>) -> Result<(), String> {
     }
 }
 
-fn cmd_import(
-    dir: &DirArgs,
-    file: &Path,
-    group: Option<u8>,
-    json: bool,
-    replace: bool,
-) -> ExitCode {
+fn cmd_import(dir: &DirArgs, file: &Path, group: Option<u8>, json: bool, replace: bool) -> Outcome {
     let name = file.display().to_string();
-    let content = match std::fs::read_to_string(file) {
-        Ok(c) => c,
-        Err(e) => {
-            eprintln!("error: cannot read {name}: {e}");
-            return ExitCode::from(EXIT_TROUBLE);
-        }
-    };
+    let content = std::fs::read_to_string(file)
+        .map_err(|e| Failure::trouble(format!("cannot read {name}: {e}")))?;
     let parsed = match json {
         true => json::parse(&name, &content, group),
         false => text::parse(&name, &content, group),
     };
-    let import = match parsed {
-        Ok(i) => i,
-        Err(errors) => {
-            errors.iter().for_each(|e| eprintln!("{e}"));
-            eprintln!(
-                "error: {name}: {} bad line(s); nothing was changed",
-                errors.len()
-            );
-            return ExitCode::from(EXIT_FAILED);
-        }
-    };
-    match dir
+    let import = parsed.map_err(|errors| {
+        errors.iter().for_each(|e| eprintln!("{e}"));
+        Failure::failed(format!(
+            "{name}: {} bad line(s); nothing was changed",
+            errors.len()
+        ))
+    })?;
+    let summary = dir
         .tools_dir()
         .and_then(|d| apply(&d, &import, group, replace))
-    {
-        Ok(summary) => {
-            println!("{summary}");
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(EXIT_TROUBLE)
-        }
-    }
+        .map_err(Failure::trouble)?;
+    println!("{summary}");
+    Ok(())
 }
 
 /// Writes the checked values into the tool folder `dir` under its lock:
 /// one durable journal batch, then compaction into the tool files.
 fn apply(dir: &Path, import: &Import, group: Option<u8>, replace: bool) -> Result<String, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let _lock = addipos::tools::lock::lock_exclusive(dir).map_err(|e| e.to_string())?;
+    let _lock = tool_store::lock::lock_exclusive(dir).map_err(|e| e.to_string())?;
     // Replacing everything need not read the old data: bad lines in it
     // are skipped (and listed) instead of refusing.
     let strictness = match (replace, group) {

@@ -6,6 +6,11 @@
 //! journal, appends durably and compacts the journal back into the files.
 //! Only the [`Storage`] trait touches the disk, so tests can inject faults.
 //! The format is described for users in `docs/tool-files.md`.
+//!
+//! For a server it also holds the tool folder's lock ([`lock`]), opening a
+//! data directory's tool data ([`open_tools`]) and the journal's one
+//! writer thread with group commit ([`writer`]): this crate is the only
+//! one that touches tool files.
 
 mod decimal;
 pub mod field;
@@ -20,8 +25,13 @@ pub use file::{
 };
 pub use journal::{JournalError, Record, RecordError, Replay, TornTail};
 pub use table::{GroupTable, ToolKey, GROUPS, TOOL_ENTRIES};
+pub mod lock;
+mod open;
 pub mod storage;
 pub mod store;
+pub mod writer;
+
+pub use open::{open_tools, OpenTools};
 
 pub use storage::{FaultKind, FaultyStorage, FsStorage, MemStorage, Op, Storage, JOURNAL_FILE};
 pub use store::{group_file_name, CompactionBound, OpenReport, StoreError, Strictness, ToolStore};

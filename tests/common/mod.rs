@@ -12,7 +12,7 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use addipos::service::EmulatorService;
+use emulator::EmulatorService;
 use uoi::tcp::{Core, Handler, Server, ServerConfig};
 
 /// A server on its own thread and runtime (two workers), stopped on drop.

@@ -14,7 +14,7 @@ use tc_request::{Reply, Request};
 use uoi::wire::Answer;
 use uoi::{AccessError, ObjectAddress, Value, ValueType};
 
-use crate::reference::DEVICES;
+use crate::DEVICES;
 
 /// Subindex of a group's ERROR (1/g/1) and STATUS (1/g/3).
 const ERROR_SUB: u16 = 1;

@@ -4,7 +4,7 @@ use tc_request::{Reply, Request, SpoolRecord};
 use uoi::tcp::{BlockingClient, ClientError, ClientOptions};
 use uoi::{ObjectAddress, Value, ValueType};
 
-use crate::trace::{replay_on, Header, Mismatch, Target, Trace};
+use crate::{replay_on, Header, Mismatch, Target, Trace};
 
 /// A trace target over the wire.
 pub struct RemoteTarget {

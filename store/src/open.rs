@@ -1,19 +1,24 @@
-//! Opening the tool data for `serve`: the data directory locked for this
-//! server, the tool files loaded and the journal replayed (refusing bad
-//! lines, or skipping them when asked), the values loaded into the
-//! emulator, and the journal's writer started.
+//! Opening the tool data of a data directory for a server: the tool
+//! folder locked for it, the tool files loaded and the journal replayed
+//! (refusing bad lines, or skipping them when asked), what was found
+//! logged, and skipped lines compacted away.
 
 use std::fs::File;
 use std::path::Path;
 
-use tool_store::{FsStorage, OpenReport, Strictness, ToolStore, JOURNAL_FILE};
 use tracing::{info, warn};
 
-use super::durable::Durable;
-use super::entries::load;
-use super::lock::{lock_exclusive, tools_dir};
-use super::writer::Writer;
-use crate::service::EmulatorService;
+use crate::lock::{lock_exclusive, tools_dir};
+use crate::{FsStorage, OpenReport, Strictness, ToolStore, JOURNAL_FILE};
+
+/// The tool data of a data directory, open and locked.
+#[derive(Debug)]
+pub struct OpenTools {
+    /// The store on the tool folder, its values loaded.
+    pub store: ToolStore<FsStorage>,
+    /// The folder's lock: hold it while the store is used.
+    pub lock: File,
+}
 
 /// Logs what opening found besides the values.
 fn log_report(dir: &Path, report: &OpenReport) {
@@ -41,15 +46,11 @@ fn log_report(dir: &Path, report: &OpenReport) {
     }
 }
 
-/// Opens the tool data in `data_dir` for `service`: locks the folder,
-/// loads it into the emulator and makes every later tool write durable.
-/// Returns the lock, to hold while serving. The error names the file and
-/// the line of a bad tool file or journal record.
-pub fn open_tools(
-    service: &mut EmulatorService,
-    data_dir: &Path,
-    ignore_bad: bool,
-) -> Result<File, String> {
+/// Opens the tool data in `data_dir`: creates and locks its tool folder,
+/// loads the files and replays the journal (`ignore_bad`: skipping bad
+/// lines, which then leave the files). The error names the file and the
+/// line of a bad tool file or journal record, and the way out.
+pub fn open_tools(data_dir: &Path, ignore_bad: bool) -> Result<OpenTools, String> {
     let dir = tools_dir(data_dir);
     std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let lock = lock_exclusive(&dir).map_err(|e| e.to_string())?;
@@ -72,9 +73,5 @@ pub fn open_tools(
             .compact()
             .map_err(|e| format!("tool data in {}: {e}", dir.display()))?;
     }
-    load(service.emulator_mut().tc_mut(), store.values());
-    let writer = Writer::start(store).map_err(|e| format!("cannot start the tool writer: {e}"))?;
-    let tools = Box::new(Durable::new(writer));
-    service.set_tools(tools);
-    Ok(lock)
+    Ok(OpenTools { store, lock })
 }

@@ -5,7 +5,7 @@
 //! (docs/otc.md); any sequence of plane points can be drawn.
 //!
 //! ```
-//! use addipos::picture::{Plot, Stroke};
+//! use plot::{Plot, Stroke};
 //!
 //! let svg = Plot::new("a square")
 //!     .axes("X", "Y")

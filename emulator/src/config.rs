@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
+#[cfg(feature = "opcua")]
 use opcua_face::FaceConfig;
 use serde::Deserialize;
 use tc_module::limits::{check_point, MAX_COORD};
@@ -194,6 +195,7 @@ impl Config {
 
     /// The OPC UA face's settings, checked; `None` when it is off. It
     /// asks for the access token whenever the UOI face does.
+    #[cfg(feature = "opcua")]
     pub fn opcua(&self) -> Result<Option<FaceConfig>, ConfigError> {
         if !self.opcua.enabled {
             return Ok(None);
@@ -241,10 +243,12 @@ mod tests {
         assert_eq!(s.evict_after, Some(Duration::from_secs(1)));
         assert_eq!(s.write_timeout, Duration::from_secs(30));
         assert!(!c.wants_token());
+        #[cfg(feature = "opcua")]
         assert_eq!(c.opcua().unwrap(), None);
     }
 
     #[test]
+    #[cfg(feature = "opcua")]
     fn opcua_face_on_loopback_port_4840_with_its_store_in_the_data_dir() {
         let c = Config::parse("data_dir = \"d\"\n[opcua]\nenabled = true").unwrap();
         let face = c.opcua().unwrap().expect("on");

@@ -13,11 +13,10 @@ use nc::{check_program, Blocks, NcError};
 use tc_request::{AxisPos, Reply, Request, SpoolRecord, AXIS_NAMES};
 use tool_store::{ToolKey, ToolValue};
 
-use crate::tools::entries::field_object;
 use uoi::{Value, ValueType};
 
-use crate::trace::{format_record, fresh_emulator};
-use crate::Emulator;
+use crate::{format_record, fresh_emulator};
+use emulator::Emulator;
 
 /// One request of the run, its answer and what it spooled.
 #[derive(Debug, Clone)]
@@ -132,7 +131,7 @@ fn preload(rec: &mut Recorder<'_, '_>, tools: &[(u8, ToolKey, ToolValue)]) {
             ToolValue::I32(i) => Value::I32(*i),
             ToolValue::F64(f) => Value::F64(*f),
         };
-        rec.call(&Request::Write(field_object(*group, key.field), v), at);
+        rec.call(&Request::Write(key.field.address(u16::from(*group)), v), at);
     }
     let mut groups: Vec<u8> = tools.iter().map(|t| t.0).collect();
     groups.dedup();
@@ -225,15 +224,8 @@ pub fn run_checked_nc<R: BufRead>(
 }
 
 /// The header of a trace with no options: what `run_nc` runs on.
-fn default_header() -> crate::trace::Header {
-    crate::trace::Header {
-        file: "nc".into(),
-        name: None,
-        tol: crate::trace::DEFAULT_TOL,
-        start: [0.0; tc_request::AXES],
-        cycle: tc_module::CycleTime::DEFAULT,
-        spool_capacity: tc_module::spooler::DEFAULT_SPOOL_CAPACITY,
-    }
+fn default_header() -> crate::Header {
+    crate::Header::new("nc")
 }
 
 /// `=> ...`: the answer as a trace expectation.

@@ -1,5 +1,5 @@
-//! `addipos plot`: the three paths of an NC program or a trace in one
-//! plane, as SVG: the programmed contour (the motion requests' targets),
+//! The three paths of an NC program or a trace in one
+//! plane, as SVG (`addipos plot`): the programmed contour (the motion requests' targets),
 //! the corrected tool-centre path (the spooled elements) and the executed
 //! path (the position of every interpolation cycle, OTC offset included).
 //! Rapids are dashed; hovering over a piece shows its block. What a pixel
@@ -7,10 +7,10 @@
 
 use tc_request::{ArcDir, AxisPos, AxisWords, Motion, Request, SpoolRecord, AXES};
 
-use crate::nc_run::NcRun;
 use crate::picture::{Plot, Stroke};
-use crate::trace::{fresh_emulator, Header, Trace};
-use crate::Emulator;
+use emulator::Emulator;
+use trace::nc_run::NcRun;
+use trace::{fresh_emulator, Header, Trace};
 
 mod points;
 

@@ -13,7 +13,7 @@ use uoi::Value;
 use super::model::{Expect, Header, SpoolExpect, SpoolKind, Step, Trace, TraceError};
 use super::parse::TraceReader;
 use super::shorten;
-use crate::Emulator;
+use emulator::Emulator;
 
 /// One line whose answer differs from the trace.
 #[derive(Debug, Clone, PartialEq)]

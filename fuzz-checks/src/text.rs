@@ -4,7 +4,7 @@
 use tc_request::text::parse_request;
 use tc_request::Request;
 
-use crate::trace::TraceReader;
+use trace::TraceReader;
 
 use super::MAX_TRACE_INPUT;
 

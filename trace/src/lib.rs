@@ -1,9 +1,25 @@
-//! Conformance traces (`*.trace`, trace format v1, docs/trace-format.md):
-//! the parser and the replayer.
+//! # trace — conformance traces of the TC emulator
+//!
+//! Traces (`*.trace`, trace format v1, docs/trace-format.md): the reader,
+//! which parses headers, requests, expectations and spool lines line by
+//! line, and the replayer, which runs each step as it is read, so a trace
+//! of any length replays in bounded memory, on an in-process emulator or
+//! over the wire ([`remote`]). An NC program run is written as a trace by
+//! [`nc_run`].
+//!
+//! ```
+//! use trace::{parse_trace, replay};
+//!
+//! let text = "@name demo\nR 1300/0/3/0 i => 17\nW 1300/1/1/8 i 1024 => err Range\n";
+//! let trace = parse_trace("demo.trace", text).unwrap();
+//! assert!(replay(&trace).is_empty());
+//! ```
 
 mod expect;
 mod model;
+pub mod nc_run;
 mod parse;
+pub mod remote;
 mod replay;
 
 use std::borrow::Cow;

@@ -5,8 +5,8 @@
 use std::sync::mpsc::{self, Receiver, SyncSender, TrySendError};
 use std::thread::JoinHandle;
 
+use crate::journal::Record;
 use tokio::sync::oneshot;
-use tool_store::Record;
 use tracing::warn;
 
 /// Changes waiting for the writer at most; a submitter finding it full
@@ -28,18 +28,16 @@ pub trait Journal: Send + 'static {
     fn close(&mut self) {}
 }
 
-impl<S: tool_store::Storage + Send + std::fmt::Debug + 'static> Journal
-    for tool_store::ToolStore<S>
-{
+impl<S: crate::Storage + Send + std::fmt::Debug + 'static> Journal for crate::ToolStore<S> {
     /// A journal left with a half record that could not be cut off
     /// (poisoned) is compacted first: the tool files are rewritten from
     /// the values in memory (all durable) and the journal emptied, so the
     /// writes work again once the disk does.
     fn append(&mut self, records: &[Record]) -> Result<(), String> {
-        match tool_store::ToolStore::append(self, records) {
-            Err(tool_store::StoreError::Poisoned) => {
+        match crate::ToolStore::append(self, records) {
+            Err(crate::StoreError::Poisoned) => {
                 self.compact().map_err(|e| e.to_string())?;
-                tool_store::ToolStore::append(self, records).map_err(|e| e.to_string())
+                crate::ToolStore::append(self, records).map_err(|e| e.to_string())
             }
             other => other.map_err(|e| e.to_string()),
         }
@@ -175,8 +173,8 @@ fn run<J: Journal>(mut journal: J, rx: Receiver<Job>) -> J {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{ToolField, ToolKey, ToolValue};
     use std::sync::{Arc, Mutex};
-    use tool_store::{ToolField, ToolKey, ToolValue};
 
     /// Records every batch; fails the batches whose number is listed.
     #[derive(Default, Clone)]

@@ -3,7 +3,8 @@
 
 use std::fmt;
 
-use tc_module::{ArcDir, AxisPos, AxisWords, CycleTime};
+use tc_module::spooler::DEFAULT_SPOOL_CAPACITY;
+use tc_module::{ArcDir, AxisPos, AxisWords, CycleTime, AXES};
 use tc_request::text::{write_axis_words, write_letters};
 use tc_request::Request;
 use uoi::AccessError;
@@ -91,6 +92,21 @@ pub struct Header {
     pub cycle: CycleTime,
     /// `@spool`: the spooler capacity (default 100,000 elements).
     pub spool_capacity: usize,
+}
+
+impl Header {
+    /// The header of a trace without header lines: tolerance 1e-6, the
+    /// machine at 0, the default cycle and spooler; `file` names it.
+    pub fn new(file: &str) -> Self {
+        Self {
+            file: file.to_string(),
+            name: None,
+            tol: crate::DEFAULT_TOL,
+            start: [0.0; AXES],
+            cycle: CycleTime::DEFAULT,
+            spool_capacity: DEFAULT_SPOOL_CAPACITY,
+        }
+    }
 }
 
 /// A trace parsed as a whole (the replayer of files reads them step by

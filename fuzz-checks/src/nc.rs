@@ -8,7 +8,7 @@ use tc_request::{Reply, Request};
 use tool_store::{ToolField, ToolKey, ToolValue};
 use uoi::AccessError;
 
-use crate::Emulator;
+use emulator::Emulator;
 
 use super::{MAX_NC_INPUT, NC_EXEC_SLICES, NC_REQUEST_BUDGET};
 
@@ -45,7 +45,7 @@ impl Bounded {
             (key(4, ToolField::Radius), ToolValue::F64(-2.0)),
         ];
         let values = values.into_iter().filter_map(|(k, v)| Some((1, k?, v)));
-        crate::tools::entries::load(emu.tc_mut(), values);
+        emulator::tools::entries::load(emu.tc_mut(), values);
         Bounded {
             emu,
             requests: 0,

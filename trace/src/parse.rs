@@ -6,7 +6,7 @@
 
 use std::io::{BufRead, Read};
 
-use tc_module::spooler::{check_capacity, DEFAULT_SPOOL_CAPACITY};
+use tc_module::spooler::check_capacity;
 use tc_module::{CycleTime, AXES};
 use tc_request::text::{parse_f64, parse_request, parse_words, Allow, TextResult};
 
@@ -131,14 +131,7 @@ impl<R: BufRead> TraceReader<R> {
     pub fn open(file: &str, input: R) -> Result<Self, TraceError> {
         let mut reader = Self {
             input,
-            header: Header {
-                file: file.to_string(),
-                name: None,
-                tol: DEFAULT_TOL,
-                start: [0.0; AXES],
-                cycle: CycleTime::DEFAULT,
-                spool_capacity: DEFAULT_SPOOL_CAPACITY,
-            },
+            header: Header::new(file),
             line: 0,
             buf: Vec::new(),
             pending: None,

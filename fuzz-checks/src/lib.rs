@@ -31,7 +31,7 @@ pub use text::trace_line;
 use tc_module::MAX_COORD;
 use uoi::wire::{MAX_FRAME, PREFIX_LEN};
 
-use crate::trace::MAX_LINE_BYTES;
+use trace::MAX_LINE_BYTES;
 
 /// Most bytes of an input a check reads: four of the largest frames.
 pub const MAX_INPUT: usize = 4 * (PREFIX_LEN + MAX_FRAME);

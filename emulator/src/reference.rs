@@ -6,16 +6,16 @@
 use std::fmt::Write as _;
 
 use bitflags::Flags;
-use otc_ext::{OtcErrorBits, OtcExtension};
+use otc_ext::OtcExtension;
 use tc_module::limits::{DEFAULT_CYCLE_S, MAX_COORD, MAX_CYCLE_S, MIN_CYCLE_S, MIN_STEP};
 use tc_module::object_map::object_table;
 use tc_module::spooler::{DEFAULT_SPOOL_CAPACITY, MAX_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY};
-use tc_module::{ErrorBits, StatusBits, TC_BUS};
+use tc_objects::{bit_meaning, camel_name as camel, ErrorBits, OtcErrorBits, StatusBits, TC_BUS};
 use uoi::{AccessError, Meaning, ObjectDesc};
 
 /// The devices of bus 1300, with the heading and the meaning of their
 /// index.
-pub(crate) const DEVICES: [(u16, &str, &str); 5] = [
+pub const DEVICES: [(u16, &str, &str); 5] = [
     (0, "Device 0: initialisation (global)", "Index: the object."),
     (1, "Device 1: compensation groups and their tool tables", "Index: the group, 1..=32. Each group has a tool table of 1024 entries (WKZINDEX 0..1023) holding a radius and a length."),
     (2, "Device 2: TC extensions", "Index: the group, 1..=32."),
@@ -157,38 +157,6 @@ fn bits<F: Flags<Bits = i32>>(out: &mut String, title: &str) {
             bit_meaning(&name).unwrap_or("")
         );
     }
-}
-
-/// `INIT_ERROR` → `InitError`, the spelling of the object map.
-fn camel(name: &str) -> String {
-    name.split('_')
-        .map(|w| {
-            let mut cs = w.chars();
-            cs.next().map_or(String::new(), |c| {
-                c.to_uppercase()
-                    .chain(cs.flat_map(char::to_lowercase))
-                    .collect()
-            })
-        })
-        .collect()
-}
-
-/// What a register bit means.
-pub fn bit_meaning(name: &str) -> Option<&'static str> {
-    Some(match name {
-        "InitError" => "STATUS=1 refused (no side, plane axes equal, another group runs) or an init register written while running",
-        "KorrError" => "the tool does not fit at an inside corner (gouging)",
-        "CalcError" => "the offset arc's radius vanishes, or an arc has no radius",
-        "PlaneError" => "an arc that does not lie in the group's main plane",
-        "CenterError" => "an arc whose start and end lie at different distances from its centre",
-        "Run" => "the correction runs",
-        "ProfMarked" => "a profile is held in the one-profile buffer",
-        "ToolType" => "OTC switched on without a grinding tool",
-        "Sequence" => "a switch out of order: OTC off while the radius correction runs, ProcType or Mode changed while OTC is on",
-        "PosRequest" => "a direct command or ReInit refused while OTC is on (AllowPosReq 0)",
-        "NotAllowed" => "an enabled PLC unit that the processing type or mode ignores",
-        _ => return None,
-    })
 }
 
 /// Names of register bits without a meaning (a new bit must get one).

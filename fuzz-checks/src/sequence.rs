@@ -9,9 +9,9 @@ use tokio_util::codec::{Decoder, Encoder};
 use uoi::tcp::{Handler, Served, Session};
 use uoi::wire::{Answer, ClientCodec, Op, Rejected, Request as WireRequest, ServerCodec};
 
-use crate::service::EmulatorService;
-use crate::session::ConformanceSession;
-use crate::trace::Trace;
+use emulator::ConformanceSession;
+use emulator::EmulatorService;
+use trace::Trace;
 
 use super::frames::check_answer_round_trip;
 use super::{EXEC_BUDGET, MAX_FRAMES, MAX_INPUT, POS_LIMIT, SPOOLED_PER_FRAME};

@@ -1,0 +1,49 @@
+//! # emulator — the ADDIPOS TC emulator as a program runs it
+//!
+//! Wires the TC module ([`tc_module`]) with the OTC extension
+//! ([`otc_ext`]) into one [`Emulator`] driven by the one request model
+//! ([`tc_request`]), and gives it what a server or an embedding program
+//! needs around it:
+//!
+//! * [`Config`]: the settings (`config/default.toml` built in, a file of
+//!   the same form read by the caller), and [`parse_address`], the one
+//!   reading of a server address;
+//! * [`EmulatorService`]: the emulator all connections of the object
+//!   server share, as its handler, with a conformance session
+//!   ([`ConformanceSession`]) per connection that sends `SETUP`;
+//! * [`tools`]: tool data that survives (the emulator's tool entries as
+//!   the tool store's records, written durably before a write is
+//!   answered);
+//! * [`object_reference`]: `docs/objects.md`, generated from the object
+//!   table;
+//! * with the feature `opcua`, [`opcua`]: what the OPC UA face shows of
+//!   bus 1300.
+//!
+//! ```
+//! use emulator::Emulator;
+//! use tc_request::{text::parse_request, Reply};
+//!
+//! let mut emu = Emulator::default();
+//! let req = parse_request("R 1300/0/3/0 i").unwrap();
+//! assert_eq!(emu.run(&req), Reply::Value(uoi::Value::I32(17)));
+//! ```
+
+mod address;
+mod config;
+mod emulator;
+#[cfg(feature = "opcua")]
+pub mod opcua;
+mod reference;
+mod service;
+mod session;
+pub mod tools;
+
+pub use address::parse_address;
+pub use config::{
+    Config, ConfigError, OpcuaSettings, DEFAULT_CONFIG, MAX_CONNECTIONS, MAX_EVICT_AFTER_MS,
+    OPCUA_PKI_DIR,
+};
+pub use emulator::{Emulator, Tc};
+pub use reference::{bits_without_meaning, devices_without_section, object_reference, DEVICES};
+pub use service::EmulatorService;
+pub use session::{ConformanceSession, LOG_CAPACITY, MAX_SESSIONS, MAX_SESSION_SPOOL};
