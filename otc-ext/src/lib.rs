@@ -27,6 +27,7 @@
 
 mod objects;
 mod per_cycle;
+mod quantity;
 mod registers;
 mod state;
 mod switching;
@@ -35,6 +36,7 @@ pub mod wear;
 pub use objects::{
     OtcObject, AXIS_DEVICE, AXIS_OBJECTS, GROUP_DEVICE, GROUP_OBJECTS, WEAR_AXIS_SUBS,
 };
+pub use quantity::{TenthMicrons, TiltAngle, WearRate};
 pub use registers::OtcExtension;
 pub use state::{
     clamp_command, OtcErrorBits, OtcGroup, OtcMode, OtcTool, PlcUnit, ProcType, GRINDING,

@@ -27,7 +27,7 @@ fn settings(g: &Access<'_>) -> WearSettings {
         axes: g.main_axes().plane,
         xyz: g.main_axes().xyz,
         // The table limits OriAxis to 0..7.
-        ori_axis: usize::try_from(s.ori_axis).unwrap_or(0).min(AXES - 1),
+        ori_axis: s.ori_axis.min(AXES - 1),
     }
 }
 

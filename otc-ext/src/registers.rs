@@ -7,6 +7,7 @@ use tc_module::{Cycle, GroupAccess, Groups, TcExtension, WkzIndex, AXES};
 use uoi::{AccessError, ObjectAddress, ObjectDesc, Value};
 
 use crate::objects::{OtcObject, AXIS_OBJECTS, GROUP_OBJECTS, WEAR_AXIS_SUBS};
+use crate::quantity::{TenthMicrons, TiltAngle, WearRate};
 use crate::state::{clamp_command, OtcErrorBits, OtcGroup, OtcMode, OtcTool, PlcUnit, ProcType};
 use crate::switching::check_units;
 
@@ -25,10 +26,10 @@ type Access<'a> = GroupAccess<'a, OtcExtension>;
 impl OtcExtension {
     /// Rule 7: the bound of the request registers, ToolMaxInfeed of the
     /// current entry of the group whose OTC is on, else of group 1's.
-    fn request_bound(&self, groups: &mut Groups<'_, Self>) -> f64 {
+    fn request_bound(&self, groups: &mut Groups<'_, Self>) -> TenthMicrons {
         groups
             .get(self.on_group.unwrap_or(1))
-            .map_or(0.0, |g| g.tool().ext.max_infeed)
+            .map_or(TenthMicrons::default(), |g| g.tool().ext.max_infeed)
     }
 }
 
@@ -45,7 +46,7 @@ fn read_group_state(
     addr: ObjectAddress,
     s: &OtcGroup,
     tool: &OtcTool,
-    bound: f64,
+    bound: TenthMicrons,
 ) -> Option<Value> {
     use OtcObject as O;
     let i = |v: i32| Some(Value::I32(v));
@@ -54,15 +55,16 @@ fn read_group_state(
         O::OtcOn => i(i32::from(s.on)),
         O::ProcType => i(s.proc_type.code()),
         O::Mode => i(s.mode.code()),
-        O::WearConst if s.on => d(s.const_in_force),
-        O::WearConst => d(s.wear_const_override.unwrap_or(tool.wear_const)),
+        O::WearConst if s.on => d(s.const_in_force.0),
+        O::WearConst => d(s.wear_const_override.unwrap_or(tool.wear_const).0),
         O::AccWeight => i(s.acc_weight),
         O::OtcError => i(s.error.bits()),
         O::WearRadius => d(s.wear_radius),
         O::WearRadiusCont => d(s.wear_radius_cont),
         O::WearAxis => d(s.wear_axis[usize::from(addr.sub - WEAR_AXIS_SUBS.start())]),
         O::AllowPosReq => i(i32::from(s.allow_pos_req)),
-        O::OriAxis => i(s.ori_axis),
+        // OriAxis is 0..7 (the table's range).
+        O::OriAxis => i(s.ori_axis as i32),
         O::RadiusOffsetCommand => i(s.radius_unit.command),
         O::RadiusOffsetEnable => i(i32::from(s.radius_unit.enable)),
         O::RadiusOffsetRequest => i(clamp_command(s.radius_unit.command, bound)),
@@ -72,9 +74,9 @@ fn read_group_state(
         O::HandoffWearRadius => d(s.handoff_wear_radius),
         O::HandoffWearRadiusCont => d(s.handoff_wear_radius_cont),
         O::ToolType => i(tool.tool_type),
-        O::ToolWearConst => d(tool.wear_const),
-        O::ToolMaxInfeed => d(tool.max_infeed),
-        O::ToolTiltAngle => d(tool.tilt),
+        O::ToolWearConst => d(tool.wear_const.0),
+        O::ToolMaxInfeed => d(tool.max_infeed.0),
+        O::ToolTiltAngle => d(tool.tilt.0),
         _ => None,
     }
 }
@@ -84,9 +86,9 @@ fn write_tool(obj: OtcObject, v: Value, tool: &mut OtcTool) -> bool {
     use OtcObject as O;
     match obj {
         O::ToolType => tool.tool_type = int(v),
-        O::ToolWearConst => tool.wear_const = dbl(v),
-        O::ToolMaxInfeed => tool.max_infeed = dbl(v),
-        O::ToolTiltAngle => tool.tilt = dbl(v),
+        O::ToolWearConst => tool.wear_const = WearRate(dbl(v)),
+        O::ToolMaxInfeed => tool.max_infeed = TenthMicrons(dbl(v)),
+        O::ToolTiltAngle => tool.tilt = TiltAngle(dbl(v)),
         _ => return false,
     }
     true
@@ -99,12 +101,13 @@ fn write_state(obj: OtcObject, v: Value, s: &mut OtcGroup) -> bool {
         O::ProcType | O::Mode if s.on => s.error |= OtcErrorBits::SEQUENCE,
         O::ProcType => s.proc_type = ProcType::from_code(int(v)),
         O::Mode => s.mode = OtcMode::from_code(int(v)),
-        O::WearConst => s.wear_const_override = Some(dbl(v)),
+        O::WearConst => s.wear_const_override = Some(WearRate(dbl(v))),
         O::WearConstTool => s.wear_const_override = None,
         O::AccWeight => s.acc_weight = int(v),
         O::OtcError => s.error = OtcErrorBits::empty(),
         O::AllowPosReq => s.allow_pos_req = int(v) == 1,
-        O::OriAxis => s.ori_axis = int(v),
+        // The table limits OriAxis to 0..7.
+        O::OriAxis => s.ori_axis = usize::try_from(int(v)).unwrap_or(0),
         O::RadiusOffsetCommand => s.radius_unit.command = int(v),
         O::RadiusOffsetEnable => s.radius_unit.enable = int(v) == 1,
         _ => return false,

@@ -3,6 +3,7 @@
 
 use tc_module::AXES;
 
+use crate::quantity::{TenthMicrons, TiltAngle, WearRate};
 use crate::wear::WearState;
 
 pub use tc_objects::OtcErrorBits;
@@ -14,8 +15,8 @@ pub const GRINDING: i32 = 2;
 /// Default AccWeight in percent (uoi-map.md device 3 sub 6).
 pub const DEFAULT_ACC_WEIGHT: i32 = 100;
 
-/// Default OriAxis: B (uoi-map.md device 3 sub 41).
-pub const DEFAULT_ORI_AXIS: i32 = 4;
+/// Default OriAxis: B (docs/objects.md, device 3 sub 41).
+pub const DEFAULT_ORI_AXIS: usize = 4;
 
 /// Processing type (device 3 sub 2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -92,11 +93,11 @@ pub struct OtcTool {
     /// P-TOOL-00001: 0 milling, 1 turning, 2 grinding, 3 wire.
     pub tool_type: i32,
     /// P-TOOL-00030, 0.1 µm/m.
-    pub wear_const: f64,
+    pub wear_const: WearRate,
     /// P-TOOL-00031, 0.1 µm.
-    pub max_infeed: f64,
+    pub max_infeed: TenthMicrons,
     /// P-TOOL-00138, 0.0001°.
-    pub tilt: f64,
+    pub tilt: TiltAngle,
 }
 
 /// A PLC control unit: command, enable, the value applied now.
@@ -131,8 +132,8 @@ impl PlcUnit {
 
 /// Clamps a PLC command to ± the tool's maximum infeed (0: no discrete
 /// offset).
-pub fn clamp_command(command: i32, max_infeed: f64) -> i32 {
-    let bound = max_infeed.abs().min(f64::from(i32::MAX)).floor();
+pub fn clamp_command(command: i32, max_infeed: TenthMicrons) -> i32 {
+    let bound = max_infeed.magnitude().min(f64::from(i32::MAX)).floor();
     // Within ±i32::MAX after the clamp.
     f64::from(command).clamp(-bound, bound) as i32
 }
@@ -147,9 +148,9 @@ pub struct OtcGroup {
     /// Mode.
     pub mode: OtcMode,
     /// WearConst written since the last WearConstTool.
-    pub wear_const_override: Option<f64>,
+    pub wear_const_override: Option<WearRate>,
     /// The constant fixed at OTC ON.
-    pub const_in_force: f64,
+    pub const_in_force: WearRate,
     /// AccWeight, percent.
     pub acc_weight: i32,
     /// OtcError.
@@ -162,8 +163,8 @@ pub struct OtcGroup {
     pub wear_axis: [f64; AXES],
     /// AllowPosReq.
     pub allow_pos_req: bool,
-    /// OriAxis.
-    pub ori_axis: i32,
+    /// OriAxis: the machine axis of the orientation angle B.
+    pub ori_axis: usize,
     /// The channel unit `otc_radius_offset`.
     pub radius_unit: PlcUnit,
     /// The wear model's state since OTC ON (continuous wear, direction).
@@ -185,7 +186,7 @@ impl Default for OtcGroup {
             proc_type: ProcType::default(),
             mode: OtcMode::default(),
             wear_const_override: None,
-            const_in_force: 0.0,
+            const_in_force: WearRate::default(),
             acc_weight: DEFAULT_ACC_WEIGHT,
             error: OtcErrorBits::empty(),
             wear_radius: 0.0,
@@ -209,11 +210,12 @@ mod tests {
 
     #[test]
     fn clamp() {
-        assert_eq!(clamp_command(500, 100.0), 100);
-        assert_eq!(clamp_command(-500, 100.0), -100);
-        assert_eq!(clamp_command(50, 100.0), 50);
-        assert_eq!(clamp_command(50, 0.0), 0);
-        assert_eq!(clamp_command(i32::MIN, 1e300), i32::MIN + 1);
+        let c = |command, bound| clamp_command(command, TenthMicrons(bound));
+        assert_eq!(c(500, 100.0), 100);
+        assert_eq!(c(-500, 100.0), -100);
+        assert_eq!(c(50, 100.0), 50);
+        assert_eq!(c(50, 0.0), 0);
+        assert_eq!(c(i32::MIN, 1e300), i32::MIN + 1);
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! writes set a tool field directly, the value of a field in an entry, and
 //! the whole tool data as store tables (to load, compare and save).
 
-use otc_ext::{OtcExtension, OtcTool};
+use otc_ext::{OtcExtension, OtcTool, TenthMicrons, TiltAngle, WearRate};
 use tc_module::{TcModule, ToolEntry, WkzIndex};
 use tc_objects::ToolEffect;
 use tool_store::{FileField, GroupTable, Record, ToolField, ToolKey, ToolValue, TOOL_ENTRIES};
@@ -33,9 +33,9 @@ pub fn value_of(e: &ToolEntry<OtcTool>, field: ToolField) -> ToolValue {
         ToolField::ToolType => ToolValue::I32(e.ext.tool_type),
         ToolField::Radius => ToolValue::F64(e.radius),
         ToolField::Length => ToolValue::F64(e.length),
-        ToolField::WearConst => ToolValue::F64(e.ext.wear_const),
-        ToolField::MaxInfeed => ToolValue::F64(e.ext.max_infeed),
-        ToolField::TiltAngle => ToolValue::F64(e.ext.tilt),
+        ToolField::WearConst => ToolValue::F64(e.ext.wear_const.0),
+        ToolField::MaxInfeed => ToolValue::F64(e.ext.max_infeed.0),
+        ToolField::TiltAngle => ToolValue::F64(e.ext.tilt.0),
     }
 }
 
@@ -56,9 +56,9 @@ pub fn set_value(e: &mut ToolEntry<OtcTool>, field: ToolField, value: ToolValue)
         }
         ToolField::Radius => e.radius = f,
         ToolField::Length => e.length = f,
-        ToolField::WearConst => e.ext.wear_const = f,
-        ToolField::MaxInfeed => e.ext.max_infeed = f,
-        ToolField::TiltAngle => e.ext.tilt = f,
+        ToolField::WearConst => e.ext.wear_const = WearRate(f),
+        ToolField::MaxInfeed => e.ext.max_infeed = TenthMicrons(f),
+        ToolField::TiltAngle => e.ext.tilt = TiltAngle(f),
     }
 }
 

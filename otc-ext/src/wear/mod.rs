@@ -15,12 +15,9 @@ pub mod units;
 
 use tc_module::{AxisPos, Cycle, Origin, PathPart, PlaneAxes, AXES};
 
+use crate::quantity::{TenthMicrons, TiltAngle, WearRate};
 use crate::state::{OtcMode, PlcUnit, ProcType, APPLIED_UNIT_MM};
 use direction::{length_dir, radius_weight, surface_normal, tool_dir, xyz_mask};
-
-/// Interpolation units of wear per unit of path, per 0.1 µm/m of
-/// WearConst.
-pub const WEAR_PER_CONST: f64 = 1e-7;
 
 /// What the model keeps of a group between cycles.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -34,7 +31,7 @@ pub struct WearState {
     /// The tool direction of the last B on the last X, Y, Z.
     pub tool_dir: Memo<(f64, [u8; 3])>,
     /// The LENGTH direction of the last tilt on the last main plane.
-    pub tilt_dir: Memo<(f64, PlaneAxes)>,
+    pub tilt_dir: Memo<(TiltAngle, PlaneAxes)>,
     /// The mask of the last X, Y, Z (SURF_NORM_DIR).
     pub xyz_mask: Memo<[u8; 3]>,
 }
@@ -74,14 +71,14 @@ pub struct WearSettings {
     pub proc_type: ProcType,
     /// Mode.
     pub mode: OtcMode,
-    /// The wear constant fixed at ON, 0.1 µm/m.
-    pub wear_const: f64,
+    /// The wear constant fixed at ON.
+    pub wear_const: WearRate,
     /// AccWeight, percent.
     pub acc_weight: i32,
-    /// ToolMaxInfeed of the current entry, 0.1 µm.
-    pub max_infeed: f64,
-    /// ToolTiltAngle of the current entry, 0.0001°.
-    pub tilt: f64,
+    /// ToolMaxInfeed of the current entry.
+    pub max_infeed: TenthMicrons,
+    /// ToolTiltAngle of the current entry.
+    pub tilt: TiltAngle,
     /// The main plane (LENGTH's first and third main axes).
     pub axes: PlaneAxes,
     /// The machine axes allocated as X, Y, Z (AxisNr).
@@ -121,7 +118,7 @@ impl<'a> TakenMut<'a> {
     }
 
     /// Whether every taken unit stands on its target.
-    pub fn settled(&self, max_infeed: f64) -> bool {
+    pub fn settled(&self, max_infeed: TenthMicrons) -> bool {
         let on_target = |u: &Option<&mut PlcUnit>| {
             u.as_ref()
                 .is_none_or(|u| u.applied == ramp::target(u, max_infeed))
@@ -146,14 +143,14 @@ pub fn wears(part: &PathPart, proc: ProcType) -> bool {
 }
 
 /// The continuous wear of one cycle's path: `k · ds` over the parts that
-/// wear, `k = WearConst · 1e-7`.
-pub fn continuous_wear(parts: &[PathPart], proc: ProcType, wear_const: f64) -> f64 {
+/// wear ([`WearRate::wear_over`]).
+pub fn continuous_wear(parts: &[PathPart], proc: ProcType, wear_const: WearRate) -> f64 {
     let ds: f64 = parts
         .iter()
         .filter(|p| wears(p, proc))
         .map(|p| p.length)
         .sum();
-    wear_const * WEAR_PER_CONST * ds
+    wear_const.wear_over(ds)
 }
 
 /// The unit direction wear acts against at the cycle's end, and the
@@ -180,7 +177,7 @@ fn direction(state: &mut WearState, set: &WearSettings, c: &Cycle<'_>) -> (AxisP
             let key = (set.tilt, set.axes);
             let u = state
                 .tilt_dir
-                .get(key, |(tilt, axes)| length_dir(tilt * 1e-4, axes));
+                .get(key, |(tilt, axes)| length_dir(tilt.degrees(), axes));
             (u, 1.0)
         }
         ProcType::ToolDir => (t(), 1.0),

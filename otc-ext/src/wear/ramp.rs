@@ -3,6 +3,7 @@
 //! Values are in the unit of [`PlcUnit::applied`] (0.01 µm), where
 //! targets and steps are whole numbers.
 
+use crate::quantity::TenthMicrons;
 use crate::state::{PlcUnit, APPLIED_PER_PLC};
 
 /// The ramp step per cycle: `1e-3 · AccWeight / 100` mm, which is
@@ -15,9 +16,9 @@ pub fn step_per_cycle(acc_weight: i32) -> f64 {
 /// ±`max_infeed` when enabled (the bound as it is, fractions included;
 /// only the integer request register rounds it), 0 when not (a disabled
 /// unit gives its offset back).
-pub fn target(unit: &PlcUnit, max_infeed: f64) -> f64 {
+pub fn target(unit: &PlcUnit, max_infeed: TenthMicrons) -> f64 {
     if unit.enable {
-        let bound = max_infeed.abs();
+        let bound = max_infeed.magnitude();
         f64::from(unit.command).clamp(-bound, bound) * APPLIED_PER_PLC
     } else {
         0.0
@@ -76,11 +77,11 @@ mod tests {
     fn negative_targets_ramp_down_and_disabled_units_give_back() {
         assert_eq!(after(5, -30.0, 100), -30.0);
         assert_eq!(ramp(-300.0, 0.0, 100.0), -200.0);
-        assert_eq!(target(&unit(-500, true), 200.0), -2000.0);
-        assert_eq!(target(&unit(500, false), 200.0), 0.0);
-        assert_eq!(target(&unit(500, true), 0.0), 0.0);
+        assert_eq!(target(&unit(-500, true), TenthMicrons(200.0)), -2000.0);
+        assert_eq!(target(&unit(500, false), TenthMicrons(200.0)), 0.0);
+        assert_eq!(target(&unit(500, true), TenthMicrons(0.0)), 0.0);
         // A fractional bound limits the applied value as it is.
-        assert_eq!(target(&unit(1000, true), 150.5), 1505.0);
-        assert_eq!(target(&unit(-1000, true), -150.5), -1505.0);
+        assert_eq!(target(&unit(1000, true), TenthMicrons(150.5)), 1505.0);
+        assert_eq!(target(&unit(-1000, true), TenthMicrons(-150.5)), -1505.0);
     }
 }

@@ -16,10 +16,10 @@ fn settings(proc_type: ProcType, mode: OtcMode) -> WearSettings {
     WearSettings {
         proc_type,
         mode,
-        wear_const: 100_000.0,
+        wear_const: WearRate(100_000.0),
         acc_weight: 100,
-        max_infeed: 200_000.0,
-        tilt: 0.0,
+        max_infeed: TenthMicrons(200_000.0),
+        tilt: TiltAngle(0.0),
         axes: XY,
         xyz: [0, 1, 2],
         ori_axis: 4,
@@ -69,15 +69,21 @@ fn on<'a>(e: &'a SpoolElement, parts: &'a [PathPart], done: f64, at: &'a AxisPos
 fn a_metre_of_feed_path_at_100000_wears_ten_millimetres() {
     // k = 100000 × 1e-7 = 0.01 per unit of path; 1000 mm → 10 mm.
     let parts = [part(Origin::Uncorrected, false, 1000.0)];
-    let w = continuous_wear(&parts, ProcType::Length, 100_000.0);
+    let w = continuous_wear(&parts, ProcType::Length, WearRate(100_000.0));
     assert!((w - 10.0).abs() < 1e-12, "{w}");
 }
 
 #[test]
 fn rapids_wear_nothing_and_radius_wears_only_on_corrected_elements() {
     let rapid = [part(Origin::Corrected, true, 1000.0)];
-    assert_eq!(continuous_wear(&rapid, ProcType::Length, 1e5), 0.0);
-    assert_eq!(continuous_wear(&rapid, ProcType::Radius, 1e5), 0.0);
+    assert_eq!(
+        continuous_wear(&rapid, ProcType::Length, WearRate(1e5)),
+        0.0
+    );
+    assert_eq!(
+        continuous_wear(&rapid, ProcType::Radius, WearRate(1e5)),
+        0.0
+    );
     let mixed = [
         part(Origin::Approach, false, 1.0),
         part(Origin::Corrected, false, 2.0),
@@ -86,8 +92,14 @@ fn rapids_wear_nothing_and_radius_wears_only_on_corrected_elements() {
         part(Origin::Uncorrected, false, 16.0),
     ];
     // RADIUS: 2 + 4 = 6 units; LENGTH: all 31. k = 1e-7 × 1e7 = 1.
-    assert_eq!(continuous_wear(&mixed, ProcType::Radius, 1e7), 6.0);
-    assert_eq!(continuous_wear(&mixed, ProcType::Length, 1e7), 31.0);
+    assert_eq!(
+        continuous_wear(&mixed, ProcType::Radius, WearRate(1e7)),
+        6.0
+    );
+    assert_eq!(
+        continuous_wear(&mixed, ProcType::Length, WearRate(1e7)),
+        31.0
+    );
 }
 
 #[test]
@@ -200,7 +212,7 @@ fn surface_normal_starts_as_the_tool_direction_and_keeps_the_last() {
 fn length_with_a_tilted_disc_splits_the_wear_over_x_and_z() {
     let at = [0.0; AXES];
     let mut set = settings(ProcType::Length, OtcMode::Cont);
-    set.tilt = 300_000.0; // 30°
+    set.tilt = TiltAngle(300_000.0); // 30°
     let e = SpoolElement::line(at, pos(100.0, 0.0, 0.0), 600.0, false, Origin::Uncorrected);
     let parts = [part(Origin::Uncorrected, false, 100.0)];
     let mut state = WearState::default();
