@@ -39,7 +39,7 @@ use emulator::EmulatorService;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::TcpStream;
 use tokio_util::codec::Decoder;
-use tool_store::writer::Writer;
+use tool_store::Writer;
 use tool_store::{FsStorage, Storage, Strictness, ToolStore};
 use uoi::tcp::{Server, ServerConfig};
 use uoi::wire::{decode_answer, encode_request, Answer, ClientCodec, Op, Request};

@@ -358,7 +358,7 @@ async fn every_refusal_has_its_status_and_changes_nothing() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_value_the_disk_refuses_is_a_device_failure_and_nothing_changes() {
     use emulator::tools::durable::Durable;
-    use tool_store::writer::Writer;
+    use tool_store::Writer;
     use tool_store::{FaultKind, FaultyStorage, MemStorage, Op, Strictness, ToolStore};
     // The second journal append fails: the first write is kept, the second refused.
     let storage = FaultyStorage::new(MemStorage::default()).fail_at(Op::Append, 2, FaultKind::Fail);

@@ -17,8 +17,8 @@ use common::{loopback, TestServer};
 use emulator::tools::durable::Durable;
 use emulator::EmulatorService;
 use tc_module::CycleTime;
-use tool_store::journal::replay;
-use tool_store::writer::Writer;
+use tool_store::replay_journal as replay;
+use tool_store::Writer;
 use tool_store::{
     FaultKind, FaultyStorage, MemStorage, Op, Record, Storage, Strictness, ToolField, ToolKey,
     ToolStore, ToolValue,

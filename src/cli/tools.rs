@@ -121,7 +121,7 @@ impl DirArgs {
     /// The tool folder: `--data-dir`, or the settings' data_dir, + tools.
     fn tools_dir(&self) -> Result<PathBuf, String> {
         if let Some(d) = &self.data_dir {
-            return Ok(tool_store::lock::tools_dir(d));
+            return Ok(tool_store::tools_dir(d));
         }
         let (source, text) = match &self.config {
             None => ("built-in settings".to_owned(), DEFAULT_CONFIG.to_owned()),
@@ -132,7 +132,7 @@ impl DirArgs {
             ),
         };
         let cfg = Config::parse(&text).map_err(|e| format!("{source}: {e}"))?;
-        Ok(tool_store::lock::tools_dir(&cfg.data_dir))
+        Ok(tool_store::tools_dir(&cfg.data_dir))
     }
 }
 
@@ -231,7 +231,7 @@ fn cmd_import(dir: &DirArgs, file: &Path, group: Option<u8>, json: bool, replace
 /// one durable journal batch, then compaction into the tool files.
 fn apply(dir: &Path, import: &Import, group: Option<u8>, replace: bool) -> Result<String, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let _lock = tool_store::lock::lock_exclusive(dir).map_err(|e| e.to_string())?;
+    let _lock = tool_store::lock_exclusive(dir).map_err(|e| e.to_string())?;
     // Replacing everything need not read the old data: bad lines in it
     // are skipped (and listed) instead of refusing.
     let strictness = match (replace, group) {

@@ -13,25 +13,24 @@
 //! one that touches tool files.
 
 mod decimal;
-pub mod field;
+mod field;
+mod file;
+mod journal;
+mod lock;
+mod open;
+mod storage;
+mod store;
+mod table;
+mod writer;
 
 pub use field::{FileField, ToolField, ToolValue, ValueError};
-pub mod file;
-pub mod journal;
-pub mod table;
-
 pub use file::{
     parse_group_file, parse_group_file_lenient, write_group_file, LineError, ParseError,
 };
-pub use journal::{JournalError, Record, RecordError, Replay, TornTail};
-pub use table::{GroupTable, ToolKey, GROUPS, TOOL_ENTRIES};
-pub mod lock;
-mod open;
-pub mod storage;
-pub mod store;
-pub mod writer;
-
+pub use journal::{replay as replay_journal, JournalError, Record, RecordError, Replay, TornTail};
+pub use lock::{lock_exclusive, tools_dir, LockError, LOCK_FILE, TOOLS_DIR};
 pub use open::{open_tools, OpenTools};
-
 pub use storage::{FaultKind, FaultyStorage, FsStorage, MemStorage, Op, Storage, JOURNAL_FILE};
 pub use store::{group_file_name, CompactionBound, OpenReport, StoreError, Strictness, ToolStore};
+pub use table::{GroupTable, ToolKey, GROUPS, TOOL_ENTRIES};
+pub use writer::{Done, Journal, Writer, MAX_BATCH, QUEUE};

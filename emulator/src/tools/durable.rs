@@ -27,7 +27,7 @@ use uoi::{AccessError, ObjectAddress, Value, ValueType};
 
 use super::entries::{all_tables, changes, direct_field, entry_mut, may_change_tools, set_value};
 use crate::Emulator;
-use tool_store::writer::{Done, Journal, Writer};
+use tool_store::{Done, Journal, Writer};
 
 /// What the server's handler asks of tool persistence (the shared
 /// emulator's; conformance sessions keep nothing).

@@ -6,7 +6,7 @@
 use std::fs::File;
 use std::path::Path;
 
-use tool_store::writer::Writer;
+use tool_store::Writer;
 
 use super::durable::Durable;
 use super::entries::load;
