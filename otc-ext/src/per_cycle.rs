@@ -13,7 +13,7 @@ use crate::OtcExtension;
 
 type Access<'a> = GroupAccess<'a, OtcExtension>;
 
-/// The settings in force for the group (rule 9: read every cycle, so
+/// The settings in force for the group (read every cycle, docs/otc.md "Switching a legacy TC program to OTC", so
 /// AccWeight, ToolMaxInfeed and ToolTiltAngle act from the next one).
 fn settings(g: &Access<'_>) -> WearSettings {
     let (s, tool) = (g.state(), g.tool().ext);

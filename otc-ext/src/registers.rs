@@ -1,5 +1,5 @@
-//! The OTC registers of devices 3 and 4 (uoi-map.md), the request
-//! registers' bound (rule 7), writes while OTC is on (rule 9) and the
+//! The OTC registers of devices 3 and 4 (docs/objects.md), the request
+//! registers' bound, writes while OTC is on (docs/otc.md) and the
 //! hooks the TC module calls; switching is in `switching`, the per-cycle
 //! model in `wear` and `per_cycle`.
 

@@ -8,11 +8,11 @@ use crate::wear::WearState;
 
 pub use tc_objects::OtcErrorBits;
 
-/// Tool type of a grinding tool (P-TOOL-00001; otc.md "Switching": `OtcOn=1`
+/// Tool type of a grinding tool (P-TOOL-00001; docs/otc.md, "Switching a legacy TC program to OTC": `OtcOn=1`
 /// needs ToolType 2).
 pub const GRINDING: i32 = 2;
 
-/// Default AccWeight in percent (uoi-map.md device 3 sub 6).
+/// Default AccWeight in percent (docs/objects.md, device 3 sub 6).
 pub const DEFAULT_ACC_WEIGHT: i32 = 100;
 
 /// Default OriAxis: B (docs/objects.md, device 3 sub 41).
@@ -121,7 +121,7 @@ pub const APPLIED_UNIT_MM: f64 = 1e-5;
 pub const APPLIED_PER_PLC: f64 = 10.0;
 
 impl PlcUnit {
-    /// `state_r`: the applied value rounded to the nearest 0.1 µm (rule 7),
+    /// `state_r`: the applied value rounded to the nearest 0.1 µm (docs/objects.md),
     /// halves away from zero.
     pub fn state(&self) -> i32 {
         // Within ±i32::MAX: the applied value moves between 0 and clamped

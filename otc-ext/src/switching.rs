@@ -1,6 +1,6 @@
-//! Switching OTC on and off (otc.md "Switching", "Switching off and
-//! reading back", "Position requests", rules 1, 6, 8 and 10 of "Exact
-//! rules"), and the NotAllowed check of the PLC units.
+//! Switching OTC on and off (docs/otc.md, "Switching a legacy TC program
+//! to OTC": the wear booked at switch-off, position requests, tool
+//! changes), and the NotAllowed check of the PLC units ("The error bits").
 
 use tc_module::{GroupAccess, Groups, AXES};
 use uoi::AccessError;

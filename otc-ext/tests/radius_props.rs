@@ -20,10 +20,10 @@
 //!   corrected path, and the tool's radius is r − w.
 //!
 //! Cycles that end exactly on an element's start are not checked against
-//! that element (otc.md rule 2: the element that just ended is current
+//! that element (docs/otc.md, "RADIUS in detail": the element that just ended is current
 //! there). Corners are kept out of (0, 0.08] rad and near reversal, where
 //! the correction lets an element start off its offset geometry
-//! (trc-geometry.md corner rule 1) and the distance to the element would
+//! (docs/trc.md, corner case 1) and the distance to the element would
 //! not be r.
 
 // Test helpers may stop loudly on a broken setup.

@@ -1,4 +1,4 @@
-//! The machine's axes (trc-geometry.md, "Coordinates"): 8 axes, index
+//! The machine's axes (docs/objects.md, device 4; docs/trace-format.md): 8 axes, index
 //! 0..7, named `X Y Z A B C U V` in traces and NC programs.
 
 /// Number of machine axes.

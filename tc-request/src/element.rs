@@ -7,7 +7,7 @@ uoi::code_list! {
     /// Who put an element into the spooler. OTC's continuous wear only
     /// counts on elements the running correction spooled, and its RADIUS
     /// weight rises along the approach and falls along the departure
-    /// (otc.md).
+    /// (docs/otc.md).
     pub enum Origin: u8 {
         /// No correction running (also a move after a fault or a RESET).
         Uncorrected = 0,

@@ -1,6 +1,6 @@
 //! Commands to the motion side of the controller: interpolation profiles
 //! (`LIN`, `RAP`, `CIR`), direct commands (`JA`, `JS`), special functions
-//! (`SSF`) and the legacy `rs()` (trace-format.md, "Requests").
+//! (`SSF`) and the legacy `rs()` (docs/trace-format.md, "Requests").
 
 use crate::axes::{AxisWords, AXES};
 
@@ -82,5 +82,5 @@ pub enum Motion {
 }
 
 /// The special function that spools the buffered profile and keeps the
-/// correction running (trc-geometry.md, "`SSF 2001`").
+/// correction running (docs/trc.md, "The one-profile buffer").
 pub const SSF_FLUSH: i32 = 2001;

@@ -11,7 +11,7 @@ impl Meaning for O {
     }
 }
 
-/// Both request registers (rule 7).
+/// Both request registers.
 const REQUEST: &str = "The command clamped to ± ToolMaxInfeed of the current entry of the group \
                        whose OTC is on (with none on: of group 1), enabled or not.";
 

@@ -1,6 +1,6 @@
-//! The direction wear acts in, per processing type (otc.md "Wear per
-//! interpolation cycle" and rules 2 to 5, 11): the RADIUS weight and
-//! contour normal, the tilted LENGTH direction, the tool direction from
+//! The direction wear acts in, per processing type (docs/otc.md,
+//! "Processing types and their directions" and "RADIUS in detail"): the
+//! RADIUS weight and contour normal, the tilted LENGTH direction, the tool direction from
 //! the orientation axis, and the surface normal.
 
 use tc_module::{AxisPos, Cycle, Origin, PlaneAxes, SpoolElement, AXES};
@@ -29,7 +29,7 @@ fn fraction(e: &SpoolElement, done: f64) -> f64 {
     }
 }
 
-/// The RADIUS weight at the cycle's end (rule 4): 1 on corrected and
+/// The RADIUS weight at the cycle's end (docs/otc.md, "RADIUS in detail"): 1 on corrected and
 /// transition elements; rising linearly in path length from its value at
 /// the start to 1 along an approach; falling from it to 0 along the
 /// departure; 0 elsewhere and before any element.

@@ -1,5 +1,5 @@
-//! The OTC wear model, one interpolation cycle at a time (otc.md "Wear per
-//! interpolation cycle" and "Exact rules"). Pure: the state of the group
+//! The OTC wear model, one interpolation cycle at a time (docs/otc.md,
+//! "What happens in each interpolation cycle"). Pure: the state of the group
 //! whose OTC is on and the PLC units it takes go in, with the settings in
 //! force and the cycle's facts; the offset to the executed position
 //! comes out, and the state is updated. It allocates nothing.

@@ -1,5 +1,5 @@
-//! The PLC control units' discrete offsets (otc.md "Discrete part",
-//! rules 6 and 7): the target a unit asks for and the ramp toward it.
+//! The PLC control units' discrete offsets (docs/otc.md, "What happens in
+//! each interpolation cycle", step 3): the target a unit asks for and the ramp toward it.
 //! Values are in the unit of [`PlcUnit::applied`] (0.01 µm), where
 //! targets and steps are whole numbers.
 

@@ -1,5 +1,5 @@
-//! Which PLC units a processing type and mode take (otc.md "Discrete
-//! part" and rule 8): RADIUS and TOOL_DIR the group's channel unit,
+//! Which PLC units a processing type and mode take (docs/otc.md, "Processing types and
+//! their directions" and "The error bits"): RADIUS and TOOL_DIR the group's channel unit,
 //! LENGTH the axis unit of the third main axis, TOOL_DIR also and
 //! SURF_NORM_DIR only the axis unit of axis 2; CONT none.
 
@@ -37,7 +37,7 @@ impl TakenUnits {
     }
 
     /// Whether an enabled unit is one these ignore: the channel unit, or
-    /// an axis unit other than the taken one (NotAllowed, rule 8).
+    /// an axis unit other than the taken one (NotAllowed, docs/otc.md "The error bits").
     pub fn ignore_an_enabled(&self, channel: &PlcUnit, axes: &[PlcUnit]) -> bool {
         (channel.enable && !self.channel)
             || axes

@@ -67,7 +67,7 @@ pub const CORRECTION_ON: &str = "
     W 1300/1/1/3 i 1
 ";
 
-/// The PLC units a type takes in AUTO (otc.md "Discrete part"): the
+/// The PLC units a type takes in AUTO (docs/otc.md, "Processing types and their directions"): the
 /// channel unit (3/1/50..) for RADIUS and TOOL_DIR, the axis unit of the
 /// third main axis (Z = axis 2 by default) for LENGTH, the axis unit of
 /// axis 2 for TOOL_DIR and SURF_NORM_DIR. Returns the command addresses.

@@ -1,4 +1,4 @@
-//! The trace syntax of a request (trace-format.md): parsing, one function
+//! The trace syntax of a request (docs/trace-format.md): parsing, one function
 //! per verb, and writing it back.
 
 mod format;

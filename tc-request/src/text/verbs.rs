@@ -1,5 +1,5 @@
 //! Requests in trace syntax, one function per verb
-//! (trace-format.md, "Requests and expectations").
+//! (docs/trace-format.md, "Requests").
 
 use uoi::{Value, ValueType};
 
