@@ -52,8 +52,9 @@ pub mod run;
 mod stream;
 mod words;
 
-pub use error::NcError;
-pub use expr::{BinOp, Expr, Func, Segment, Var};
+pub use error::{Location, NcError};
+pub use expr::{BinOp, Expr, Func, Segment, Var, MAX_EXPR_NESTING};
+pub use lines::MAX_LINE_BYTES;
 pub use model::{Axis, Block, CentreAxis, GCode, Item, OtcCommand, OtcKind, OtcMode, OtcOption};
 pub use stream::{Blocks, MAX_CONTROL_NESTING};
 

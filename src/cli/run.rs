@@ -14,7 +14,8 @@ use clap::Args;
 use addipos::nc_run::{
     axis_text, run_checked_nc, spool_lines_of, trace_head, trace_lines, NcOutcome,
 };
-use nc::{check_program_counted, NcError};
+use nc::check_program_counted;
+use nc::run::RunError;
 use tool_store::{ToolKey, ToolValue};
 
 use super::{EXIT_FAILED, EXIT_TROUBLE};
@@ -22,7 +23,12 @@ use super::{EXIT_FAILED, EXIT_TROUBLE};
 /// Arguments of `addipos run`.
 #[derive(Args, Debug)]
 pub struct RunArgs {
-    /// The NC program (ISG / DIN 66025 subset).
+    /// The NC program (ISG / DIN 66025 subset). A line may hold at most
+    /// 1 MiB (1,048,576 bytes; a longer one is an error on its line). A
+    /// program from a pipe (anything but a regular file, e.g. /dev/stdin)
+    /// may hold at most 64 MiB: it is kept in memory for the check pass
+    /// and the run. A regular file is read twice, never held whole, and may
+    /// be of any length.
     pub program: PathBuf,
     /// Also write the run as a conformance trace (requests, their answers
     /// as expectations, the spooled elements) that `addipos replay` passes.
@@ -69,10 +75,10 @@ pub fn cmd_run(args: &RunArgs) -> ExitCode {
             return ExitCode::from(EXIT_TROUBLE);
         }
     };
-    let source = match Source::open(&args.program) {
+    let source = match Source::open(&args.program, &name) {
         Ok(source) => source,
         Err(e) => {
-            eprintln!("error: {name}: cannot read: {e}");
+            eprintln!("error: {e}");
             return ExitCode::from(EXIT_TROUBLE);
         }
     };
@@ -98,22 +104,36 @@ pub fn cmd_run(args: &RunArgs) -> ExitCode {
     }
 }
 
+/// Most bytes of a program read from a pipe (anything but a regular
+/// file), which is held in memory for both passes: 64 MiB (decision 242).
+const MAX_PIPED_BYTES: u64 = 64 << 20;
+
 /// Where the program is read from, twice (the check pass, then the run):
 /// a regular file is opened again for the run, anything else (a pipe,
-/// `/dev/stdin`) is read into memory once.
+/// `/dev/stdin`) is read into memory once, at most [`MAX_PIPED_BYTES`].
 enum Source {
     File(PathBuf),
     Memory(Vec<u8>),
 }
 
 impl Source {
-    fn open(path: &Path) -> io::Result<Source> {
-        let mut file = File::open(path)?;
-        if file.metadata()?.is_file() {
+    /// The program at `path` (called `name` in errors); errors: it cannot
+    /// be read, or a pipe delivers more than [`MAX_PIPED_BYTES`].
+    fn open(path: &Path, name: &str) -> Result<Source, String> {
+        let cannot = |e: io::Error| format!("{name}: cannot read: {e}");
+        let file = File::open(path).map_err(cannot)?;
+        if file.metadata().map_err(cannot)?.is_file() {
             return Ok(Source::File(path.to_path_buf()));
         }
         let mut text = Vec::new();
-        io::Read::read_to_end(&mut file, &mut text)?;
+        let mut capped = io::Read::take(file, MAX_PIPED_BYTES + 1);
+        io::Read::read_to_end(&mut capped, &mut text).map_err(cannot)?;
+        if text.len() as u64 > MAX_PIPED_BYTES {
+            return Err(format!(
+                "{name}: a program from a pipe may hold at most 64 MiB ({MAX_PIPED_BYTES} \
+                 bytes); give a longer one as a regular file"
+            ));
+        }
         Ok(Source::Memory(text))
     }
 
@@ -184,7 +204,7 @@ fn print_end(out: &mut impl Write, outcome: &NcOutcome) -> io::Result<()> {
     out.flush()
 }
 
-fn report_errors(errors: &[NcError], name: &str) {
+fn report_errors<E: std::fmt::Display>(errors: &[E], name: &str) {
     for e in errors {
         eprintln!("error: {name}: {e}");
     }
@@ -202,12 +222,7 @@ fn report_problems(outcome: &NcOutcome, name: &str) {
         eprintln!("warning: {name}: {w}");
     }
     report_more(outcome.report.more_warnings, "warnings", name);
-    let errors: Vec<NcError> = outcome
-        .error
-        .iter()
-        .chain(&outcome.report.faults)
-        .cloned()
-        .collect();
+    let errors: Vec<&RunError> = outcome.error.iter().chain(&outcome.report.faults).collect();
     report_errors(&errors, name);
     report_more(outcome.report.more_faults, "faults", name);
 }
