@@ -147,6 +147,9 @@ fn a_line_longer_than_the_limit_is_an_error_and_the_next_lines_are_read() {
 }
 
 /// `X1 X1 ..` without a line end, as long as asked, after a first line.
+/// A stretch of `X1 ` words.
+const WORDS: &str = "X1 X1 X1 X1 X1 X1 X1 X1 X1 X1 X1 X1 X1 X1 X1 X1 X1 X1 X1 X1 X1 X1 ";
+
 struct Endless {
     head: &'static [u8],
     left: u64,
@@ -160,12 +163,10 @@ impl Read for Endless {
             self.head = &self.head[n..];
             return Ok(n);
         }
-        let n = buf
-            .len()
-            .min(usize::try_from(self.left).unwrap_or(usize::MAX));
-        for (k, b) in buf[..n].iter_mut().enumerate() {
-            *b = b"X1 "[k % 3];
-        }
+        // Whole words, a stretch at a time.
+        let n = buf.len().min(WORDS.len());
+        let n = n.min(usize::try_from(self.left).unwrap_or(usize::MAX));
+        buf[..n].copy_from_slice(&WORDS.as_bytes()[..n]);
         self.left -= n as u64;
         Ok(n)
     }

@@ -349,14 +349,20 @@ impl<'c> Interpreter<'c> {
 
     /// Why `reply` refuses `req`, if it does.
     fn refused(&mut self, req: &Request, reply: &Reply) -> Option<RunErrorKind> {
-        let request = Box::new(req.clone());
+        let request = || Box::new(req.clone());
         Some(match reply {
             Reply::Access(uoi::AccessError::State) => RunErrorKind::Faulted {
-                request,
+                request: request(),
                 error_bits: self.fault_bits(),
             },
-            Reply::Access(e) => RunErrorKind::Refused { request, error: *e },
-            Reply::Protocol(e) => RunErrorKind::Rejected { request, error: *e },
+            Reply::Access(e) => RunErrorKind::Refused {
+                request: request(),
+                error: *e,
+            },
+            Reply::Protocol(e) => RunErrorKind::Rejected {
+                request: request(),
+                error: *e,
+            },
             _ => return None,
         })
     }
