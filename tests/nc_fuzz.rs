@@ -332,14 +332,153 @@ fn program() -> impl Strategy<Value = String> {
     })
 }
 
-/// The seed programs, and the fuzzer's saved findings
-/// (`fuzz/regressions/nc_program/`, when there are any).
+/// Operators of every precedence group, for flat chains.
+const OPERATORS: &[&str] = &[
+    "+", "-", "*", "/", " AND ", " OR ", "==", "!=", "<", "<=", ">", ">=",
+];
+
+/// Operands of flat chains: numbers, parameters, variables, brackets,
+/// signs, calls.
+const OPERANDS: &[&str] = &[
+    "1", "0", "2.5", "R1", "-1", "(1)", "SQRT(4)", "V.P.A", "[R2]", "-(-1)", "P1", "ABS(-2)",
+];
+
+/// `operands` and `operators` taken in turn into one flat chain of about
+/// `len` bytes.
+fn chain_of(operands: &[&str], operators: &[&str], len: usize) -> String {
+    let mut s = String::with_capacity(len + 16);
+    let mut k = 0;
+    s.push_str(operands[0]);
+    while s.len() < len {
+        k += 1;
+        s.push_str(operators[k % operators.len()]);
+        s.push_str(operands[k % operands.len()]);
+    }
+    s
+}
+
+/// A short program around `line`: a feed, the variables the operands
+/// read, `line`, a motion.
+fn around(line: &str) -> String {
+    format!("N1 G1 F600\nR2 = 3\nV.P.A = 1\n{line}\nN9 G1 X5 Y[R1]\nM30\n")
+}
+
+/// One line with a flat chain of up to 16,000 bytes (the harness reads
+/// at most 16 KiB): in an assignment, an axis word or a condition.
+fn flat_chain() -> impl Strategy<Value = String> {
+    (
+        prop::collection::vec(prop::sample::select(OPERANDS), 1..4),
+        prop::collection::vec(prop::sample::select(OPERATORS), 1..4),
+        100usize..16_000,
+        0usize..3,
+    )
+        .prop_map(|(operands, operators, len, form)| {
+            let chain = chain_of(&operands, &operators, len);
+            around(&match form {
+                0 => format!("R1 = {chain}"),
+                1 => format!("G1 X[{chain}]"),
+                _ => format!("$IF {chain}\nG1 Y2\n$ENDIF"),
+            })
+        })
+}
+
+/// Brackets, signs, calls and variable indices nested about as deep as
+/// allowed (`MAX_EXPR_NESTING`, 64), a little less or more.
+fn deep_nesting() -> impl Strategy<Value = String> {
+    const OPEN: [(&str, &str); 6] = [
+        ("(", ")"),
+        ("[", "]"),
+        ("-", ""),
+        ("SQRT(", ")"),
+        ("-(", ")"),
+        ("V.P.A[", "]"),
+    ];
+    (
+        prop::collection::vec(prop::sample::select(&OPEN[..]), 1..3),
+        40usize..90,
+    )
+        .prop_map(|(kinds, depth)| {
+            let open: String = (0..depth).map(|k| kinds[k % kinds.len()].0).collect();
+            let close: String = (0..depth).rev().map(|k| kinds[k % kinds.len()].1).collect();
+            around(&format!("R1 = {open}1{close}"))
+        })
+}
+
+/// The seeds of long flat expressions and deep nesting that the fuzz
+/// target starts from besides the typed-in programs
+/// (`fuzz/seeds/nc_program/`), by file name.
+fn expression_seeds() -> Vec<(&'static str, String)> {
+    let deep =
+        |open: &str, close: &str, n: usize| format!("R1 = {}1{}", open.repeat(n), close.repeat(n));
+    vec![
+        (
+            "flat_sum.nc",
+            around(&format!("R1 = {}", chain_of(&["1"], &["+"], 16_000))),
+        ),
+        (
+            "flat_product.nc",
+            around(&format!("R1 = {}", chain_of(&["1"], &["*"], 16_000))),
+        ),
+        (
+            "flat_and_or.nc",
+            around(&format!(
+                "$IF {}\nG1 Y2\n$ENDIF",
+                chain_of(&["1"], &[" AND ", " OR "], 16_000)
+            )),
+        ),
+        (
+            "flat_compare.nc",
+            around(&format!(
+                "R1 = {}",
+                chain_of(&["1", "2"], &["<", "==", ">="], 16_000)
+            )),
+        ),
+        (
+            "flat_mixed.nc",
+            around(&format!("G1 X[{}]", chain_of(OPERANDS, OPERATORS, 16_000))),
+        ),
+        ("deep_brackets.nc", around(&deep("(", ")", 63))),
+        (
+            "deep_signs_calls.nc",
+            around(&format!(
+                "{}\n{}",
+                deep("-", "", 63),
+                deep("SQRT(", ")", 63)
+            )),
+        ),
+        (
+            "deep_refused.nc",
+            around(&format!("{}\n{}", deep("(", ")", 65), deep("[", "]", 2000))),
+        ),
+    ]
+}
+
+/// The seed programs, the seeds of long expressions (which must be on disk
+/// as generated here: `ADDIPOS_WRITE_SEEDS=1` writes them), and the
+/// fuzzer's saved findings (`fuzz/regressions/nc_program/`, when there
+/// are any).
 #[test]
 fn seed_programs_and_saved_findings_pass_the_check() {
     for seed in SEEDS {
         nc_program(seed.as_bytes());
     }
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/regressions/nc_program");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let seeds = root.join("fuzz/seeds/nc_program");
+    for (name, text) in expression_seeds() {
+        assert!(text.len() <= 16 * 1024, "{name}: {} bytes", text.len());
+        nc_program(text.as_bytes());
+        let path = seeds.join(name);
+        if std::env::var_os("ADDIPOS_WRITE_SEEDS").is_some() {
+            std::fs::create_dir_all(&seeds).unwrap();
+            std::fs::write(&path, &text).unwrap();
+        }
+        let on_disk = std::fs::read_to_string(&path).unwrap_or_default();
+        assert!(
+            on_disk == text,
+            "{name}: not as generated (ADDIPOS_WRITE_SEEDS=1)"
+        );
+    }
+    let dir = root.join("fuzz/regressions/nc_program");
     for entry in std::fs::read_dir(dir).into_iter().flatten() {
         let path = entry.unwrap().path();
         let name = path.display().to_string();
@@ -376,7 +515,26 @@ proptest! {
 }
 
 proptest! {
+    // A chain of 16 KB takes about a quarter of a second through the
+    // check in a debug build (parsed four times, and run).
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    /// A flat chain of operators up to the harness's input limit on one
+    /// line (it once overflowed the stack).
+    #[test]
+    fn long_flat_expressions(text in flat_chain()) {
+        nc_program(text.as_bytes());
+    }
+}
+
+proptest! {
     #![proptest_config(ProptestConfig { cases: 100, ..ProptestConfig::default() })]
+
+    /// Expressions nested about as deep as allowed, or deeper.
+    #[test]
+    fn deep_expressions(text in deep_nesting()) {
+        nc_program(text.as_bytes());
+    }
 
     /// Any bytes (invalid UTF-8, control characters, long lines).
     #[test]

@@ -11,13 +11,19 @@ use std::process::Command;
 
 mod common;
 
-use nc::run::{run_program, At, Controller, Report};
+use nc::run::{run_program, At, Controller, Report, RunError, RunErrorKind};
 use tc_request::{Origin, Reply, Request, SpoolRecord};
 use trace::nc_run::{run_nc, NcRun};
 use trace::remote::{replay_remote, RemoteTarget};
 use trace::{parse_trace, replay};
 use uoi::tcp::Core;
 use uoi::{Value, ValueType};
+
+/// Line and block number of a run error or fault.
+fn line_and_block(e: &RunError) -> (usize, Option<u32>) {
+    let at = e.location.expect("a place in the program");
+    (at.line, at.block_number)
+}
 
 fn program_path(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -139,8 +145,9 @@ fn otc_on_with_a_milling_tool_is_p_err_21391() {
     assert!(run.error.is_none(), "{:?}", run.error);
     assert_eq!(run.report.faults.len(), 1, "{:?}", run.report.faults);
     let f = &run.report.faults[0];
-    assert!(f.message.contains("P-ERR-21391"), "{f}");
-    assert_eq!((f.line, f.block_number), (5, Some(50)));
+    assert!(matches!(f.kind, RunErrorKind::Otc { bit: 1, .. }), "{f:?}");
+    assert!(f.to_string().contains("P-ERR-21391"), "{f}");
+    assert_eq!(line_and_block(f), (5, Some(50)));
     assert!(run.failed());
 }
 
@@ -166,8 +173,15 @@ fn every_seed_program_runs_and_its_trace_replays() {
 fn tool_data_change_stops_at_the_circle_that_does_not_close() {
     let run = run_nc(&program("tool_data_change.nc"));
     let e = run.error.expect("an error");
-    assert_eq!(e.block_number, Some(150));
-    assert!(e.message.contains("CenterError"), "{e}");
+    assert_eq!(line_and_block(&e).1, Some(150));
+    let RunErrorKind::Faulted { error_bits, .. } = &e.kind else {
+        panic!("{e:?}")
+    };
+    assert_eq!(
+        error_bits.as_deref(),
+        Some(&["CenterError".to_string()][..]),
+        "{e}"
+    );
 }
 
 fn addipos(args: &[&std::ffi::OsStr]) -> (i32, String, String) {
@@ -399,8 +413,9 @@ fn otc_off_before_g40_in_wr_quad_disc_is_90050() {
     let run = trace::nc_run::run_nc_with_tools(&swapped, &grinding_disc());
     assert_eq!(run.report.faults.len(), 1, "{:?}", run.report.faults);
     let f = &run.report.faults[0];
-    assert!(f.message.contains("90050"), "{f}");
-    assert_eq!((f.line, f.block_number), (15, Some(100)));
+    assert!(matches!(f.kind, RunErrorKind::Otc { bit: 2, .. }), "{f:?}");
+    assert!(f.to_string().contains("90050"), "{f}");
+    assert_eq!(line_and_block(f), (15, Some(100)));
 }
 
 /// The inclined grinding disc (the manual gives no program for it, only

@@ -1,8 +1,8 @@
 //! [`nc_program`](super::nc_program): the NC front end on any bytes,
 //! parsed and, when they parse, interpreted on the real emulator.
 
-use nc::run::{run_reader, At, Controller, Report};
-use nc::{Block, Blocks, NcError};
+use nc::run::{run_reader, At, Controller, Located, Report};
+use nc::{Block, Blocks, Location, NcError};
 use tc_module::{CycleTime, ExecLeft, AXES};
 use tc_request::{Reply, Request};
 use tool_store::{ToolField, ToolKey, ToolValue};
@@ -98,18 +98,41 @@ fn written_number(line: &[u8]) -> Option<u32> {
 /// `e` names a line of the input, from 1, a column from 1, and the block
 /// number written on that line when it has one.
 fn check_error(what: &str, e: &NcError, lines: &[&[u8]]) {
+    assert!(!e.message.is_empty(), "{what} without a message: {e:?}");
+    check_place(what, &e.location(), e, lines);
+}
+
+/// As [`check_error`], for what a run reports: it has a place.
+fn check_reported<K: std::fmt::Debug + std::fmt::Display>(
+    what: &str,
+    e: &Located<K>,
+    lines: &[&[u8]],
+) {
     assert!(
-        e.line >= 1 && e.line <= lines.len(),
+        !e.kind.to_string().is_empty(),
+        "{what} without a message: {e:?}"
+    );
+    let Some(at) = &e.location else {
+        panic!("{what} without a place: {e:?}");
+    };
+    check_place(what, at, e, lines);
+}
+
+fn check_place(what: &str, at: &Location, e: &dyn std::fmt::Debug, lines: &[&[u8]]) {
+    assert!(
+        at.line >= 1 && at.line <= lines.len(),
         "{what} names line {} of {}: {e:?}",
-        e.line,
+        at.line,
         lines.len()
     );
-    assert!(e.column >= 1, "{what} without a column: {e:?}");
-    let width = String::from_utf8_lossy(lines[e.line - 1]).chars().count();
-    assert!(e.column <= width + 1, "{what} beyond its line's end: {e:?}");
-    assert!(!e.message.is_empty(), "{what} without a message: {e:?}");
-    if let Some(n) = written_number(lines[e.line - 1]) {
-        assert_eq!(e.block_number, Some(n), "{what} on a line of N{n}: {e:?}");
+    assert!(at.column >= 1, "{what} without a column: {e:?}");
+    let width = String::from_utf8_lossy(lines[at.line - 1]).chars().count();
+    assert!(
+        at.column <= width + 1,
+        "{what} beyond its line's end: {e:?}"
+    );
+    if let Some(n) = written_number(lines[at.line - 1]) {
+        assert_eq!(at.block_number, Some(n), "{what} on a line of N{n}: {e:?}");
     }
 }
 
@@ -169,13 +192,13 @@ pub fn nc_program(data: &[u8]) {
     let mut source = Blocks::new(reader(1 + data.len() % 61));
     let result = run_reader(&mut source, &mut ctl, &mut report);
     for e in &report.warnings {
-        check_error("warning", e, &lines);
+        check_reported("warning", e, &lines);
     }
     for e in &report.faults {
-        check_error("fault", e, &lines);
+        check_reported("fault", e, &lines);
     }
     match result {
-        Err(e) => check_error("run error", &e, &lines),
+        Err(e) => check_reported("run error", &e, &lines),
         Ok(()) if ctl.requests <= NC_REQUEST_BUDGET => {
             assert_eq!(ctl.last, Some(Request::Exec(None)), "a run ends with EXEC");
         }

@@ -17,8 +17,13 @@ pub enum Expr {
     Var(Var),
     /// Unary minus.
     Neg(Box<Expr>),
-    /// A binary operation.
-    Binary(BinOp, Box<Expr>, Box<Expr>),
+    /// Operands of one precedence group joined left to right:
+    /// `first op1 e1 op2 e2 ..` is `((first op1 e1) op2 e2) ..`. A flat
+    /// chain of any length is one node, so an expression is as deep as
+    /// its nesting of brackets, signs and calls (at most
+    /// [`MAX_EXPR_NESTING`]), not as long as it is: evaluating, copying or
+    /// dropping it needs no deeper stack for a longer chain.
+    Chain(Box<Expr>, Box<[(BinOp, Expr)]>),
     /// A function applied to one argument.
     Call(Func, Box<Expr>),
 }
@@ -164,13 +169,15 @@ fn multiplicative(i: &mut &str) -> ModalResult<Expr> {
 
 const TYPOGRAPHIC_DASHES: [char; 3] = ['\u{2013}', '\u{2014}', '\u{2212}'];
 
-/// One precedence level: `next (op next)*`, left-associative.
+/// One precedence level: `next (op next)*`, left-associative, read in a
+/// loop into one [`Expr::Chain`] (a lone operand stays as it is).
 fn level(
     i: &mut &str,
     mut next: impl FnMut(&mut &str) -> ModalResult<Expr>,
     mut op: impl FnMut(&mut &str) -> ModalResult<BinOp>,
 ) -> ModalResult<Expr> {
-    let mut lhs = next(i)?;
+    let first = next(i)?;
+    let mut rest = Vec::new();
     loop {
         let before = i.checkpoint();
         space0.parse_next(i)?;
@@ -180,20 +187,26 @@ fn level(
                 let rhs = cut_err(&mut next)
                     .context(expected("an operand after the operator"))
                     .parse_next(i)?;
-                lhs = Expr::Binary(op, Box::new(lhs), Box::new(rhs));
+                rest.push((op, rhs));
             }
             Err(ErrMode::Backtrack(_)) => {
                 i.reset(&before);
-                return Ok(lhs);
+                break;
             }
             Err(e) => return Err(e),
         }
     }
+    Ok(if rest.is_empty() {
+        first
+    } else {
+        Expr::Chain(Box::new(first), rest.into_boxed_slice())
+    })
 }
 
-/// Deepest nesting of signs, brackets and calls one expression may have;
-/// deeper input is refused instead of overflowing the stack.
-const MAX_DEPTH: usize = 64;
+/// Deepest nesting of signs, brackets and calls one expression may have
+/// (decision 240); deeper input is a parse error, so that parsing and
+/// evaluating need a stack bounded by this, whatever the input.
+pub const MAX_EXPR_NESTING: usize = 64;
 
 thread_local! {
     static DEPTH: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
@@ -205,7 +218,7 @@ struct DepthGuard;
 impl DepthGuard {
     fn enter() -> Option<DepthGuard> {
         DEPTH.with(|d| {
-            if d.get() >= MAX_DEPTH {
+            if d.get() >= MAX_EXPR_NESTING {
                 return None;
             }
             d.set(d.get() + 1);

@@ -27,8 +27,16 @@
 //! of `tc-request` (object writes, motion commands, a final `EXEC`) sent to
 //! a [`run::Controller`]: modal state, parameters and variables, loops and
 //! conditions, the D table, `#OTC`. It has no geometry: the correction is
-//! the controller's. Its errors name the line, block and column of the
-//! word that caused them.
+//! the controller's. Its errors are typed ([`run::RunError`]: a
+//! [`run::RunErrorKind`] a caller can match, and the [`Location`] (line,
+//! block, column) of the word that caused it), and so are its warnings.
+//!
+//! **Limits.** A line holds at most [`MAX_LINE_BYTES`] (1 MiB; a longer
+//! one is an error on its line and is read past, not held). A chain of
+//! operators of any length is one expression node, evaluated in a loop;
+//! brackets, signs, calls and indices nest at most [`MAX_EXPR_NESTING`]
+//! (64) deep, and `$FOR/$IF/$WHILE` at most [`MAX_CONTROL_NESTING`]: no
+//! input overflows the stack.
 //!
 //! **Streaming.** A program of any length runs in bounded memory: a first
 //! pass over the text ([`check_program`]) collects every error, and only a
@@ -52,8 +60,9 @@ pub mod run;
 mod stream;
 mod words;
 
-pub use error::NcError;
-pub use expr::{BinOp, Expr, Func, Segment, Var};
+pub use error::{Location, NcError};
+pub use expr::{BinOp, Expr, Func, Segment, Var, MAX_EXPR_NESTING};
+pub use lines::MAX_LINE_BYTES;
 pub use model::{Axis, Block, CentreAxis, GCode, Item, OtcCommand, OtcKind, OtcMode, OtcOption};
 pub use stream::{Blocks, MAX_CONTROL_NESTING};
 

@@ -1,8 +1,19 @@
 //! The lines of a program, read ahead a chunk at a time: each chunk of
 //! whole lines is checked as UTF-8 text once, not line by line, and its
-//! lines are handed out where they lie.
+//! lines are handed out where they lie. A line longer than
+//! [`MAX_LINE_BYTES`] is not held: it is read past, and handed out as
+//! [`Line::TooLong`].
 
 use std::io::{self, BufRead};
+
+/// Longest line of a program, in bytes before its line end (`\n`):
+/// 1 MiB (decision 241). A longer line is an error on its line, read past
+/// without being held, so that memory stays bounded by this and the
+/// reader's buffer whatever the input.
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// Bytes of a line too long that are kept: enough for its block number.
+const HEAD_BYTES: usize = 64;
 
 /// One line, without its line end.
 pub enum Line<'a> {
@@ -11,6 +22,9 @@ pub enum Line<'a> {
     Text(&'a str, bool),
     /// A line of a chunk that is not: the line itself may still be.
     Bytes(&'a [u8]),
+    /// A line longer than [`MAX_LINE_BYTES`]: its first bytes (at most
+    /// 64), the rest unread.
+    TooLong(&'a [u8]),
 }
 
 /// Whole lines read ahead.
@@ -48,6 +62,9 @@ pub struct Lines<R> {
     next_end: usize,
     /// The start of a line whose end was not read yet.
     tail: Vec<u8>,
+    /// Whether the next line is one too long, read past; its first bytes.
+    overlong: bool,
+    head: Vec<u8>,
     eof: bool,
 }
 
@@ -61,18 +78,24 @@ impl<R: BufRead> Lines<R> {
             ends: Vec::new(),
             next_end: 0,
             tail: Vec::new(),
+            overlong: false,
+            head: Vec::new(),
             eof: false,
         }
     }
 
     /// The next line; `None` at the end, an error when reading fails.
     pub fn next_line(&mut self) -> Option<io::Result<Line<'_>>> {
-        while self.pos >= self.chunk.bytes().len() {
+        while !self.overlong && self.pos >= self.chunk.bytes().len() {
             match self.refill() {
                 Ok(true) => {}
                 Ok(false) => return None,
                 Err(e) => return Some(Err(e)),
             }
+        }
+        if self.overlong {
+            self.overlong = false;
+            return Some(Ok(Line::TooLong(&self.head)));
         }
         let start = self.pos;
         let end = match self.ends.get(self.next_end) {
@@ -81,6 +104,10 @@ impl<R: BufRead> Lines<R> {
         };
         self.next_end += 1;
         self.pos = end + 1;
+        if end - start > MAX_LINE_BYTES {
+            let head = &self.chunk.bytes()[start..start + HEAD_BYTES];
+            return Some(Ok(Line::TooLong(head)));
+        }
         Some(Ok(match &self.chunk {
             Chunk::Text(s, ascii) => Line::Text(&s[start..end], *ascii),
             Chunk::Bytes(b) => Line::Bytes(&b[start..end]),
@@ -117,6 +144,11 @@ impl<R: BufRead> Lines<R> {
                 break;
             }
             searched = bytes.len();
+            if searched > MAX_LINE_BYTES {
+                // All of `bytes` is the start of one line, too long.
+                self.read_past_line(bytes)?;
+                return Ok(true);
+            }
         }
         let end = if self.eof {
             bytes.len()
@@ -136,6 +168,35 @@ impl<R: BufRead> Lines<R> {
             Err(e) => Chunk::Bytes(e.into_bytes()),
         };
         Ok(!self.chunk.bytes().is_empty())
+    }
+
+    /// Reads past the rest of a line too long, `start` its start, without
+    /// holding it: the next line handed out is [`Line::TooLong`].
+    fn read_past_line(&mut self, mut start: Vec<u8>) -> io::Result<()> {
+        start.truncate(HEAD_BYTES);
+        self.head = start;
+        self.overlong = true;
+        self.chunk = Chunk::Bytes(Vec::new());
+        self.pos = 0;
+        self.ends.clear();
+        self.next_end = 0;
+        loop {
+            let buf = match self.reader.fill_buf() {
+                Ok(buf) => buf,
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+                Err(e) => return Err(e),
+            };
+            if buf.is_empty() {
+                self.eof = true;
+                return Ok(());
+            }
+            if let Some(k) = memchr::memchr(b'\n', buf) {
+                self.reader.consume(k + 1);
+                return Ok(());
+            }
+            let n = buf.len();
+            self.reader.consume(n);
+        }
     }
 }
 
@@ -157,6 +218,7 @@ mod tests {
                     Ok(t.to_string())
                 }
                 Line::Bytes(b) => Err(b.to_vec()),
+                Line::TooLong(_) => panic!("no line here is too long"),
             });
         }
         out
@@ -172,6 +234,31 @@ mod tests {
         }
         assert!(lines(b"", 4).is_empty());
         assert_eq!(lines(b"\n", 4), vec![Ok(String::new())]);
+    }
+
+    #[test]
+    fn a_line_too_long_is_read_past_and_handed_out_as_its_start() {
+        let long = format!("N12 {}", "X".repeat(MAX_LINE_BYTES));
+        let just = "Y".repeat(MAX_LINE_BYTES);
+        let text = format!("N1\n{long}\nN3\n{just}\n{long}");
+        for capacity in [1000, 8192, text.len()] {
+            let reader = io::BufReader::with_capacity(capacity, text.as_bytes());
+            let mut lines = Lines::new(reader);
+            let mut got = Vec::new();
+            while let Some(line) = lines.next_line() {
+                got.push(match line.unwrap() {
+                    Line::Text(t, _) => format!("text {}", t.len()),
+                    Line::Bytes(b) => format!("bytes {}", b.len()),
+                    Line::TooLong(head) => {
+                        assert_eq!(head, &long.as_bytes()[..HEAD_BYTES]);
+                        "too long".to_string()
+                    }
+                });
+            }
+            let just = format!("text {MAX_LINE_BYTES}");
+            let expected = ["text 2", "too long", "text 2", &just, "too long"];
+            assert_eq!(got, expected, "{capacity}");
+        }
     }
 
     #[test]

@@ -5,7 +5,7 @@ use std::io::BufRead;
 
 use crate::block::parse_line_into;
 use crate::error::NcError;
-use crate::lines::{Line, Lines};
+use crate::lines::{Line, Lines, MAX_LINE_BYTES};
 use crate::model::{Block, Item};
 
 /// A control structure still open, with where it was opened.
@@ -85,6 +85,7 @@ impl<R: BufRead> Blocks<R> {
                     parse_line_into(text, self.line + 1, block, self.keep, ascii)
                 }
                 Ok(Line::Bytes(raw)) => parse_raw(raw, self.line + 1, block, self.keep),
+                Ok(Line::TooLong(head)) => Some(Err(too_long(head, self.line + 1))),
                 Err(e) => return Some(Err(self.read_error(&e))),
             };
             self.line += 1;
@@ -171,6 +172,30 @@ fn parse_raw(
             Some(Err(plain_error(line, None, msg)))
         }
     }
+}
+
+/// The error of a line longer than [`MAX_LINE_BYTES`], `head` its first
+/// bytes (for the block number written at its start).
+fn too_long(head: &[u8], line: usize) -> NcError {
+    let msg = format!("line longer than {MAX_LINE_BYTES} bytes, the limit of an NC line");
+    plain_error(line, written_number(head), msg)
+}
+
+/// The block number `N<digits>` at the start of `head` (after blanks),
+/// when its digits end inside `head` and fit in `u32`.
+fn written_number(head: &[u8]) -> Option<u32> {
+    let blanks = head
+        .iter()
+        .take_while(|b| matches!(b, b' ' | b'\t'))
+        .count();
+    let rest = head[blanks..]
+        .strip_prefix(b"N")
+        .or_else(|| head[blanks..].strip_prefix(b"n"))?;
+    let digits = rest.iter().take_while(|b| b.is_ascii_digit()).count();
+    if digits == 0 || digits == rest.len() {
+        return None;
+    }
+    std::str::from_utf8(&rest[..digits]).ok()?.parse().ok()
 }
 
 /// An error of a whole line (column 1).

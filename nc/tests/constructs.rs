@@ -83,14 +83,10 @@ fn word_values_are_parameters_or_bracketed_expressions() {
         b.items[1],
         Item::Axis(Axis::Y, Expr::Neg(Box::new(Expr::Var(Var::R(2)))))
     );
-    let sum = Expr::Binary(
-        BinOp::Add,
+    let product = Expr::Chain(Box::new(num(2.0)), Box::new([(BinOp::Mul, num(3.0))]));
+    let sum = Expr::Chain(
         Box::new(Expr::Var(Var::R(1))),
-        Box::new(Expr::Binary(
-            BinOp::Mul,
-            Box::new(num(2.0)),
-            Box::new(num(3.0)),
-        )),
+        Box::new([(BinOp::Add, product)]),
     );
     assert_eq!(b.items[2], Item::Axis(Axis::Z, sum));
 }
@@ -113,14 +109,18 @@ fn expressions_with_precedence_brackets_functions_and_spaces() {
     let b = one("V.G.WZ_AKT.R = V.G.WZ_AKT.R - V.P.VERSCHLEISS");
     assert!(matches!(
         &b.items[0],
-        Item::Assign(_, Expr::Binary(BinOp::Sub, _, _))
+        Item::Assign(_, Expr::Chain(_, rest)) if matches!(**rest, [(BinOp::Sub, _)])
     ));
+    // One chain of the multiplicative group, left to right.
     let b = one("R1 = -(2 + 3) * SQRT(ABS(-16)) / COS(0)");
-    let Item::Assign(_, Expr::Binary(BinOp::Div, lhs, rhs)) = &b.items[0] else {
+    let Item::Assign(_, Expr::Chain(first, rest)) = &b.items[0] else {
         panic!("{:?}", b.items)
     };
-    assert!(matches!(**lhs, Expr::Binary(BinOp::Mul, _, _)));
-    assert!(matches!(**rhs, Expr::Call(Func::Cos, _)));
+    assert!(matches!(**first, Expr::Neg(_)));
+    let [(BinOp::Mul, Expr::Call(Func::Sqrt, _)), (BinOp::Div, Expr::Call(Func::Cos, _))] = &**rest
+    else {
+        panic!("{rest:?}")
+    };
     let b = one("R1 = V.G.WZ_AKT.WEAR[0] + V.G.WZ_AKT.WEAR.X");
     assert_eq!(b.items.len(), 1);
 }
@@ -161,12 +161,12 @@ fn if_else_and_while_pair_up() {
     assert!(errors.is_empty(), "{errors:?}");
     assert!(matches!(
         &blocks[0].items[0],
-        Item::If(Expr::Binary(BinOp::And, _, _))
+        Item::If(Expr::Chain(_, rest)) if matches!(**rest, [(BinOp::And, _)])
     ));
     assert_eq!(blocks[2].items, vec![Item::Else]);
     assert!(matches!(
         &blocks[5].items[0],
-        Item::While(Expr::Binary(BinOp::Le, _, _))
+        Item::While(Expr::Chain(_, rest)) if matches!(**rest, [(BinOp::Le, _)])
     ));
     assert_eq!(blocks[7].items, vec![Item::EndWhile]);
 }

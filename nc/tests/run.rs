@@ -3,7 +3,9 @@
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use nc::parse_program;
-use nc::run::{run_program, At, Controller, Report, MAX_EXECUTED_BLOCKS};
+use nc::run::{
+    run_program, At, Controller, Report, RunError, RunErrorKind, WarningKind, MAX_EXECUTED_BLOCKS,
+};
 use tc_request::{Reply, Request};
 use uoi::Value;
 
@@ -23,7 +25,7 @@ impl Controller for Log {
     }
 }
 
-fn run(text: &str) -> (Vec<String>, Report, Result<(), nc::NcError>) {
+fn run(text: &str) -> (Vec<String>, Report, Result<(), RunError>) {
     let (blocks, errors) = parse_program(text);
     assert!(errors.is_empty(), "{errors:?}");
     let mut log = Log::default();
@@ -130,27 +132,53 @@ fn tool_param_get_reads_the_d_table() {
 }
 
 #[test]
-fn unimplemented_constructs_are_errors_with_their_block() {
-    for (text, what) in [
-        ("N1 G1 X1\nN5 M3\n", "M3"),
-        ("N1 G141\n", "G141"),
-        ("N7 G1 X[V.P.NOPE]\n", "V.P.NOPE"),
-        ("N7 X1\n", "motion kind"),
-        ("N7 G1 X1 I2\n", "G2 or G3"),
-        ("N7 R1 = 1 / 0\n", "division by zero"),
+fn unimplemented_constructs_are_errors_of_their_kind_with_their_block() {
+    let unset = RunErrorKind::Unset {
+        name: "V.P.NOPE".into(),
+    };
+    for (text, kind, what) in [
+        ("N1 G1 X1\nN5 M3\n", RunErrorKind::MFunction(3), "M3"),
+        ("N1 G141\n", RunErrorKind::ContourMasking, "G141"),
+        ("N7 G1 X[V.P.NOPE]\n", unset, "V.P.NOPE"),
+        ("N7 X1\n", RunErrorKind::NoMotionKind, "motion kind"),
+        ("N7 G1 X1 I2\n", RunErrorKind::CentreWithoutArc, "G2 or G3"),
+        (
+            "N7 R1 = 1 / 0\n",
+            RunErrorKind::DivisionByZero,
+            "division by zero",
+        ),
     ] {
         let (_, _, r) = run(text);
         let e = r.unwrap_err();
-        assert!(e.message.contains(what), "{text}: {e}");
-        assert!(e.block_number.is_some(), "{text}: {e}");
+        assert_eq!(e.kind, kind, "{text}: {e}");
+        assert!(e.to_string().contains(what), "{text}: {e}");
+        let at = e.location.expect("a place");
+        assert!(at.block_number.is_some(), "{text}: {e}");
     }
+}
+
+#[test]
+fn a_chain_that_leaves_the_finite_numbers_on_the_way_is_an_error() {
+    // (1e30)^11 / 1e30: the eleventh factor leaves the finite numbers.
+    let big = format!("1{}", "0".repeat(30));
+    let product = [big.as_str(); 11].join(" * ");
+    let text = format!("N3 R1 = {product} / {big}\n");
+    let (_, _, r) = run(&text);
+    let e = r.unwrap_err();
+    assert_eq!(e.kind, RunErrorKind::NotFinite, "{e}");
+    assert_eq!(
+        e.to_string(),
+        "line 1, block N3, column 4: the expression has no finite value"
+    );
 }
 
 #[test]
 fn an_endless_loop_stops_at_the_bound() {
     let (log, _, r) = run("N5 $WHILE 1\nN6 R1 = R1 + 1\nN7 $ENDWHILE\n");
     let e = r.unwrap_err();
-    assert!(e.message.contains(&MAX_EXECUTED_BLOCKS.to_string()), "{e}");
+    let limit = MAX_EXECUTED_BLOCKS;
+    assert_eq!(e.kind, RunErrorKind::TooManyBlocks { limit });
+    assert!(e.to_string().contains(&limit.to_string()), "{e}");
     assert_eq!(log, ["POS"]);
 }
 
@@ -159,7 +187,17 @@ fn g139_and_g05_run_as_g138_with_a_warning() {
     let (_, report, r) = run("N1 G139 G41\nN2 G05 G40\nN3 T1\n");
     r.unwrap();
     assert_eq!(report.warnings.len(), 3);
-    assert_eq!(report.warnings[0].block_number, Some(1));
+    let kinds: Vec<&WarningKind> = report.warnings.iter().map(|w| &w.kind).collect();
+    assert_eq!(
+        kinds,
+        [
+            &WarningKind::SelectionRule { word: "G139" },
+            &WarningKind::SelectionRule { word: "G05" },
+            &WarningKind::ToolWord
+        ]
+    );
+    let at = report.warnings[0].location.expect("a place");
+    assert_eq!(at.block_number, Some(1));
 }
 
 #[test]
@@ -226,7 +264,7 @@ mod never_panics {
                 let mut log = Log::default();
                 let mut report = Report::default();
                 if let Err(e) = run_program(&blocks, &mut log, &mut report) {
-                    prop_assert!(e.line >= 1);
+                    prop_assert!(e.location.is_some_and(|at| at.line >= 1), "{e}");
                 }
             }
         }

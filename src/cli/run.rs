@@ -10,7 +10,8 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use nc::{check_program_counted, NcError};
+use nc::check_program_counted;
+use nc::run::RunError;
 use tool_store::{ToolKey, ToolValue};
 use trace::nc_run::{
     axis_text, run_checked_nc, spool_lines_of, trace_head, trace_lines, NcOutcome,
@@ -21,7 +22,12 @@ use super::{Failure, Outcome};
 /// Arguments of `addipos run`.
 #[derive(Args, Debug)]
 pub struct RunArgs {
-    /// The NC program (ISG / DIN 66025 subset).
+    /// The NC program (ISG / DIN 66025 subset). A line may hold at most
+    /// 1 MiB (1,048,576 bytes; a longer one is an error on its line). A
+    /// program from a pipe (anything but a regular file, e.g. /dev/stdin)
+    /// may hold at most 64 MiB: it is kept in memory for the check pass
+    /// and the run. A regular file is read twice, never held whole, and may
+    /// be of any length.
     pub program: PathBuf,
     /// Also write the run as a conformance trace (requests, their answers
     /// as expectations, the spooled elements) that `addipos replay` passes.
@@ -62,12 +68,11 @@ pub fn read_tool_values(
 pub fn cmd_run(args: &RunArgs) -> Outcome {
     let name = args.program.display().to_string();
     let tools = tool_values(args).map_err(Failure::trouble)?;
-    let cannot_read = |e: io::Error| Failure::trouble(format!("{name}: cannot read: {e}"));
-    let source = Source::open(&args.program).map_err(cannot_read)?;
+    let source = Source::open(&args.program, &name).map_err(Failure::trouble)?;
     let (parse_errors, more) = source
         .reader()
         .map(check_program_counted)
-        .map_err(cannot_read)?;
+        .map_err(|e| Failure::trouble(format!("{name}: cannot read: {e}")))?;
     if !parse_errors.is_empty() {
         report_errors(&parse_errors, &name);
         report_more(more, "errors", &name);
@@ -79,22 +84,36 @@ pub fn cmd_run(args: &RunArgs) -> Outcome {
     }
 }
 
+/// Most bytes of a program read from a pipe (anything but a regular
+/// file), which is held in memory for both passes: 64 MiB (decision 242).
+const MAX_PIPED_BYTES: u64 = 64 << 20;
+
 /// Where the program is read from, twice (the check pass, then the run):
 /// a regular file is opened again for the run, anything else (a pipe,
-/// `/dev/stdin`) is read into memory once.
+/// `/dev/stdin`) is read into memory once, at most [`MAX_PIPED_BYTES`].
 enum Source {
     File(PathBuf),
     Memory(Vec<u8>),
 }
 
 impl Source {
-    fn open(path: &Path) -> io::Result<Source> {
-        let mut file = File::open(path)?;
-        if file.metadata()?.is_file() {
+    /// The program at `path` (called `name` in errors); errors: it cannot
+    /// be read, or a pipe delivers more than [`MAX_PIPED_BYTES`].
+    fn open(path: &Path, name: &str) -> Result<Source, String> {
+        let cannot = |e: io::Error| format!("{name}: cannot read: {e}");
+        let file = File::open(path).map_err(cannot)?;
+        if file.metadata().map_err(cannot)?.is_file() {
             return Ok(Source::File(path.to_path_buf()));
         }
         let mut text = Vec::new();
-        io::Read::read_to_end(&mut file, &mut text)?;
+        let mut capped = io::Read::take(file, MAX_PIPED_BYTES + 1);
+        io::Read::read_to_end(&mut capped, &mut text).map_err(cannot)?;
+        if text.len() as u64 > MAX_PIPED_BYTES {
+            return Err(format!(
+                "{name}: a program from a pipe may hold at most 64 MiB ({MAX_PIPED_BYTES} \
+                 bytes); give a longer one as a regular file"
+            ));
+        }
         Ok(Source::Memory(text))
     }
 
@@ -165,7 +184,7 @@ fn print_end(out: &mut impl Write, outcome: &NcOutcome) -> io::Result<()> {
     out.flush()
 }
 
-fn report_errors(errors: &[NcError], name: &str) {
+fn report_errors<E: std::fmt::Display>(errors: &[E], name: &str) {
     for e in errors {
         eprintln!("error: {name}: {e}");
     }
@@ -183,12 +202,7 @@ fn report_problems(outcome: &NcOutcome, name: &str) {
         eprintln!("warning: {name}: {w}");
     }
     report_more(outcome.report.more_warnings, "warnings", name);
-    let errors: Vec<NcError> = outcome
-        .error
-        .iter()
-        .chain(&outcome.report.faults)
-        .cloned()
-        .collect();
+    let errors: Vec<&RunError> = outcome.error.iter().chain(&outcome.report.faults).collect();
     report_errors(&errors, name);
     report_more(outcome.report.more_faults, "faults", name);
 }

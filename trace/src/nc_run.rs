@@ -8,7 +8,9 @@
 use std::fmt::Write as _;
 use std::io::{self, BufRead};
 
-use nc::run::{run_reader, wear_axis, At, Controller, Report, WEAR_RADIUS, WEAR_RADIUS_CONT};
+use nc::run::{
+    run_reader, wear_axis, At, Controller, Report, RunError, WEAR_RADIUS, WEAR_RADIUS_CONT,
+};
 use nc::{check_program, Blocks, NcError};
 use tc_request::{AxisPos, Reply, Request, SpoolRecord, AXIS_NAMES};
 use tool_store::{ToolKey, ToolValue};
@@ -39,7 +41,7 @@ pub struct NcRun {
     /// The parser's errors (nothing runs when there is one).
     pub parse_errors: Vec<NcError>,
     /// The error that stopped the run, if one did.
-    pub error: Option<NcError>,
+    pub error: Option<RunError>,
     /// Warnings and controller faults of the run.
     pub report: Report,
     /// The machine axes used as X, Y, Z (for `I J K` of arcs).
@@ -54,7 +56,7 @@ pub struct NcRun {
 #[derive(Debug, Clone, Default)]
 pub struct NcOutcome {
     /// The error that stopped the run, if one did.
-    pub error: Option<NcError>,
+    pub error: Option<RunError>,
     /// Warnings and controller faults of the run.
     pub report: Report,
     /// The machine axes used as X, Y, Z (for `I J K` of arcs).
@@ -191,10 +193,10 @@ pub fn run_checked_nc<R: BufRead>(
     if let Some(e) = &error {
         // Run what was spooled before the error, so that the position and
         // the wear show where the machine stopped.
-        let at = At {
-            line: e.line,
-            number: e.block_number,
-        };
+        let at = e.location.map_or(At::default(), |at| At {
+            line: at.line,
+            number: at.block_number,
+        });
         rec.call(&Request::Exec(None), at);
     }
     let end = At {

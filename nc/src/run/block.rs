@@ -7,7 +7,7 @@ use uoi::Value;
 use super::eval::eval;
 use super::objects;
 use super::otc::whole;
-use super::{Interpreter, MotionKind, Side};
+use super::{Interpreter, MotionKind, RunErrorKind, Side, WarningKind};
 use crate::model::{Axis, Block, CentreAxis, GCode, Item, OtcCommand};
 
 /// TRC change a block asks for.
@@ -48,7 +48,7 @@ fn axis_index(a: Axis) -> usize {
 
 impl Interpreter<'_> {
     /// Carries out a block (no control statement); true at the program's end.
-    pub(super) fn block(&mut self, block: &Block) -> Result<bool, String> {
+    pub(super) fn block(&mut self, block: &Block) -> Result<bool, RunErrorKind> {
         let mut plan = Plan::default();
         for (k, item) in block.items.iter().enumerate() {
             self.col = block.column(k);
@@ -60,19 +60,14 @@ impl Interpreter<'_> {
 
     /// The value of a word: a plain number at once, else evaluated.
     #[inline]
-    fn value(&mut self, e: &crate::Expr) -> Result<f64, String> {
+    fn value(&mut self, e: &crate::Expr) -> Result<f64, RunErrorKind> {
         match e {
             crate::Expr::Number(v) if v.is_finite() => Ok(*v),
             e => eval(e, self),
         }
     }
 
-    fn warn(&mut self, message: String) {
-        let w = self.error(message);
-        self.report.warn(w);
-    }
-
-    fn gather<'b>(&mut self, item: &'b Item, plan: &mut Plan<'b>) -> Result<(), String> {
+    fn gather<'b>(&mut self, item: &'b Item, plan: &mut Plan<'b>) -> Result<(), RunErrorKind> {
         match item {
             Item::ProgramName(_) | Item::Kinematic(_) | Item::Trafo(_) | Item::Hsc { .. } => {}
             Item::G(g) => self.g_code(*g, plan)?,
@@ -95,16 +90,12 @@ impl Interpreter<'_> {
                 let d = u32::try_from(d)
                     .ok()
                     .filter(|d| *d <= 255)
-                    .ok_or_else(|| format!("D{d} is not a data set 0..255"))?;
+                    .ok_or(RunErrorKind::DataSet { d })?;
                 plan.tool = Some((d, self.col));
             }
-            Item::Tool(_) => self.warn(
-                "T accepted without effect: the TC module has no tool magazine; D selects \
-                 the tool data"
-                    .into(),
-            ),
+            Item::Tool(_) => self.warn(WarningKind::ToolWord),
             Item::M(30) => plan.end = true,
-            Item::M(m) => return Err(format!("M{m} is not implemented (only M30)")),
+            Item::M(m) => return Err(RunErrorKind::MFunction(*m)),
             Item::Assign(var, e) => {
                 let v = eval(e, self)?;
                 self.assign(var, v)?;
@@ -124,7 +115,7 @@ impl Interpreter<'_> {
                 let v = self.dtable.get(l, c)?;
                 self.assign(target, v)?;
             }
-            _ => return Err("a $ control statement must stand alone in its block".into()),
+            _ => return Err(RunErrorKind::ControlNotAlone),
         }
         Ok(())
     }
@@ -134,17 +125,15 @@ impl Interpreter<'_> {
         line: &crate::Expr,
         column: &crate::Expr,
         value: &crate::Expr,
-    ) -> Result<(), String> {
+    ) -> Result<(), RunErrorKind> {
         let (l, c, v) = (eval(line, self)?, eval(column, self)?, eval(value, self)?);
         if self.trc.is_some() && self.tool.is_some_and(|d| f64::from(d) == l) {
-            return Err(format!(
-                "#set ToolParam: data set D{l} is in use by the running TRC (G40 first)"
-            ));
+            return Err(RunErrorKind::ToolParamInUse { line: l });
         }
         self.dtable.set(l, c, v)
     }
 
-    fn g_code(&mut self, g: GCode, plan: &mut Plan) -> Result<(), String> {
+    fn g_code(&mut self, g: GCode, plan: &mut Plan) -> Result<(), RunErrorKind> {
         use GCode::*;
         match g {
             Rapid => self.motion = Some(MotionKind::Rapid),
@@ -164,17 +153,16 @@ impl Interpreter<'_> {
             // The engine's one selection rule is G138's; constant feed and
             // no masking are what it does anyway.
             TrcDirect | FeedConstant | MaskingOff => {}
-            TrcIndirect | TrcTangential => self.warn(format!(
-                "{} runs as G138: the TC engine has one selection rule",
-                if g == TrcIndirect { "G139" } else { "G05" }
-            )),
-            FeedAdapted => self.warn("G11 runs as G10: feed adaption is not modelled".into()),
-            MaskingOn => return Err("G141 (contour masking) is not implemented".into()),
+            TrcIndirect | TrcTangential => self.warn(WarningKind::SelectionRule {
+                word: if g == TrcIndirect { "G139" } else { "G05" },
+            }),
+            FeedAdapted => self.warn(WarningKind::FeedAdaption),
+            MaskingOn => return Err(RunErrorKind::ContourMasking),
         }
         Ok(())
     }
 
-    fn apply(&mut self, plan: &Plan) -> Result<(), String> {
+    fn apply(&mut self, plan: &Plan) -> Result<(), RunErrorKind> {
         if let Some((p, col)) = plan.plane.filter(|(p, _)| self.plane != Some(*p)) {
             self.col = col;
             self.write(objects::TC_PLANE, Value::I32(p))?;
@@ -210,7 +198,7 @@ impl Interpreter<'_> {
         self.motion_of(plan)
     }
 
-    fn start_trc(&mut self, side: Side) -> Result<(), String> {
+    fn start_trc(&mut self, side: Side) -> Result<(), RunErrorKind> {
         if self.trc.is_some() {
             self.write(objects::STATUS, Value::I32(0))?;
         }
@@ -225,7 +213,7 @@ impl Interpreter<'_> {
     }
 
     /// `D n`: the tool entry, and the D table's radius and length.
-    fn select_tool(&mut self, d: u32) -> Result<(), String> {
+    fn select_tool(&mut self, d: u32) -> Result<(), RunErrorKind> {
         let data = if d == 0 {
             Some((0.0, 0.0))
         } else {
@@ -235,10 +223,7 @@ impl Interpreter<'_> {
             // d <= 255 was checked.
             self.write(objects::WKZINDEX, Value::I32(d as i32))?;
         } else if data.is_none() {
-            self.warn(format!(
-                "D{d} while TRC runs: the tool entry cannot change, and the D table has no \
-                 values for D{d}; the running radius stays"
-            ));
+            self.warn(WarningKind::ToolDataKept { d });
         }
         if let Some((radius, length)) = data {
             self.write(objects::RADIUS, Value::F64(radius))?;
@@ -249,14 +234,14 @@ impl Interpreter<'_> {
     }
 
     /// The block's motion, if it has axis words (or an arc's centre).
-    fn motion_of(&mut self, plan: &Plan) -> Result<(), String> {
+    fn motion_of(&mut self, plan: &Plan) -> Result<(), RunErrorKind> {
         // An axis or centre word was read (its column kept).
         if plan.motion_col.is_none() {
             return Ok(());
         }
         let has_centre = plan.centre.iter().any(Option::is_some);
         let Some(kind) = self.motion else {
-            return Err("axis words before any motion kind (G0, G1, G2, G3)".into());
+            return Err(RunErrorKind::NoMotionKind);
         };
         let mut words: AxisWords = plan.words;
         for (w, pos) in words.iter_mut().zip(self.pos.iter_mut()) {
@@ -270,7 +255,7 @@ impl Interpreter<'_> {
         let feed = self.feed_pending.take();
         let motion = match kind {
             MotionKind::Rapid | MotionKind::Linear if has_centre => {
-                return Err("I, J, K need G2 or G3".into());
+                return Err(RunErrorKind::CentreWithoutArc);
             }
             MotionKind::Rapid => Motion::Rap { words, feed },
             MotionKind::Linear => Motion::Lin { words, feed },

@@ -1,6 +1,8 @@
 //! The D table of tool data: 255 data sets (D1..D255) of 16 columns,
 //! written and read by `#set ToolParam` / `#get ToolParam`.
 
+use super::RunErrorKind;
+
 /// Data sets of the table.
 pub const SETS: usize = 255;
 /// Columns of a data set.
@@ -32,12 +34,12 @@ impl Default for DTable {
 }
 
 /// Row and column indices of `line` (1..255) and `column` (0..15).
-fn cell(line: f64, column: f64) -> Result<(usize, usize), String> {
+fn cell(line: f64, column: f64) -> Result<(usize, usize), RunErrorKind> {
     if line.fract() != 0.0 || !(1.0..=SETS as f64).contains(&line) {
-        return Err(format!("ToolParam line {line} is not a data set 1..255"));
+        return Err(RunErrorKind::ToolParamLine { line });
     }
     if column.fract() != 0.0 || !(0.0..COLUMNS as f64).contains(&column) {
-        return Err(format!("ToolParam column {column} is not a column 0..15"));
+        return Err(RunErrorKind::ToolParamColumn { column });
     }
     // Both checked to be small whole numbers above.
     Ok((line as usize - 1, column as usize))
@@ -45,7 +47,7 @@ fn cell(line: f64, column: f64) -> Result<(usize, usize), String> {
 
 impl DTable {
     /// `#set ToolParam(line; column; value)`.
-    pub fn set(&mut self, line: f64, column: f64, value: f64) -> Result<(), String> {
+    pub fn set(&mut self, line: f64, column: f64, value: f64) -> Result<(), RunErrorKind> {
         let (l, c) = cell(line, column)?;
         self.values[l][c] = value;
         self.given[l] = true;
@@ -53,7 +55,7 @@ impl DTable {
     }
 
     /// `#get ToolParam(line; column; ..)`.
-    pub fn get(&self, line: f64, column: f64) -> Result<f64, String> {
+    pub fn get(&self, line: f64, column: f64) -> Result<f64, RunErrorKind> {
         let (l, c) = cell(line, column)?;
         Ok(self.values[l][c])
     }

@@ -1,29 +1,44 @@
 //! Evaluation of expressions: numbers, parameters, variables, operators
 //! and functions (angles in degrees).
 
+use super::RunErrorKind;
 use crate::expr::{BinOp, Expr, Func};
 use crate::Var;
 
 /// Where expression values come from: parameters and variables.
 pub trait Vars {
     /// The value of `var`, or why it has none.
-    fn read(&mut self, var: &Var) -> Result<f64, String>;
+    fn read(&mut self, var: &Var) -> Result<f64, RunErrorKind>;
 }
 
 /// The value of `expr`; errors: an unset variable, a division by zero, a
-/// result that is not a finite number.
-pub fn eval(expr: &Expr, vars: &mut dyn Vars) -> Result<f64, String> {
+/// result (or a step of a chain) that is not a finite number.
+///
+/// A chain of operators is folded left to right in a loop, so the stack
+/// this needs grows with the expression's nesting (bounded by the parser,
+/// [`crate::MAX_EXPR_NESTING`]), not with its length.
+pub fn eval(expr: &Expr, vars: &mut dyn Vars) -> Result<f64, RunErrorKind> {
     let v = match expr {
         Expr::Number(n) => *n,
         Expr::Var(var) => vars.read(var)?,
         Expr::Neg(e) => -eval(e, vars)?,
-        Expr::Binary(op, a, b) => binary(*op, eval(a, vars)?, eval(b, vars)?)?,
+        Expr::Chain(first, rest) => {
+            let mut acc = eval(first, vars)?;
+            for (op, e) in rest.iter() {
+                acc = finite(binary(*op, acc, eval(e, vars)?)?)?;
+            }
+            acc
+        }
         Expr::Call(f, e) => call(*f, eval(e, vars)?),
     };
+    finite(v)
+}
+
+fn finite(v: f64) -> Result<f64, RunErrorKind> {
     if v.is_finite() {
         Ok(v)
     } else {
-        Err("the expression has no finite value".into())
+        Err(RunErrorKind::NotFinite)
     }
 }
 
@@ -35,7 +50,7 @@ fn truth(b: bool) -> f64 {
     }
 }
 
-fn binary(op: BinOp, a: f64, b: f64) -> Result<f64, String> {
+fn binary(op: BinOp, a: f64, b: f64) -> Result<f64, RunErrorKind> {
     Ok(match op {
         BinOp::Or => truth(a != 0.0 || b != 0.0),
         BinOp::And => truth(a != 0.0 && b != 0.0),
@@ -48,7 +63,7 @@ fn binary(op: BinOp, a: f64, b: f64) -> Result<f64, String> {
         BinOp::Add => a + b,
         BinOp::Sub => a - b,
         BinOp::Mul => a * b,
-        BinOp::Div if b == 0.0 => return Err("division by zero".into()),
+        BinOp::Div if b == 0.0 => return Err(RunErrorKind::DivisionByZero),
         BinOp::Div => a / b,
     })
 }

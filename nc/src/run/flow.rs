@@ -2,28 +2,41 @@
 //! program pulled block by block. A loop is kept on a stack with the block
 //! it jumps back to; a condition that is false skips forward.
 
-use crate::error::NcError;
+use crate::error::Location;
 use crate::model::{Block, Item};
 use crate::Var;
 
 use super::eval;
 use super::window::SkipTo;
-use super::Interpreter;
+use super::{Interpreter, RunError, RunErrorKind};
 
 /// The control statement of a block, if it holds one; it must stand alone
-/// (the parser checks that; blocks made by hand are checked here).
-pub fn control(block: &Block) -> Result<Option<&Item>, NcError> {
+/// (the parser checks that; blocks made by hand are checked here, the
+/// error at the block's second word).
+pub fn control(block: &Block) -> Result<Option<&Item>, RunError> {
     match block.items.iter().position(Item::is_control) {
         None => Ok(None),
         Some(_) if block.items.len() == 1 => Ok(block.items.first()),
-        Some(_) => Err(NcError {
-            line: block.line,
-            block_number: block.number,
-            column: block.column(1),
-            message: "a $ control statement must stand alone in its block".into(),
+        Some(_) => Err(RunError {
+            location: Some(Location {
+                line: block.line,
+                block_number: block.number,
+                column: block.column(1),
+            }),
+            kind: RunErrorKind::ControlNotAlone,
         }),
     }
 }
+
+const END_WHILE: RunErrorKind = RunErrorKind::Unpaired {
+    end: "$ENDWHILE",
+    start: "$WHILE",
+};
+
+const END_FOR: RunErrorKind = RunErrorKind::Unpaired {
+    end: "$ENDFOR",
+    start: "$FOR",
+};
 
 /// An open loop: where it starts, and how it goes on.
 #[derive(Debug, Clone)]
@@ -52,7 +65,7 @@ pub(super) enum Next {
 
 impl Interpreter<'_> {
     /// Carries out the control statement of block `pc`.
-    pub(super) fn flow(&mut self, item: &Item, pc: usize) -> Result<Next, String> {
+    pub(super) fn flow(&mut self, item: &Item, pc: usize) -> Result<Next, RunErrorKind> {
         match item {
             Item::For {
                 var,
@@ -83,7 +96,7 @@ impl Interpreter<'_> {
                     start,
                     kind: LoopKind::While,
                 }) => Ok(Next::Back(*start)),
-                _ => Err("$ENDWHILE without its $WHILE".into()),
+                _ => Err(END_WHILE),
             },
             Item::If(c) => Ok(if eval::eval(c, self)? != 0.0 {
                 Next::On
@@ -102,12 +115,12 @@ impl Interpreter<'_> {
         start: &crate::Expr,
         end: &crate::Expr,
         step: &crate::Expr,
-    ) -> Result<Next, String> {
+    ) -> Result<Next, RunErrorKind> {
         let first = eval::eval(start, self)?;
         let last = eval::eval(end, self)?;
         let step = eval::eval(step, self)?;
         if step == 0.0 {
-            return Err("$FOR with step 0 never ends".into());
+            return Err(RunErrorKind::ForStepZero);
         }
         self.assign(var, first)?;
         if !in_range(first, last, step) {
@@ -126,12 +139,12 @@ impl Interpreter<'_> {
 
     /// `$ENDFOR`: the counter stepped, and back to the loop's first block
     /// while it is in range.
-    fn end_for(&mut self) -> Result<Next, String> {
+    fn end_for(&mut self) -> Result<Next, RunErrorKind> {
         let Some(open) = self.loops.pop() else {
-            return Err("$ENDFOR without its $FOR".into());
+            return Err(END_FOR);
         };
         let LoopKind::For { var, last, step } = &open.kind else {
-            return Err("$ENDFOR without its $FOR".into());
+            return Err(END_FOR);
         };
         let next = eval::Vars::read(self, var)? + step;
         self.assign(var, next)?;

@@ -12,6 +12,7 @@
 
 mod block;
 mod dtable;
+mod error;
 mod eval;
 mod flow;
 mod objects;
@@ -24,11 +25,12 @@ use std::io::BufRead;
 
 use tc_request::{AxisPos, Reply, Request};
 
-use crate::error::NcError;
+use crate::error::{Location, NcError};
 use crate::model::Block;
 use crate::stream::Blocks;
 
 pub use dtable::DTable;
+pub use error::{Located, RunError, RunErrorKind, Warning, WarningKind};
 pub use objects::{wear_axis, WEAR_RADIUS, WEAR_RADIUS_CONT};
 
 /// Most blocks one run executes (loops included) before it stops with an
@@ -56,10 +58,11 @@ pub trait Controller {
 pub struct Report {
     /// Constructs run in a simpler way than the program asks (e.g. G139
     /// run as G138), with where they stand.
-    pub warnings: Vec<NcError>,
+    pub warnings: Vec<Warning>,
     /// Errors the controller signalled while the program ran on (OTC error
-    /// bits with their ISG ids), with the block that caused them.
-    pub faults: Vec<NcError>,
+    /// bits with their ISG ids, [`RunErrorKind::Otc`]), with the block that
+    /// caused them.
+    pub faults: Vec<RunError>,
     /// Most blocks held at once for jumping back (the body of the
     /// outermost open loop; 1 for a program without loops).
     pub peak_held_blocks: usize,
@@ -72,18 +75,18 @@ pub struct Report {
 impl Report {
     /// Keeps warning `w`, or only counts it once [`crate::MAX_KEPT_ERRORS`]
     /// are kept.
-    pub fn warn(&mut self, w: NcError) {
+    pub fn warn(&mut self, w: Warning) {
         keep_or_count(&mut self.warnings, &mut self.more_warnings, w);
     }
 
     /// Keeps fault `f`, or only counts it once [`crate::MAX_KEPT_ERRORS`]
     /// are kept.
-    pub fn fault(&mut self, f: NcError) {
+    pub fn fault(&mut self, f: RunError) {
         keep_or_count(&mut self.faults, &mut self.more_faults, f);
     }
 }
 
-fn keep_or_count(kept: &mut Vec<NcError>, more: &mut u64, e: NcError) {
+fn keep_or_count<T>(kept: &mut Vec<T>, more: &mut u64, e: T) {
     if kept.len() < crate::MAX_KEPT_ERRORS {
         kept.push(e);
     } else {
@@ -112,6 +115,9 @@ struct Interpreter<'c> {
     report: &'c mut Report,
     ctl: &'c mut dyn Controller,
     at: At,
+    /// Whether a block is being carried out (`at` names it): errors before
+    /// the first block have no location.
+    in_block: bool,
     /// Column of the word being carried out, for its errors.
     col: usize,
     pos: AxisPos,
@@ -136,7 +142,7 @@ pub fn run_program(
     blocks: &[Block],
     ctl: &mut dyn Controller,
     report: &mut Report,
-) -> Result<(), NcError> {
+) -> Result<(), RunError> {
     run_blocks(blocks.iter().cloned().map(Ok), ctl, report)
 }
 
@@ -146,7 +152,7 @@ pub fn run_blocks<I>(
     blocks: I,
     ctl: &mut dyn Controller,
     report: &mut Report,
-) -> Result<(), NcError>
+) -> Result<(), RunError>
 where
     I: Iterator<Item = Result<Block, NcError>>,
 {
@@ -166,7 +172,7 @@ pub fn run_reader<R: BufRead>(
     blocks: &mut Blocks<R>,
     ctl: &mut dyn Controller,
     report: &mut Report,
-) -> Result<(), NcError> {
+) -> Result<(), RunError> {
     run_source(blocks, ctl, report)
 }
 
@@ -174,7 +180,7 @@ fn run_source<S: window::BlockSource>(
     source: S,
     ctl: &mut dyn Controller,
     report: &mut Report,
-) -> Result<(), NcError> {
+) -> Result<(), RunError> {
     let mut window = window::Window::new(source);
     let mut it = Interpreter::new(ctl, report);
     let result = run_window(&mut it, &mut window);
@@ -186,31 +192,22 @@ fn run_source<S: window::BlockSource>(
 fn run_window<S: window::BlockSource>(
     it: &mut Interpreter<'_>,
     window: &mut window::Window<S>,
-) -> Result<(), NcError> {
-    let start = match window.get(0)? {
-        Some(b) => At {
-            line: b.line,
-            number: b.number,
-        },
-        None => At::default(),
-    };
-    it.at = start;
-    it.pos = match it.ctl.call(&Request::Pos, start) {
+) -> Result<(), RunError> {
+    if let Some(b) = window.get(0)? {
+        it.enter(b);
+    }
+    it.pos = match it.ctl.call(&Request::Pos, it.at) {
         Reply::Pos(p) => p,
-        other => return Err(it.error(format!("POS answered {other:?}"))),
+        other => return Err(it.error(unexpected(Request::Pos, other))),
     };
     let mut pc = 0;
     let mut executed = 0u64;
     while let Some(block) = window.get(pc).map_err(|e| it.located(e))? {
-        it.at = At {
-            line: block.line,
-            number: block.number,
-        };
-        it.col = block.column(0);
+        it.enter(block);
         executed += 1;
         if executed > MAX_EXECUTED_BLOCKS {
-            let msg = format!("more than {MAX_EXECUTED_BLOCKS} blocks executed: endless loop?");
-            return Err(it.error(msg));
+            let limit = MAX_EXECUTED_BLOCKS;
+            return Err(it.error(RunErrorKind::TooManyBlocks { limit }));
         }
         let next = match flow::control(block)? {
             Some(item) => it.flow(item, pc),
@@ -236,12 +233,21 @@ fn run_window<S: window::BlockSource>(
     Ok(())
 }
 
+/// An answer of the wrong kind to `request`.
+fn unexpected(request: Request, reply: Reply) -> RunErrorKind {
+    RunErrorKind::UnexpectedReply {
+        request: Box::new(request),
+        reply: Box::new(reply),
+    }
+}
+
 impl<'c> Interpreter<'c> {
     fn new(ctl: &'c mut dyn Controller, report: &'c mut Report) -> Self {
         Interpreter {
             ctl,
             report,
             at: At::default(),
+            in_block: false,
             col: 1,
             pos: [0.0; tc_request::AXES],
             motion: None,
@@ -260,23 +266,48 @@ impl<'c> Interpreter<'c> {
         }
     }
 
-    /// An error at the current block and word.
-    fn error(&self, message: String) -> NcError {
-        NcError {
+    /// Block `block` is carried out from now on (its first word).
+    fn enter(&mut self, block: &Block) {
+        self.at = At {
+            line: block.line,
+            number: block.number,
+        };
+        self.in_block = true;
+        self.col = block.column(0);
+    }
+
+    /// The current block and word, once a block is carried out.
+    fn location(&self) -> Option<Location> {
+        self.in_block.then_some(Location {
             line: self.at.line,
             block_number: self.at.number,
             column: self.col,
-            message,
+        })
+    }
+
+    /// An error at the current block and word.
+    fn error(&self, kind: RunErrorKind) -> RunError {
+        RunError {
+            location: self.location(),
+            kind,
         }
+    }
+
+    /// Warning `kind` at the current block and word, for the report.
+    fn warn(&mut self, kind: WarningKind) {
+        let w = Warning {
+            location: self.location(),
+            kind,
+        };
+        self.report.warn(w);
     }
 
     /// An error of the window placed at the current block when it has no
     /// place of its own.
-    fn located(&self, e: NcError) -> NcError {
-        if e.line == 0 {
-            self.error(e.message)
-        } else {
-            e
+    fn located(&self, e: RunError) -> RunError {
+        match e.location {
+            Some(_) => e,
+            None => self.error(e.kind),
         }
     }
 
@@ -284,7 +315,7 @@ impl<'c> Interpreter<'c> {
     /// answer is an error. A full spooler (`Full`, nothing changed) is
     /// worked off first, as a controller's interpreter waits for its
     /// interpolator: `EXEC`, then the request once more.
-    fn request(&mut self, req: &Request) -> Result<Reply, String> {
+    fn request(&mut self, req: &Request) -> Result<Reply, RunErrorKind> {
         let reply = self.ctl.call(req, self.at);
         let reply = self.after_full(req, reply)?;
         match self.refused(req, &reply) {
@@ -295,7 +326,7 @@ impl<'c> Interpreter<'c> {
 
     /// As [`Self::request`], for a request whose answer is only `ok` or
     /// an error (writes, motions, `EXEC`).
-    fn send(&mut self, req: &Request) -> Result<(), String> {
+    fn send(&mut self, req: &Request) -> Result<(), RunErrorKind> {
         let reply = self.ctl.call(req, self.at);
         if matches!(reply, Reply::Ok) {
             return Ok(());
@@ -306,7 +337,7 @@ impl<'c> Interpreter<'c> {
 
     /// `reply` to `req`, or when it was `Full` (the spooler full, nothing
     /// changed) the answer to `req` sent once more after `EXEC`.
-    fn after_full(&mut self, req: &Request, reply: Reply) -> Result<Reply, String> {
+    fn after_full(&mut self, req: &Request, reply: Reply) -> Result<Reply, RunErrorKind> {
         if matches!(reply, Reply::Access(uoi::AccessError::Full))
             && !matches!(req, Request::Exec(_))
         {
@@ -317,24 +348,31 @@ impl<'c> Interpreter<'c> {
     }
 
     /// Why `reply` refuses `req`, if it does.
-    fn refused(&mut self, req: &Request, reply: &Reply) -> Option<String> {
+    fn refused(&mut self, req: &Request, reply: &Reply) -> Option<RunErrorKind> {
+        let request = || Box::new(req.clone());
         Some(match reply {
-            Reply::Access(uoi::AccessError::State) => format!(
-                "`{req}`: the controller answered State: correction group 1 is faulted{}",
-                self.fault_bits()
-            ),
-            Reply::Access(e) => format!("`{req}`: the controller answered {}", e.name()),
-            Reply::Protocol(e) => format!("`{req}`: refused: {e}"),
+            Reply::Access(uoi::AccessError::State) => RunErrorKind::Faulted {
+                request: request(),
+                error_bits: self.fault_bits(),
+            },
+            Reply::Access(e) => RunErrorKind::Refused {
+                request: request(),
+                error: *e,
+            },
+            Reply::Protocol(e) => RunErrorKind::Rejected {
+                request: request(),
+                error: *e,
+            },
             _ => return None,
         })
     }
 
-    /// ` (ERROR: CalcError ..)`: the group's error bits, for a message.
-    fn fault_bits(&mut self) -> String {
+    /// The names of the group's error bits set, if they can be read.
+    fn fault_bits(&mut self) -> Option<Vec<String>> {
         let read = Request::Read(objects::ERROR, uoi::ValueType::I32);
         let Reply::Value(uoi::Value::I32(bits)) = self.ctl.call(&read, self.at) else {
-            return String::new();
+            return None;
         };
-        format!(" (ERROR: {})", objects::error_bit_names(bits).join(", "))
+        Some(objects::error_bit_names(bits))
     }
 }

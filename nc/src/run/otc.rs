@@ -5,16 +5,16 @@ use uoi::{Value, ValueType};
 
 use super::eval::eval;
 use super::objects;
-use super::Interpreter;
+use super::{Interpreter, RunErrorKind};
 use crate::model::{OtcCommand, OtcKind, OtcMode, OtcOption};
 
 /// A whole number as an `i` value.
-pub(super) fn whole(v: f64, what: &str) -> Result<i32, String> {
+pub(super) fn whole(v: f64, what: &'static str) -> Result<i32, RunErrorKind> {
     if v.fract() == 0.0 && v >= f64::from(i32::MIN) && v <= f64::from(i32::MAX) {
         // Checked to be a whole number in range.
         Ok(v as i32)
     } else {
-        Err(format!("{what} must be a whole number, not {v}"))
+        Err(RunErrorKind::NotWhole { what, value: v })
     }
 }
 
@@ -22,7 +22,7 @@ impl Interpreter<'_> {
     /// Carries out one `#OTC` command. Switching acts where the program
     /// stands on the path: the motion programmed before it is run first
     /// (`EXEC`), so the wear is counted from ON to OFF along the path.
-    pub(super) fn otc(&mut self, cmd: &OtcCommand) -> Result<(), String> {
+    pub(super) fn otc(&mut self, cmd: &OtcCommand) -> Result<(), RunErrorKind> {
         if cmd.switch.is_some() {
             self.send(&tc_request::Request::Exec(None))?;
         }
@@ -40,7 +40,7 @@ impl Interpreter<'_> {
         Ok(())
     }
 
-    fn otc_option(&mut self, option: &OtcOption) -> Result<(), String> {
+    fn otc_option(&mut self, option: &OtcOption) -> Result<(), RunErrorKind> {
         let (addr, value) = match option {
             OtcOption::Kind(k) => (
                 objects::OTC_PROC_TYPE,
@@ -71,16 +71,16 @@ impl Interpreter<'_> {
     }
 
     /// Reads OtcError; each bit newly set is a fault of this block.
-    fn check_otc_error(&mut self) -> Result<(), String> {
+    fn check_otc_error(&mut self) -> Result<(), RunErrorKind> {
         let bits = whole(
             self.read_object(objects::OTC_ERROR, ValueType::I32)?,
             "OtcError",
         )?;
         let new = bits & !self.otc_seen;
         self.otc_seen = bits;
-        for (bit, text) in objects::OTC_ERROR_BITS {
+        for (bit, name) in objects::OTC_ERROR_BITS {
             if new & bit != 0 {
-                let fault = self.error(format!("OTC error {text}"));
+                let fault = self.error(RunErrorKind::Otc { bit, name });
                 self.report.fault(fault);
             }
         }

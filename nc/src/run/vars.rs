@@ -7,13 +7,13 @@ use uoi::{ObjectAddress, Value, ValueType};
 
 use super::eval::{eval, Vars};
 use super::objects;
-use super::Interpreter;
+use super::{unexpected, Interpreter, RunErrorKind};
 use crate::expr::Segment;
 use crate::Var;
 
 impl Interpreter<'_> {
     /// `NAME.NAME[i]` of a variable path, indices evaluated.
-    fn path_key(&mut self, path: &[Segment]) -> Result<String, String> {
+    fn path_key(&mut self, path: &[Segment]) -> Result<String, RunErrorKind> {
         let mut parts = Vec::with_capacity(path.len());
         for seg in path {
             let mut part = seg.name.to_ascii_uppercase();
@@ -48,21 +48,22 @@ impl Interpreter<'_> {
         &mut self,
         addr: ObjectAddress,
         ty: ValueType,
-    ) -> Result<f64, String> {
-        match self.request(&Request::Read(addr, ty))? {
+    ) -> Result<f64, RunErrorKind> {
+        let req = Request::Read(addr, ty);
+        match self.request(&req)? {
             Reply::Value(Value::F64(v)) => Ok(v),
             Reply::Value(Value::I32(v)) => Ok(f64::from(v)),
-            other => Err(format!("R {addr}: unexpected answer {other:?}")),
+            other => Err(unexpected(req, other)),
         }
     }
 
     /// Writes an object.
-    pub(super) fn write(&mut self, addr: ObjectAddress, value: Value) -> Result<(), String> {
+    pub(super) fn write(&mut self, addr: ObjectAddress, value: Value) -> Result<(), RunErrorKind> {
         self.send(&Request::Write(addr, value))
     }
 
     /// `var = value`.
-    pub(super) fn assign(&mut self, var: &Var, value: f64) -> Result<(), String> {
+    pub(super) fn assign(&mut self, var: &Var, value: f64) -> Result<(), RunErrorKind> {
         match var {
             Var::R(n) => {
                 self.r.insert(*n, value);
@@ -77,7 +78,10 @@ impl Interpreter<'_> {
                         self.v.insert(format!("{scope}.{key}"), value);
                     }
                     'G' if key == "WZ_AKT.R" => self.write(objects::RADIUS, Value::F64(value))?,
-                    _ => return Err(format!("V.{scope}.{key} cannot be written here")),
+                    _ => {
+                        let name = format!("V.{scope}.{key}");
+                        return Err(RunErrorKind::NotWritable { name });
+                    }
                 }
             }
         }
@@ -86,15 +90,13 @@ impl Interpreter<'_> {
 }
 
 impl Vars for Interpreter<'_> {
-    fn read(&mut self, var: &Var) -> Result<f64, String> {
+    fn read(&mut self, var: &Var) -> Result<f64, RunErrorKind> {
         match var {
             // R parameters start at 0, as on the controller.
             Var::R(n) => Ok(self.r.get(n).copied().unwrap_or(0.0)),
-            Var::P(n) => self
-                .p
-                .get(n)
-                .copied()
-                .ok_or_else(|| format!("P{n} is read before it was set")),
+            Var::P(n) => self.p.get(n).copied().ok_or_else(|| RunErrorKind::Unset {
+                name: format!("P{n}"),
+            }),
             Var::V { scope, path } => {
                 let key = self.path_key(path)?;
                 match scope {
@@ -102,14 +104,16 @@ impl Vars for Interpreter<'_> {
                         .v
                         .get(&format!("{scope}.{key}"))
                         .copied()
-                        .ok_or_else(|| format!("V.{scope}.{key} is read before it was set")),
+                        .ok_or_else(|| RunErrorKind::Unset {
+                            name: format!("V.{scope}.{key}"),
+                        }),
                     'G' => match Self::global_object(&key) {
                         Some((addr, ty)) => self.read_object(addr, ty),
-                        None => Err(format!(
-                            "V.G.{key} is not a variable this interpreter knows"
-                        )),
+                        None => Err(RunErrorKind::UnknownVariable {
+                            name: format!("V.G.{key}"),
+                        }),
                     },
-                    _ => Err(format!("V.{scope}. variables are not implemented")),
+                    _ => Err(RunErrorKind::ScopeNotImplemented { scope: *scope }),
                 }
             }
         }

@@ -14,6 +14,8 @@ use crate::error::NcError;
 use crate::model::{Block, Item};
 use crate::stream::Blocks;
 
+use super::{RunError, RunErrorKind};
+
 /// Where the blocks of a run come from.
 pub trait BlockSource {
     /// The next block into `block` (whose storage may be reused); `None`
@@ -98,7 +100,7 @@ impl<S: BlockSource> Window<S> {
 
     /// Block `k`, pulled from the program when it is the next one; `None`
     /// after the program's end.
-    pub fn get(&mut self, k: usize) -> Result<Option<&Block>, NcError> {
+    pub fn get(&mut self, k: usize) -> Result<Option<&Block>, RunError> {
         let Some(offset) = k.checked_sub(self.base) else {
             return Err(internal(format!(
                 "block {k} of the program is no longer held"
@@ -111,7 +113,7 @@ impl<S: BlockSource> Window<S> {
             let at = self.slot(self.len);
             match self.source.next_into(&mut self.slots[at]) {
                 Some(Ok(())) => self.len += 1,
-                Some(Err(e)) => return Err(e),
+                Some(Err(e)) => return Err(not_parsed(e)),
                 None => return Ok(None),
             }
         }
@@ -148,7 +150,7 @@ impl<S: BlockSource> Window<S> {
     /// The block after the end of the structure opened at block `from`
     /// (nested structures skipped whole). With `keep` false the skipped
     /// blocks are released as the skip goes (no loop is open).
-    pub fn skip(&mut self, from: usize, to: SkipTo, keep: bool) -> Result<usize, NcError> {
+    pub fn skip(&mut self, from: usize, to: SkipTo, keep: bool) -> Result<usize, RunError> {
         let mut depth = 0usize;
         let mut k = from + 1;
         loop {
@@ -184,12 +186,20 @@ impl<S: BlockSource> Window<S> {
 }
 
 /// A jump the checked program cannot need (a block released too early, a
-/// structure without its end): reported, never a panic.
-fn internal(what: String) -> NcError {
-    NcError {
-        line: 0,
-        block_number: None,
-        column: 1,
-        message: format!("internal: {what}"),
+/// structure without its end): reported, never a panic, without a place
+/// of its own (the interpreter gives it the block it runs).
+fn internal(what: String) -> RunError {
+    RunError {
+        location: None,
+        kind: RunErrorKind::Internal(what),
+    }
+}
+
+/// A line in error met by the run (a program not checked first), at its
+/// place.
+fn not_parsed(e: NcError) -> RunError {
+    RunError {
+        location: Some(e.location()),
+        kind: RunErrorKind::Parse(e.message),
     }
 }
