@@ -1,0 +1,122 @@
+//! Architecture checks (issue 18), run on the tree as it is when the test
+//! runs:
+//!
+//! 1. no module of any crate imports a module that imports it back;
+//! 2. no bus-1300 address is written outside the object table
+//!    (`objects/src`);
+//! 3. the root package is the command line only.
+//!
+//! Each reads the sources with `syn` (use trees, paths, literals and
+//! `#[cfg(test)]` read as the compiler reads them, not guessed by a text
+//! search). The rules are in the doc comments of the modules below; the
+//! checker's own tests (`graph_tests`, `literal_tests`) try each rule on
+//! small sources written in the test.
+
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
+#[path = "architecture/cli_root.rs"]
+mod cli_root;
+#[path = "architecture/cycles.rs"]
+mod cycles;
+#[path = "architecture/graph.rs"]
+mod graph;
+#[path = "architecture/graph_tests.rs"]
+mod graph_tests;
+#[path = "architecture/literal_tests.rs"]
+mod literal_tests;
+#[path = "architecture/literals.rs"]
+mod literals;
+#[path = "architecture/modtree.rs"]
+mod modtree;
+#[path = "architecture/resolve.rs"]
+mod resolve;
+#[path = "architecture/workspace.rs"]
+mod workspace;
+
+use modtree::ModuleTree;
+use workspace::{crate_roots, package_dirs, read_disk, root, rust_files, shown};
+
+/// The folder of the object table, the one place addresses are written.
+const TABLE_DIR: &str = "objects/src";
+
+#[test]
+fn no_module_imports_a_module_that_imports_it_back() {
+    let mut report = Vec::new();
+    let mut problems = Vec::new();
+    for krate in crate_roots(&root()) {
+        let tree = ModuleTree::load(&krate.root_file, &read_disk);
+        problems.extend(tree.problems.iter().cloned());
+        let graph = graph::module_graph(&tree);
+        for cycle in cycles::cycles(&graph.adjacency()) {
+            report.push(cycles::describe(&krate.name, &graph, &cycle));
+        }
+    }
+    assert!(
+        problems.is_empty(),
+        "unreadable modules:\n{}",
+        problems.join("\n")
+    );
+    assert!(
+        report.is_empty(),
+        "{} module import cycle(s), each edge with one place that makes it:\n{}",
+        report.len(),
+        report.join("\n")
+    );
+}
+
+#[test]
+fn no_bus_1300_address_is_written_outside_the_table() {
+    let root = root();
+    let table = root.join(TABLE_DIR);
+    let mut found = Vec::new();
+    for krate in crate_roots(&root) {
+        let tree = ModuleTree::load(&krate.root_file, &read_disk);
+        let src = krate.dir.join("src");
+        for file in rust_files(&src) {
+            if file.starts_with(&table) || tree.is_test_file(&file) {
+                continue;
+            }
+            let text = read_disk(&file).unwrap_or_default();
+            match literals::scan(&file, &text) {
+                Ok(findings) => found.extend(
+                    findings
+                        .iter()
+                        .map(|f| format!("{}:{}: {}", shown(&f.file), f.line, f.what)),
+                ),
+                Err(e) => found.push(e),
+            }
+        }
+    }
+    found.sort();
+    found.dedup();
+    assert!(
+        found.is_empty(),
+        "{} bus-1300 address(es) written outside {TABLE_DIR} (name them through tc_objects' keys):\n{}",
+        found.len(),
+        found.join("\n")
+    );
+}
+
+#[test]
+fn the_root_package_is_the_command_line() {
+    let problems = cli_root::problems(&root());
+    assert!(
+        problems.is_empty(),
+        "the root package is more than the command line:\n{}",
+        problems.join("\n")
+    );
+}
+
+#[test]
+fn every_workspace_member_is_read() {
+    let dirs = package_dirs(&root());
+    assert!(dirs.len() > 1, "no workspace members found");
+    let roots = crate_roots(&root());
+    for dir in dirs {
+        assert!(
+            roots.iter().any(|c| c.dir == dir),
+            "{}: no src/lib.rs or src/main.rs",
+            shown(&dir)
+        );
+    }
+}
