@@ -44,6 +44,6 @@ pub use config::{
     OPCUA_PKI_DIR,
 };
 pub use emulator::{Emulator, Tc};
-pub use reference::{bits_without_meaning, devices_without_section, object_reference, DEVICES};
+pub use reference::{bits_without_meaning, devices_without_section, object_reference};
 pub use service::EmulatorService;
 pub use session::{ConformanceSession, LOG_CAPACITY, MAX_SESSIONS, MAX_SESSION_SPOOL};

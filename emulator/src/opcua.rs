@@ -10,15 +10,12 @@ use opcua_face::{answer_value, Device, IndexKind, Reading, Row, Table};
 use otc_ext::OtcExtension;
 use tc_module::object_map::object_table;
 use tc_module::{AXIS_NAMES, GROUPS, TC_BUS};
+use tc_objects::TcObject;
 use tc_request::{Reply, Request};
 use uoi::wire::Answer;
-use uoi::{AccessError, ObjectAddress, Value, ValueType};
+use uoi::{AccessError, Value, ValueType};
 
-use crate::DEVICES;
-
-/// Subindex of a group's ERROR (1/g/1) and STATUS (1/g/3).
-const ERROR_SUB: u16 = 1;
-const STATUS_SUB: u16 = 3;
+use tc_objects::DEVICES;
 
 /// The table the face serves.
 pub fn table() -> Table {
@@ -26,10 +23,10 @@ pub fn table() -> Table {
         bus: TC_BUS,
         devices: DEVICES
             .iter()
-            .map(|&(number, title, index)| Device {
-                number,
-                title: format!("{title}. {index}"),
-                index: index_kind(number),
+            .map(|d| Device {
+                number: d.number,
+                title: format!("{}. {}", d.title, d.index),
+                index: index_kind(d.number),
             })
             .collect(),
         rows: object_table::<OtcExtension>()
@@ -83,11 +80,11 @@ fn readings() -> Vec<Reading> {
         pick: Arc::new(queue_length),
     });
     for g in GROUPS {
-        for (sub, name, what) in [
-            (STATUS_SUB, "STATUS", "status bits"),
-            (ERROR_SUB, "ERROR", "error bits"),
+        for (object, name, what) in [
+            (TcObject::Status, "STATUS", "status bits"),
+            (TcObject::Error, "ERROR", "error bits"),
         ] {
-            let addr = ObjectAddress::new(TC_BUS, 1, g, sub);
+            let addr = object.of(g);
             out.push(Reading {
                 id: format!("dashboard/group/{g}/{name}"),
                 path: vec!["Groups".into(), format!("Group{g}")],

@@ -9,7 +9,7 @@ use uoi::wire::{
     Request as WireRequest, ServerCodec, HEADER_LEN, MAX_FRAME, PREFIX_LEN,
 };
 
-use super::MAX_INPUT;
+use crate::limits::MAX_INPUT;
 
 /// The largest read buffer a decoder may hold after taking `chunk` bytes
 /// more: room for one largest frame (reserved once, then reused), the

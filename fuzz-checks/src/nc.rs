@@ -10,7 +10,7 @@ use uoi::AccessError;
 
 use emulator::Emulator;
 
-use super::{MAX_NC_INPUT, NC_EXEC_SLICES, NC_REQUEST_BUDGET};
+use crate::limits::{MAX_NC_INPUT, NC_EXEC_SLICES, NC_REQUEST_BUDGET};
 
 /// Spooler capacity of the harness's emulator (the smallest allowed).
 const SMALL_SPOOLER: usize = 8;

@@ -14,7 +14,7 @@ use emulator::EmulatorService;
 use trace::Trace;
 
 use super::frames::check_answer_round_trip;
-use super::{EXEC_BUDGET, MAX_FRAMES, MAX_INPUT, POS_LIMIT, SPOOLED_PER_FRAME};
+use crate::limits::{EXEC_BUDGET, MAX_FRAMES, MAX_INPUT, POS_LIMIT, SPOOLED_PER_FRAME};
 
 /// One connection as the server serves it, without the socket: its
 /// session sees each request first, else the shared emulator answers.

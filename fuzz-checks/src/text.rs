@@ -6,7 +6,7 @@ use tc_request::Request;
 
 use trace::TraceReader;
 
-use super::MAX_TRACE_INPUT;
+use crate::limits::MAX_TRACE_INPUT;
 
 /// A request written back in trace syntax parses to the same request and
 /// the same text; its wire form decodes to it too.

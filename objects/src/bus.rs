@@ -5,7 +5,7 @@
 use std::ops::RangeInclusive;
 
 use tc_request::AXES;
-use uoi::ValueRange;
+use uoi::{ObjectAddress, ObjectDesc, ValueRange};
 
 /// The BusNumber of the TC module.
 pub const TC_BUS: u16 = 1300;
@@ -54,3 +54,8 @@ pub const COORD: ValueRange = ValueRange::Finite {
     min: -MAX_COORD,
     max: MAX_COORD,
 };
+
+/// The address of row `row`'s object at `index`, subindex `sub`.
+pub(crate) const fn address_of<K>(row: &ObjectDesc<K>, index: u16, sub: u16) -> ObjectAddress {
+    ObjectAddress::new(TC_BUS, row.device, index, sub)
+}

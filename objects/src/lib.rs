@@ -20,7 +20,9 @@
 
 mod bits;
 mod bus;
+mod device;
 mod meaning;
+mod object;
 mod otc;
 mod tc;
 mod tool;
@@ -30,45 +32,11 @@ pub use bus::{
     AXIS, BOOL, COORD, GROUPS, GROUP_COUNT, MACHINE_AXES, MAX_COORD, PLANE_CODES, PLANE_XY,
     PLANE_YZ, PLANE_ZX, TC_BUS, TOOL_ENTRIES,
 };
+pub use device::{DeviceDesc, DEVICES};
+pub use object::BusObject;
 pub use otc::{
     OtcObject, OTC_AXIS_DEVICE, OTC_AXIS_OBJECTS, OTC_GROUP_DEVICE, OTC_GROUP_OBJECTS,
     WEAR_AXIS_SUBS,
 };
 pub use tc::{TcObject, TC_OBJECTS};
 pub use tool::{ToolEffect, ToolField};
-
-use uoi::{ObjectAddress, ObjectDesc};
-
-/// Any object of bus 1300: one of the TC module's or one of OTC's.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum BusObject {
-    /// Devices 0 to 2.
-    Tc(TcObject),
-    /// Devices 3 and 4.
-    Otc(OtcObject),
-}
-
-impl BusObject {
-    /// The object that answers for `addr`, if any (the bus must be 1300).
-    pub fn at(addr: ObjectAddress) -> Option<Self> {
-        if addr.bus != TC_BUS {
-            return None;
-        }
-        let tc = TC_OBJECTS.iter().find(|r| r.matches(addr));
-        let otc = || {
-            OTC_GROUP_OBJECTS
-                .iter()
-                .chain(&OTC_AXIS_OBJECTS)
-                .find(|r| r.matches(addr))
-        };
-        match tc {
-            Some(r) => Some(Self::Tc(r.key)),
-            None => otc().map(|r| Self::Otc(r.key)),
-        }
-    }
-}
-
-/// The address of row `row`'s object at `index`, subindex `sub`.
-const fn address_of<K>(row: &ObjectDesc<K>, index: u16, sub: u16) -> ObjectAddress {
-    ObjectAddress::new(TC_BUS, row.device, index, sub)
-}

@@ -7,8 +7,7 @@ use std::ops::RangeInclusive;
 use tc_request::AXES;
 use uoi::{Access, ObjectAddress, ObjectDesc, ValueRange};
 
-use crate::address_of;
-use crate::bus::{AXIS, BOOL, GROUPS, MACHINE_AXES};
+use crate::bus::{address_of, AXIS, BOOL, GROUPS, MACHINE_AXES};
 
 /// Device of the per-group OTC objects.
 pub const OTC_GROUP_DEVICE: u16 = 3;

@@ -3,8 +3,7 @@
 
 use uoi::{Access, ObjectAddress, ObjectDesc, ValueRange};
 
-use crate::address_of;
-use crate::bus::{AXIS, BOOL, COORD, GROUPS, PLANE_CODES, TOOL_ENTRIES};
+use crate::bus::{address_of, AXIS, BOOL, COORD, GROUPS, PLANE_CODES, TOOL_ENTRIES};
 
 /// The TC module's own objects, named as in docs/objects.md. The variants
 /// stand in the order of [`TC_OBJECTS`]: a variant's number is its row.

@@ -4,9 +4,9 @@
 
 use uoi::{ObjectAddress, ObjectDesc, Value, ValueRange, ValueType};
 
+use crate::object::BusObject;
 use crate::otc::OtcObject;
 use crate::tc::TcObject;
-use crate::BusObject;
 
 /// One field of a tool entry. Each is read and written through one object
 /// of its group, for the entry at the group's WKZINDEX.

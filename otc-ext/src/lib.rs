@@ -25,20 +25,23 @@
 //! assert_eq!(server.write(wear, Value::F64(1.0)), Err(AccessError::ReadOnly));
 //! ```
 
+mod extension;
 mod objects;
 mod per_cycle;
+mod plc;
 mod quantity;
 mod registers;
+mod setting;
 mod state;
 mod switching;
 pub mod wear;
 
+pub use extension::OtcExtension;
 pub use objects::{
     OtcObject, AXIS_DEVICE, AXIS_OBJECTS, GROUP_DEVICE, GROUP_OBJECTS, WEAR_AXIS_SUBS,
 };
+pub use plc::{clamp_command, PlcUnit};
 pub use quantity::{TenthMicrons, TiltAngle, WearRate};
-pub use registers::OtcExtension;
-pub use state::{
-    clamp_command, OtcErrorBits, OtcGroup, OtcMode, OtcTool, PlcUnit, ProcType, GRINDING,
-};
+pub use setting::{OtcMode, ProcType};
+pub use state::{OtcErrorBits, OtcGroup, OtcTool, GRINDING};
 pub use tc_module::TcExtension;

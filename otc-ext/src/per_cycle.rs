@@ -6,7 +6,7 @@
 
 use tc_module::{AxisPos, Cycle, GroupAccess, Groups, AXES};
 
-use crate::state::PlcUnit;
+use crate::plc::PlcUnit;
 use crate::switching::taken;
 use crate::wear::{offset_at, run_cycle, TakenMut, WearSettings};
 use crate::OtcExtension;

@@ -1,25 +1,19 @@
 //! The OTC registers of devices 3 and 4 (docs/objects.md), the request
 //! registers' bound, writes while OTC is on (docs/otc.md) and the
-//! hooks the TC module calls; switching is in `switching`, the per-cycle
-//! model in `wear` and `per_cycle`.
+//! hooks the TC module calls ([`TcExtension`] for [`OtcExtension`]);
+//! switching is in `switching`, the per-cycle model in `wear` and
+//! `per_cycle`.
 
 use tc_module::{Cycle, GroupAccess, Groups, TcExtension, WkzIndex, AXES};
 use uoi::{AccessError, ObjectAddress, ObjectDesc, Value};
 
+use crate::extension::OtcExtension;
 use crate::objects::{OtcObject, AXIS_OBJECTS, GROUP_OBJECTS, WEAR_AXIS_SUBS};
+use crate::plc::clamp_command;
 use crate::quantity::{TenthMicrons, TiltAngle, WearRate};
-use crate::state::{clamp_command, OtcErrorBits, OtcGroup, OtcMode, OtcTool, PlcUnit, ProcType};
+use crate::setting::{OtcMode, ProcType};
+use crate::state::{OtcErrorBits, OtcGroup, OtcTool};
 use crate::switching::check_units;
-
-/// The OTC extension: its own state is the PLC units of the machine axes
-/// (device 4); the state of each group and tool entry lives in them.
-#[derive(Debug, Default, Clone)]
-pub struct OtcExtension {
-    pub(crate) axes: [PlcUnit; AXES],
-    /// The group whose OTC is on (kept by switching, so that a cycle need
-    /// not look through the groups).
-    pub(crate) on_group: Option<u16>,
-}
 
 type Access<'a> = GroupAccess<'a, OtcExtension>;
 

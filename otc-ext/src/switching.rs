@@ -5,7 +5,9 @@
 use tc_module::{GroupAccess, Groups, AXES};
 use uoi::AccessError;
 
-use crate::state::{OtcErrorBits, PlcUnit, ProcType, GRINDING};
+use crate::plc::PlcUnit;
+use crate::setting::ProcType;
+use crate::state::{OtcErrorBits, GRINDING};
 use crate::wear::units::TakenUnits;
 use crate::wear::{TakenMut, WearState};
 use crate::OtcExtension;

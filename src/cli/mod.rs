@@ -17,12 +17,12 @@ use std::process::ExitCode;
 
 /// Exit status when the command ran and found a failure: a trace that
 /// differs, an error answer to `call`, a server that failed while serving.
-pub const EXIT_FAILED: u8 = 1;
+const EXIT_FAILED: u8 = 1;
 
 /// Exit status when the command could not do its job at all: bad
 /// arguments or settings, no traces, an address it cannot listen on or
 /// connect to (clap's usage errors exit with 2 as well).
-pub const EXIT_TROUBLE: u8 = 2;
+const EXIT_TROUBLE: u8 = 2;
 
 /// Exit statuses, for `--help`.
 pub const EXIT_HELP: &str = "Exit status: 0 success; 1 ran and found a failure (a trace differs, \

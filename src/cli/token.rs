@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use uoi::tcp::AccessToken;
 
 /// The token file's name in the data directory.
-pub const TOKEN_FILE: &str = "access-token";
+const TOKEN_FILE: &str = "access-token";
 
 /// Random bytes in a generated token (twice as many hex digits).
 const TOKEN_BYTES: usize = 16;

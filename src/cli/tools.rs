@@ -6,33 +6,23 @@ mod json;
 mod snapshot;
 mod table;
 mod text;
+mod values;
 
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand};
-use tool_store::{Record, Strictness, ToolKey, ToolStore, ToolValue};
+use tool_store::{Record, Strictness, ToolStore};
 
 use emulator::{Config, DEFAULT_CONFIG};
 
 use super::{Failure, Outcome};
+use values::{Import, ToolSet};
 
 /// Exit statuses of the `tools` commands, for `--help`.
-pub const TOOLS_EXIT_HELP: &str = "Exit status: 0 success; 1 the file to import is invalid \
+const TOOLS_EXIT_HELP: &str = "Exit status: 0 success; 1 the file to import is invalid \
 (every bad line is listed; nothing was changed); 2 could not run (bad arguments or settings, \
 a file that cannot be read or written, bad tool data in the data directory, a server holding \
 the data directory).";
-
-/// One tool value: group, entry and field, value in the bus unit.
-pub type ToolSet = (u8, ToolKey, ToolValue);
-
-/// The checked content of an import file.
-#[derive(Debug, Default)]
-pub struct Import {
-    /// The values to set, in file order.
-    values: Vec<ToolSet>,
-    /// Values (or JSON entries) of groups other than `--group`, left out.
-    other_groups: usize,
-}
 
 /// The `tools` subcommands.
 #[derive(Subcommand)]

@@ -77,6 +77,9 @@ pub struct Step {
     pub spool: Vec<SpoolExpect>,
 }
 
+/// Default `@tol`: absolute tolerance for doubles.
+pub const DEFAULT_TOL: f64 = 1e-6;
+
 /// What the header lines of a trace set, and the file it came from.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Header {
@@ -101,7 +104,7 @@ impl Header {
         Self {
             file: file.to_string(),
             name: None,
-            tol: crate::DEFAULT_TOL,
+            tol: DEFAULT_TOL,
             start: [0.0; AXES],
             cycle: CycleTime::DEFAULT,
             spool_capacity: DEFAULT_SPOOL_CAPACITY,

@@ -12,12 +12,13 @@ use nc::run::{
     run_reader, wear_axis, At, Controller, Report, RunError, WEAR_RADIUS, WEAR_RADIUS_CONT,
 };
 use nc::{check_program, Blocks, NcError};
+use tc_objects::TcObject;
 use tc_request::{AxisPos, Reply, Request, SpoolRecord, AXIS_NAMES};
 use tool_store::{ToolKey, ToolValue};
 
 use uoi::{Value, ValueType};
 
-use crate::{format_record, fresh_emulator};
+use crate::replay::{format_record, fresh_emulator};
 use emulator::Emulator;
 
 /// One request of the run, its answer and what it spooled.
@@ -123,7 +124,7 @@ pub fn run_nc(text: &str) -> NcRun {
 /// group touched is 0 again afterwards.
 fn preload(rec: &mut Recorder<'_, '_>, tools: &[(u8, ToolKey, ToolValue)]) {
     let at = At::default();
-    let wkz = |g: u8| uoi::ObjectAddress::new(tc_module::TC_BUS, 1, u16::from(g), 8);
+    let wkz = |g: u8| TcObject::WkzIndex.of(u16::from(g));
     for (group, key, value) in tools {
         rec.call(
             &Request::Write(wkz(*group), Value::I32(i32::from(key.index))),
@@ -226,8 +227,8 @@ pub fn run_checked_nc<R: BufRead>(
 }
 
 /// The header of a trace with no options: what `run_nc` runs on.
-fn default_header() -> crate::Header {
-    crate::Header::new("nc")
+fn default_header() -> crate::model::Header {
+    crate::model::Header::new("nc")
 }
 
 /// `=> ...`: the answer as a trace expectation.

@@ -10,12 +10,9 @@ use tc_module::spooler::check_capacity;
 use tc_module::{CycleTime, AXES};
 use tc_request::text::{parse_f64, parse_request, parse_words, Allow, TextResult};
 
+use super::echo::shorten;
 use super::expect::{parse_expect, parse_spool};
 use super::model::{Expect, Header, Step, Trace, TraceError};
-use super::shorten;
-
-/// Default `@tol`.
-pub const DEFAULT_TOL: f64 = 1e-6;
 
 /// Longest line read (a guard against a file without line breaks).
 pub const MAX_LINE_BYTES: usize = 1 << 20;

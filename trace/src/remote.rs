@@ -1,10 +1,12 @@
 //! A trace target on the far side of a connection: `replay --server`.
 
+use tc_objects::TcObject;
 use tc_request::{Reply, Request, SpoolRecord};
 use uoi::tcp::{BlockingClient, ClientError, ClientOptions};
-use uoi::{ObjectAddress, Value, ValueType};
+use uoi::{Value, ValueType};
 
-use crate::{replay_on, Header, Mismatch, Target, Trace};
+use crate::model::{Header, Trace};
+use crate::replay::{replay_on, Mismatch, Target};
 
 /// A trace target over the wire.
 pub struct RemoteTarget {
@@ -76,7 +78,7 @@ impl Target for RemoteTarget {
     fn axis_nr(&mut self) -> Result<[u8; 3], String> {
         let mut out = [0u8; 3];
         for (sub, o) in (0u16..).zip(out.iter_mut()) {
-            let addr = ObjectAddress::new(tc_module::TC_BUS, 0, 2, sub);
+            let addr = TcObject::AxisNr.sub(sub);
             let v = self.client.read(addr, ValueType::I32).map_err(transport)?;
             *o = match v {
                 Value::I32(i) => u8::try_from(i).unwrap_or(0),

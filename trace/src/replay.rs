@@ -10,9 +10,9 @@ use tc_request::text::write_axis_words;
 use tc_request::{Reply, Request, SpoolRecord};
 use uoi::Value;
 
+use super::echo::shorten;
 use super::model::{Expect, Header, SpoolExpect, SpoolKind, Step, Trace, TraceError};
 use super::parse::TraceReader;
-use super::shorten;
 use emulator::Emulator;
 
 /// One line whose answer differs from the trace.

@@ -19,6 +19,7 @@ use std::collections::HashMap;
 
 use otc_ext::OtcExtension;
 use tc_module::{TcExtension, WkzIndex};
+use tc_objects::{BusObject, OtcObject, TcObject};
 use tokio::sync::oneshot;
 use tool_store::{GroupTable, Record, ToolField, ToolKey, ToolValue};
 use uoi::tcp::{Slice, Wait};
@@ -225,9 +226,13 @@ impl<J: Journal> Durable<J> {
 /// whose OTC is off. Such writes then need no copy of the emulator.
 fn may_touch_tools(emu: &mut Emulator, addr: ObjectAddress, expected: &[GroupTable]) -> bool {
     let group = |i: u16| expected.get(usize::from(i).wrapping_sub(1));
-    match (addr.device, addr.sub) {
-        (1, 2) => group(addr.index).is_some_and(|t| !t.is_empty()),
-        (3, 1) => emu.read(addr, ValueType::I32) == Ok(Value::I32(1)),
+    match BusObject::at(addr) {
+        Some(BusObject::Tc(TcObject::GroupReset)) => {
+            group(addr.index).is_some_and(|t| !t.is_empty())
+        }
+        Some(BusObject::Otc(OtcObject::OtcOn)) => {
+            emu.read(addr, ValueType::I32) == Ok(Value::I32(1))
+        }
         _ => expected.iter().any(|t| !t.is_empty()),
     }
 }

@@ -2,66 +2,13 @@
 //! program pulled block by block. A loop is kept on a stack with the block
 //! it jumps back to; a condition that is false skips forward.
 
-use crate::error::Location;
-use crate::model::{Block, Item};
+use crate::model::Item;
 use crate::Var;
 
 use super::eval;
+use super::structure::{in_range, Loop, LoopKind, Next, END_FOR, END_WHILE};
 use super::window::SkipTo;
-use super::{Interpreter, RunError, RunErrorKind};
-
-/// The control statement of a block, if it holds one; it must stand alone
-/// (the parser checks that; blocks made by hand are checked here, the
-/// error at the block's second word).
-pub fn control(block: &Block) -> Result<Option<&Item>, RunError> {
-    match block.items.iter().position(Item::is_control) {
-        None => Ok(None),
-        Some(_) if block.items.len() == 1 => Ok(block.items.first()),
-        Some(_) => Err(RunError {
-            location: Some(Location {
-                line: block.line,
-                block_number: block.number,
-                column: block.column(1),
-            }),
-            kind: RunErrorKind::ControlNotAlone,
-        }),
-    }
-}
-
-const END_WHILE: RunErrorKind = RunErrorKind::Unpaired {
-    end: "$ENDWHILE",
-    start: "$WHILE",
-};
-
-const END_FOR: RunErrorKind = RunErrorKind::Unpaired {
-    end: "$ENDFOR",
-    start: "$FOR",
-};
-
-/// An open loop: where it starts, and how it goes on.
-#[derive(Debug, Clone)]
-pub(super) struct Loop {
-    /// The block of its `$FOR` or `$WHILE`.
-    start: usize,
-    kind: LoopKind,
-}
-
-#[derive(Debug, Clone)]
-enum LoopKind {
-    For { var: Var, last: f64, step: f64 },
-    While,
-}
-
-/// Where the run goes after a block.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Next {
-    /// The following block.
-    On,
-    /// Back to a held block.
-    Back(usize),
-    /// Forward past the end of a structure.
-    Skip(SkipTo),
-}
+use super::{Interpreter, RunErrorKind};
 
 impl Interpreter<'_> {
     /// Carries out the control statement of block `pc`.
@@ -160,17 +107,5 @@ impl Interpreter<'_> {
     /// Whether a loop is open (its blocks are held for jumping back).
     pub(super) fn in_loop(&self) -> bool {
         !self.loops.is_empty()
-    }
-}
-
-/// Whether a `$FOR` counter at `v` still runs towards `end` by `step`.
-fn in_range(v: f64, end: f64, step: f64) -> bool {
-    // A tolerance of a millionth of the step, so that decimal steps reach
-    // their end.
-    let slack = step.abs() * 1e-6;
-    if step > 0.0 {
-        v <= end + slack
-    } else {
-        v >= end - slack
     }
 }

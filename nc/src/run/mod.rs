@@ -17,6 +17,7 @@ mod eval;
 mod flow;
 mod objects;
 mod otc;
+mod structure;
 mod vars;
 mod window;
 
@@ -132,7 +133,7 @@ struct Interpreter<'c> {
     p: HashMap<u32, f64>,
     v: HashMap<String, f64>,
     dtable: DTable,
-    loops: Vec<flow::Loop>,
+    loops: Vec<structure::Loop>,
     otc_seen: i32,
 }
 
@@ -209,19 +210,19 @@ fn run_window<S: window::BlockSource>(
             let limit = MAX_EXECUTED_BLOCKS;
             return Err(it.error(RunErrorKind::TooManyBlocks { limit }));
         }
-        let next = match flow::control(block)? {
+        let next = match structure::control(block)? {
             Some(item) => it.flow(item, pc),
             None => match it.block(block) {
                 Ok(true) => break,
-                Ok(false) => Ok(flow::Next::On),
+                Ok(false) => Ok(structure::Next::On),
                 Err(e) => Err(e),
             },
         }
         .map_err(|e| it.error(e))?;
         pc = match next {
-            flow::Next::On => pc + 1,
-            flow::Next::Back(to) => to,
-            flow::Next::Skip(to) => window
+            structure::Next::On => pc + 1,
+            structure::Next::Back(to) => to,
+            structure::Next::Skip(to) => window
                 .skip(pc, to, it.in_loop())
                 .map_err(|e| it.located(e))?,
         };

@@ -15,8 +15,9 @@ pub mod units;
 
 use tc_module::{AxisPos, Cycle, Origin, PathPart, PlaneAxes, AXES};
 
+use crate::plc::{PlcUnit, APPLIED_UNIT_MM};
 use crate::quantity::{TenthMicrons, TiltAngle, WearRate};
-use crate::state::{OtcMode, PlcUnit, ProcType, APPLIED_UNIT_MM};
+use crate::setting::{OtcMode, ProcType};
 use direction::{length_dir, radius_weight, surface_normal, tool_dir, xyz_mask};
 
 /// What the model keeps of a group between cycles.

@@ -3,8 +3,8 @@
 //! Values are in the unit of [`PlcUnit::applied`] (0.01 µm), where
 //! targets and steps are whole numbers.
 
+use crate::plc::{PlcUnit, APPLIED_PER_PLC};
 use crate::quantity::TenthMicrons;
-use crate::state::{PlcUnit, APPLIED_PER_PLC};
 
 /// The ramp step per cycle: `1e-3 · AccWeight / 100` mm, which is
 /// AccWeight × 0.01 µm.

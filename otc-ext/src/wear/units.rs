@@ -3,7 +3,8 @@
 //! LENGTH the axis unit of the third main axis, TOOL_DIR also and
 //! SURF_NORM_DIR only the axis unit of axis 2; CONT none.
 
-use crate::state::{OtcMode, PlcUnit, ProcType};
+use crate::plc::PlcUnit;
+use crate::setting::{OtcMode, ProcType};
 
 /// The machine axis whose unit TOOL_DIR adds and SURF_NORM_DIR takes.
 pub const TOOL_DIR_AXIS: usize = 2;

@@ -14,7 +14,7 @@ use trace::{fresh_emulator, Header, Trace};
 
 mod points;
 
-use points::{arc_points, bounds, thin};
+use points::{arc_points, thin};
 
 /// Most executed positions kept (more are thinned out).
 pub const MAX_EXECUTED_POINTS: usize = 200_000;
@@ -403,4 +403,24 @@ pub fn render(paths: &Paths, title: &str) -> String {
     }
     plot.note("hover over a piece for its block; rapids dashed")
         .to_svg()
+}
+
+/// Bounds of every point: min h, min v, max h, max v.
+pub fn bounds(paths: &Paths) -> [f64; 4] {
+    let all = paths
+        .programmed
+        .iter()
+        .chain(&paths.corrected)
+        .flat_map(|p| &p.points)
+        .chain(&paths.executed);
+    let mut b = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
+    for p in all {
+        b = [
+            b[0].min(p[0]),
+            b[1].min(p[1]),
+            b[2].max(p[0]),
+            b[3].max(p[1]),
+        ];
+    }
+    b
 }

@@ -1,7 +1,5 @@
-//! The points of a plot: arcs as chords, the bounds of all paths, and
-//! points thinned to what a pixel can show.
-
-use super::Paths;
+//! The points of a plot: arcs as chords, and points thinned to what a
+//! pixel can show.
 
 /// Greatest angle of one chord when an arc is sampled (radians).
 const ARC_STEP: f64 = std::f64::consts::PI / 36.0;
@@ -28,26 +26,6 @@ pub fn arc_points(a: [f64; 2], b: [f64; 2], c: [f64; 2], ccw: bool) -> Vec<[f64;
         .collect();
     out.push(b);
     out
-}
-
-/// Bounds of every point: min h, min v, max h, max v.
-pub fn bounds(paths: &Paths) -> [f64; 4] {
-    let all = paths
-        .programmed
-        .iter()
-        .chain(&paths.corrected)
-        .flat_map(|p| &p.points)
-        .chain(&paths.executed);
-    let mut b = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
-    for p in all {
-        b = [
-            b[0].min(p[0]),
-            b[1].min(p[1]),
-            b[2].max(p[0]),
-            b[3].max(p[1]),
-        ];
-    }
-    b
 }
 
 /// Drops points closer than `eps` to the last one kept (the ends stay).

@@ -7,12 +7,12 @@ use std::collections::{BTreeMap, HashMap};
 use serde::{Deserialize, Serialize};
 use tool_store::{FileField, ToolField, ToolKey, ToolValue, GROUPS};
 
-use super::{Import, ToolSet};
+use super::values::{Import, ToolSet};
 
 /// The document: `{"entries": [...]}`.
 #[derive(Debug, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct ToolsJson {
+struct ToolsJson {
     /// The tool entries, sorted by group and index.
     pub entries: Vec<EntryJson>,
 }
@@ -20,7 +20,7 @@ pub struct ToolsJson {
 /// One tool entry; a field left out on import keeps its value.
 #[derive(Debug, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct EntryJson {
+struct EntryJson {
     /// Compensation group, 1..=32.
     pub group: u8,
     /// The entry (WKZINDEX), 0..=1023.
@@ -88,7 +88,7 @@ impl EntryJson {
 
 /// The entries holding `values`, every field of each (unset ones at their
 /// default).
-pub fn document(values: &[ToolSet]) -> ToolsJson {
+fn document(values: &[ToolSet]) -> ToolsJson {
     let mut entries: BTreeMap<(u8, u16), EntryJson> = BTreeMap::new();
     for &(group, key, value) in values {
         let entry = entries.entry((group, key.index)).or_insert_with(|| {

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use tool_store::{FileField, ToolField, ToolValue};
 
-use super::ToolSet;
+use super::values::ToolSet;
 
 /// The unit of each field on the bus, as printed under its name.
 fn unit(field: ToolField) -> &'static str {

@@ -8,7 +8,7 @@ use std::collections::HashMap;
 
 use tool_store::{FileField, Record, ToolKey};
 
-use super::{Import, ToolSet};
+use super::values::{Import, ToolSet};
 
 /// The header comment of an export file.
 const HEADER: &str = "\

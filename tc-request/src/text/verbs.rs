@@ -42,7 +42,11 @@ fn no_more(tokens: &[&str], verb: &str) -> TextResult<()> {
 /// `W 1300/1/1/8 i 5`.
 fn write(rest: &[&str]) -> TextResult<Request> {
     let [addr, ty, val] = rest else {
-        return Err("W needs an address, a type and a value: `W 1300/1/1/8 i 5`".into());
+        return Err(
+            "W needs an address, a type and a value: `W BUS/DEVICE/INDEX/SUB i 5` \
+             (`addipos objects` lists the addresses)"
+                .into(),
+        );
     };
     let addr = parse_addr(addr)?;
     let value = match parse_type(ty)? {
@@ -55,7 +59,9 @@ fn write(rest: &[&str]) -> TextResult<Request> {
 /// `R 1300/1/1/3 i`.
 fn read(rest: &[&str]) -> TextResult<Request> {
     let [addr, ty] = rest else {
-        return Err("R needs an address and a type: `R 1300/1/1/3 i`".into());
+        return Err("R needs an address and a type: `R BUS/DEVICE/INDEX/SUB i` \
+             (`addipos objects` lists the addresses)"
+            .into());
     };
     Ok(Request::Read(parse_addr(addr)?, parse_type(ty)?))
 }
