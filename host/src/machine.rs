@@ -489,7 +489,10 @@ impl Session {
     fn request(&mut self, req: &Request, what: impl FnOnce() -> String) -> Result<Reply> {
         let reply = self.link.call(req)?;
         self.requests += 1;
-        if self.recorder.is_some() || self.spool_log.is_some() {
+        if let (Request::Read(addr, ty), Some(_)) = (req, &self.recorder) {
+            self.record(|r| r.read(*addr, *ty, &reply));
+            self.recorded = true;
+        } else if self.recorder.is_some() || self.spool_log.is_some() {
             let spooled = self.link.take_spooled();
             if self.recorder.is_some() {
                 let axis_nr = self.link.axis_nr();

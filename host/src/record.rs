@@ -16,6 +16,7 @@ use std::io::{self, BufWriter, Write};
 use tc_module::{AxisPos, AXIS_NAMES};
 use tc_request::{Reply, Request, SpoolRecord};
 use trace::format_record;
+use uoi::{ObjectAddress, Value, ValueType};
 
 /// Size of the buffer between the recorder and its file.
 const BUFFER_BYTES: usize = 64 * 1024;
@@ -125,6 +126,29 @@ impl Recorder {
         self.out.write_all(l.as_bytes())
     }
 
+    /// A read with its answer: the commonest request, written without
+    /// the formatting machinery (a read spools nothing).
+    pub fn read(&mut self, addr: ObjectAddress, ty: ValueType, reply: &Reply) -> io::Result<()> {
+        let (Reply::Value(Value::I32(v)), ValueType::I32) = (reply, ty) else {
+            return self.exchange(&Request::Read(addr, ty), reply, &[], [0, 1, 2]);
+        };
+        let mut n = itoa::Buffer::new();
+        let out = &mut self.out;
+        out.write_all(b"R ")?;
+        for (i, part) in [addr.bus, addr.device, addr.index, addr.sub]
+            .into_iter()
+            .enumerate()
+        {
+            if i > 0 {
+                out.write_all(b"/")?;
+            }
+            out.write_all(n.format(part).as_bytes())?;
+        }
+        out.write_all(b" i => ")?;
+        out.write_all(n.format(*v).as_bytes())?;
+        out.write_all(b"\n")
+    }
+
     /// A request that was carried out and succeeded (the cycles a clock
     /// ran, an `EXEC` cut short): `REQ => ok`.
     pub fn ran(&mut self, req: &Request) -> io::Result<()> {
@@ -162,7 +186,7 @@ mod tests {
     }
 
     #[test]
-    fn a_header_names_only_what_is_not_the_default() {
+    fn a_header_names_only_what_is_not_the_default_and_reads_are_written_whole() {
         let buf = Shared::default();
         let header = RecordHeader {
             name: "t\nx".into(),
@@ -172,11 +196,20 @@ mod tests {
             note: "stepped".into(),
         };
         let mut r = Recorder::start(Box::new(buf.clone()), &header).unwrap();
+        let plane = ObjectAddress::new(1300, 0, 3, 0);
+        r.read(plane, ValueType::I32, &Reply::Value(Value::I32(-17)))
+            .unwrap();
+        let radius = ObjectAddress::new(1300, 1, 12, 6);
+        r.read(radius, ValueType::F64, &Reply::Value(Value::F64(2.5)))
+            .unwrap();
+        let err = Reply::Access(uoi::AccessError::WriteOnly);
+        r.read(plane, ValueType::F64, &err).unwrap();
         r.flush().unwrap();
         let text = String::from_utf8(buf.0.lock().unwrap().clone()).unwrap();
         assert_eq!(
             text,
-            "@name t x\n@start X1 Y0 Z0 A0 B0 C0 U0 V0.5\n@cycle 0.5ms\n@spool 8\n# stepped\n"
+            "@name t x\n@start X1 Y0 Z0 A0 B0 C0 U0 V0.5\n@cycle 0.5ms\n@spool 8\n# stepped\n\
+             R 1300/0/3/0 i => -17\nR 1300/1/12/6 d => 2.5\nR 1300/0/3/0 d => err WriteOnly\n"
         );
     }
 }
