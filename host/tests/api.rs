@@ -2,6 +2,9 @@
 //! (streamed, replayable, stopped by a write error), and the whole trace
 //! corpus sent through the library, recorded and replayed.
 
+// Helpers of the tests may stop loudly.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use std::collections::HashMap;
 use std::io::{self, Write};
 use std::path::Path;

@@ -1,5 +1,8 @@
 //! The committed C header is what cbindgen makes of the code now.
 
+// Helpers of the tests may stop loudly.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use std::path::Path;
 
 #[test]

@@ -4,6 +4,9 @@
 //! of 10 runs it ten times faster, `exec` waits without running ahead of
 //! the clock, and a recorded real-time session replays stepped.
 
+// Helpers of the tests may stop loudly.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use std::time::{Duration, Instant};
 
 use addipos::{EmbeddedOptions, Machine, RealTimeFactor};
