@@ -42,6 +42,17 @@ pub struct Recorder {
     out: BufWriter<Box<dyn Write + Send>>,
     /// One line, reused.
     line: String,
+    /// The `R ADDR i => ` of recently read objects, by [`prefix_slot`].
+    prefixes: Vec<(Option<ObjectAddress>, String)>,
+}
+
+/// Places of the read-prefix cache.
+const PREFIX_SLOTS: usize = 64;
+
+/// The place of `addr` in the read-prefix cache.
+fn prefix_slot(addr: ObjectAddress) -> usize {
+    let mix = usize::from(addr.device) * 7 + usize::from(addr.index) * 31 + usize::from(addr.sub);
+    mix % PREFIX_SLOTS
 }
 
 impl std::fmt::Debug for Recorder {
@@ -69,6 +80,7 @@ impl Recorder {
         let mut r = Self {
             out: BufWriter::with_capacity(BUFFER_BYTES, out),
             line: String::new(),
+            prefixes: vec![(None, String::new()); PREFIX_SLOTS],
         };
         let mut h = format!("@name {}\n", one_line(&header.name));
         if header.start.iter().any(|&v| v != 0.0) {
@@ -132,21 +144,17 @@ impl Recorder {
         let (Reply::Value(Value::I32(v)), ValueType::I32) = (reply, ty) else {
             return self.exchange(&Request::Read(addr, ty), reply, &[], [0, 1, 2]);
         };
-        let mut n = itoa::Buffer::new();
-        let out = &mut self.out;
-        out.write_all(b"R ")?;
-        for (i, part) in [addr.bus, addr.device, addr.index, addr.sub]
-            .into_iter()
-            .enumerate()
-        {
-            if i > 0 {
-                out.write_all(b"/")?;
-            }
-            out.write_all(n.format(part).as_bytes())?;
+        let slot = prefix_slot(addr);
+        let prefix = &mut self.prefixes[slot];
+        if prefix.0 != Some(addr) {
+            *prefix = (Some(addr), format!("R {addr} i => "));
         }
-        out.write_all(b" i => ")?;
-        out.write_all(n.format(*v).as_bytes())?;
-        out.write_all(b"\n")
+        let l = &mut self.line;
+        l.clear();
+        l.push_str(&prefix.1);
+        l.push_str(itoa::Buffer::new().format(*v));
+        l.push('\n');
+        self.out.write_all(l.as_bytes())
     }
 
     /// A request that was carried out and succeeded (the cycles a clock
