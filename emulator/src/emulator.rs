@@ -3,9 +3,13 @@
 
 use otc_ext::OtcExtension;
 use tc_module::{AxisPos, CycleTime, ExecLeft, Motion, TcExtension, TcModule, AXES};
+use tc_objects::TcObject;
 use tc_request::{Reply, Request, SpoolRecord};
 use uoi::wire::ProtocolError;
 use uoi::{AccessError, ObjectAddress, ObjectBus, Value, ValueType};
+
+/// Device 0 Clean, whose every successful write is counted.
+const CLEAN: ObjectAddress = TcObject::Clean.address();
 
 /// The TC module as the emulator runs it.
 pub type Tc = TcModule<OtcExtension>;
@@ -15,6 +19,8 @@ pub type Tc = TcModule<OtcExtension>;
 #[derive(Debug, Clone)]
 pub struct Emulator<E: TcExtension = OtcExtension> {
     tc: TcModule<E>,
+    /// Cleans carried out (see [`Emulator::clean_epoch`]).
+    cleans: u64,
 }
 
 impl Default for Emulator {
@@ -36,6 +42,7 @@ impl<E: TcExtension> Emulator<E> {
     pub fn with_extension(start: AxisPos, cycle: CycleTime, ext: E) -> Self {
         Self {
             tc: TcModule::new(start, cycle, ext),
+            cleans: 0,
         }
     }
 
@@ -43,6 +50,7 @@ impl<E: TcExtension> Emulator<E> {
     pub fn with_spool_capacity(self, capacity: usize) -> Self {
         Self {
             tc: self.tc.with_spool_capacity(capacity),
+            ..self
         }
     }
 
@@ -51,7 +59,10 @@ impl<E: TcExtension> Emulator<E> {
         &self.tc
     }
 
-    /// The TC module, mutable.
+    /// The TC module, mutable. A write through it bypasses
+    /// [`Emulator::write`] and is not counted by
+    /// [`clean_epoch`](Self::clean_epoch): object writes go through
+    /// [`Emulator::write`] (or [`Emulator::run`]).
     pub fn tc_mut(&mut self) -> &mut TcModule<E> {
         &mut self.tc
     }
@@ -82,9 +93,26 @@ impl<E: TcExtension> Emulator<E> {
         self.tc.read_checked(addr, ty)
     }
 
-    /// Writes an object.
+    /// Writes an object. A Clean carried out (1300/0/1/0 = 1) counts in
+    /// [`clean_epoch`](Self::clean_epoch).
     pub fn write(&mut self, addr: ObjectAddress, value: Value) -> Result<(), AccessError> {
-        self.tc.write_checked(addr, value)
+        self.tc.write_checked(addr, value)?;
+        if addr == CLEAN {
+            self.cleans = self.cleans.wrapping_add(1);
+        }
+        Ok(())
+    }
+
+    /// How many Cleans this emulator has carried out: every write path of
+    /// an object ([`Emulator::write`], [`Emulator::run`], the server's
+    /// handler and its tool persistence) counts one per Clean that
+    /// succeeded. A Clean rejects every TC object, so a host library
+    /// voids the handles issued before the count last changed
+    /// (docs/host-api.md, "Handles"). A refused Clean changes nothing and
+    /// is not counted; an emulator put back after a failed durable write
+    /// has its count put back with it.
+    pub fn clean_epoch(&self) -> u64 {
+        self.cleans
     }
 
     /// Executes a motion command.
@@ -121,5 +149,46 @@ impl<E: TcExtension> Emulator<E> {
     pub fn take_spool_log(&mut self) -> Vec<SpoolRecord> {
         let log = self.tc.spooler_mut().take_log();
         log.iter().map(|e| e.record()).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::EmulatorService;
+    use tc_request::text::parse_request;
+    use uoi::tcp::Handler;
+
+    fn run(emu: &mut Emulator, text: &str) -> Reply {
+        emu.run(&parse_request(text).expect("request"))
+    }
+
+    #[test]
+    fn every_clean_carried_out_counts_and_a_refused_one_does_not() {
+        let mut emu = Emulator::default();
+        assert_eq!(emu.clean_epoch(), 0);
+        assert_eq!(run(&mut emu, "W 1300/0/1/0 i 1"), Reply::Ok);
+        assert_eq!(emu.clean_epoch(), 1);
+        assert_eq!(emu.write(CLEAN, Value::I32(1)), Ok(()));
+        assert_eq!(emu.clean_epoch(), 2);
+        assert_eq!(
+            run(&mut emu, "W 1300/0/1/0 i 2"),
+            Reply::Access(AccessError::Range)
+        );
+        assert_eq!(
+            run(&mut emu, "W 1300/0/1/0 d 1"),
+            Reply::Access(AccessError::TypeMismatch)
+        );
+        assert_eq!(run(&mut emu, "W 1300/0/12/0 i 1"), Reply::Ok);
+        assert_eq!(run(&mut emu, "W 1300/1/1/2 i 1"), Reply::Ok);
+        assert_eq!(emu.clean_epoch(), 2);
+    }
+
+    #[test]
+    fn a_clean_over_the_wire_counts_in_the_shared_emulator() {
+        let mut service = EmulatorService::new([0.0; AXES], CycleTime::DEFAULT);
+        let clean = parse_request("W 1300/0/1/0 i 1").expect("W").to_wire();
+        assert_eq!(service.handle(clean), uoi::wire::Answer::Ok);
+        assert_eq!(service.emulator_mut().clean_epoch(), 1);
     }
 }

@@ -11,6 +11,9 @@
 //! * [`EmulatorService`]: the emulator all connections of the object
 //!   server share, as its handler, with a conformance session
 //!   ([`ConformanceSession`]) per connection that sends `SETUP`;
+//! * [`clock`]: real time, the executor's cycles advancing with the wall
+//!   clock (a [`RealTimeClock`]), and [`Emulator::clean_epoch`], the
+//!   count of Cleans a host library voids its handles by;
 //! * [`tools`]: tool data that survives (the emulator's tool entries as
 //!   the tool store's records, written durably before a write is
 //!   answered);
@@ -29,6 +32,7 @@
 //! ```
 
 mod address;
+pub mod clock;
 mod config;
 mod emulator;
 #[cfg(feature = "opcua")]
@@ -39,6 +43,7 @@ mod session;
 pub mod tools;
 
 pub use address::parse_address;
+pub use clock::{RealTimeClock, RealTimeFactor};
 pub use config::{
     Config, ConfigError, OpcuaSettings, DEFAULT_CONFIG, MAX_CONNECTIONS, MAX_EVICT_AFTER_MS,
     OPCUA_PKI_DIR,

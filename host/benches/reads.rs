@@ -1,0 +1,82 @@
+//! Object reads per second through the C ABI on an embedded emulator
+//! (goal: at least 5 M/s), beside the Rust API's, and the cost of
+//! recording them (goal: at most 1.5 times the time without). The
+//! recording goes to `/dev/null`: what is measured is the library's work
+//! (formatting, buffering, writing), not the disk's speed.
+
+// The bench calls the C ABI as a C program does: its functions are
+// `unsafe extern "C"` (they write through the pointers they are given).
+#![allow(unsafe_code)]
+#![allow(missing_docs, clippy::unwrap_used, clippy::expect_used)]
+
+use std::ffi::CString;
+use std::hint::black_box;
+use std::time::Duration;
+
+use addipos::ffi::{addipos_close, addipos_open, addipos_record, uoi_init, uoi_read_int, Addipos};
+use addipos::{Descriptor, Machine};
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+
+/// TcPlane, an i32 object (reads 17).
+const PLANE: Descriptor = Descriptor {
+    bus_number: 1300,
+    device_number: 0,
+    index: 3,
+    sub_index: 0,
+};
+
+/// Reads per iteration.
+const BATCH: u64 = 1000;
+
+/// An embedded connection through the C ABI and a handle to TcPlane,
+/// recorded into `/dev/null` when `record`.
+fn open(record: bool) -> (*mut Addipos, u32) {
+    let target = CString::new("embedded").unwrap();
+    // SAFETY: a NUL-terminated string.
+    let a = unsafe { addipos_open(target.as_ptr()) };
+    assert!(!a.is_null());
+    if record {
+        let null = CString::new("/dev/null").unwrap();
+        // SAFETY: a NUL-terminated string.
+        assert_eq!(unsafe { addipos_record(a, null.as_ptr()) }, 0);
+    }
+    let mut h = 0u32;
+    // SAFETY: a descriptor and a handle of ours.
+    assert_eq!(unsafe { uoi_init(a, &PLANE, &mut h) }, 0);
+    (a, h)
+}
+
+fn reads(a: *mut Addipos, h: u32) {
+    let mut v = 0i32;
+    for _ in 0..BATCH {
+        // SAFETY: `v` is ours and writable.
+        let rc = unsafe { uoi_read_int(a, h, &mut v) };
+        black_box((rc, v));
+    }
+}
+
+fn c_abi(c: &mut Criterion) {
+    let mut g = c.benchmark_group("reads");
+    g.throughput(Throughput::Elements(BATCH));
+    g.measurement_time(Duration::from_secs(4));
+    let (plain, hp) = open(false);
+    let (recorded, hr) = open(true);
+    let m = Machine::open("embedded").unwrap();
+    let hm = m.handle(&PLANE).unwrap();
+    // Alternated in one run: plain, recorded, Rust API.
+    g.bench_function("c_abi", |b| b.iter(|| reads(plain, hp)));
+    g.bench_function("c_abi_recorded", |b| b.iter(|| reads(recorded, hr)));
+    g.bench_function("rust_api", |b| {
+        b.iter(|| {
+            for _ in 0..BATCH {
+                black_box(m.read_int(hm).unwrap());
+            }
+        })
+    });
+    g.finish();
+    addipos_close(plain);
+    addipos_close(recorded);
+}
+
+criterion_group!(benches, c_abi);
+criterion_main!(benches);

@@ -1,0 +1,636 @@
+//! The C ABI: `libaddipos`, declared in `include/addipos.h` (generated
+//! from this file by cbindgen). A thin layer over [`Machine`]: it reads
+//! and writes through the pointers a C program hands over, turns results
+//! into codes, and catches every panic at the boundary
+//! (`ADDIPOS_E_INTERNAL`).
+//!
+//! An `addipos *` is a token of the connection registry
+//! ([`crate::registry`]), never followed as a pointer: NULL is
+//! `ADDIPOS_E_ARGUMENT`, a closed or made-up one `ADDIPOS_E_CONNECTION`.
+
+// The one module allowed `unsafe`: a C caller's pointers (target and
+// path strings, descriptors, axis arrays, out parameters) can only be
+// read and written through raw pointers, and exported symbols need
+// `#[no_mangle]`. Each unsafe block is one pointer access, with the
+// caller's promise it rests on beside it.
+#![allow(unsafe_code)]
+
+use std::cell::RefCell;
+use std::ffi::{c_char, c_int, CStr, CString};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::Path;
+use std::time::Duration;
+
+use tc_module::{ArcDir, AxisWords, AXES};
+
+use crate::error::{Error, ErrorCode, Result};
+use crate::handles::Handle;
+use crate::machine::Machine;
+use crate::objects::Descriptor;
+use crate::registry;
+
+/// One connection (opaque): what `addipos_open` returns.
+pub struct Addipos {
+    _opaque: [u8; 0],
+}
+
+/// A handle to one object of one connection; 0 is the null handle.
+pub type UoiHandle = u32;
+
+/// Success.
+pub const ADDIPOS_OK: u32 = 0;
+/// Bus, device or index does not exist (CANopen 0x06020000).
+pub const ADDIPOS_E_NO_OBJECT: u32 = 0x06020000;
+/// The index exists but the subindex does not (CANopen 0x06090011).
+pub const ADDIPOS_E_NO_SUBINDEX: u32 = 0x06090011;
+/// The object cannot be read (CANopen 0x06010001).
+pub const ADDIPOS_E_WRITE_ONLY: u32 = 0x06010001;
+/// The object cannot be written (CANopen 0x06010002).
+pub const ADDIPOS_E_READ_ONLY: u32 = 0x06010002;
+/// The value type differs from the object's: an i32 object read with
+/// `uoi_read_double`, a double written with `uoi_write_int`, ...
+/// (CANopen 0x06070010).
+pub const ADDIPOS_E_TYPE_MISMATCH: u32 = 0x06070010;
+/// A value outside the object's range, a non-finite double, a coordinate
+/// beyond ±1e9, a feed too slow (CANopen 0x06090030).
+pub const ADDIPOS_E_RANGE: u32 = 0x06090030;
+/// Refused in the current state (a faulted group, ...) (CANopen
+/// 0x08000022).
+pub const ADDIPOS_E_STATE: u32 = 0x08000022;
+/// No room: the spooler is full; run `tc_exec` and send it again
+/// (CANopen 0x05040005).
+pub const ADDIPOS_E_FULL: u32 = 0x05040005;
+/// The value could not be stored: nothing changed (CANopen 0x08000020).
+pub const ADDIPOS_E_STORAGE: u32 = 0x08000020;
+/// The handle was initialised before a Clean (1300/0/1/0 = 1), which
+/// rejects every TC object, or was released: initialise it again with
+/// `uoi_init`.
+/// (Code 0xADD00001.)
+pub const ADDIPOS_E_STALE_HANDLE: u32 = 0xADD00001;
+/// The null handle 0 was given.
+/// (Code 0xADD00002.)
+pub const ADDIPOS_E_NULL_HANDLE: u32 = 0xADD00002;
+/// A NULL pointer, an axis or mask bit out of range, a bad target or
+/// path text.
+/// (Code 0xADD00003.)
+pub const ADDIPOS_E_ARGUMENT: u32 = 0xADD00003;
+/// The connection is closed (or was never opened), lost, timed out or
+/// refused.
+/// (Code 0xADD00004.)
+pub const ADDIPOS_E_CONNECTION: u32 = 0xADD00004;
+/// The target cannot be opened by this version of the library (a
+/// running `addipos serve`: a later version).
+/// (Code 0xADD00005.)
+pub const ADDIPOS_E_NOT_SUPPORTED: u32 = 0xADD00005;
+/// `tc_exec` waited longer than the connection's timeout (30 s unless
+/// `addipos_set_timeout` says otherwise); what ran stays run.
+/// (Code 0xADD00006.)
+pub const ADDIPOS_E_TIMEOUT: u32 = 0xADD00006;
+/// The handle was not issued by this connection.
+/// (Code 0xADD00007.)
+pub const ADDIPOS_E_BAD_HANDLE: u32 = 0xADD00007;
+/// All 65535 handles of the connection are in use: release some with
+/// `uoi_clean_handle`.
+/// (Code 0xADD00008.)
+pub const ADDIPOS_E_TOO_MANY_HANDLES: u32 = 0xADD00008;
+/// A recording could not be started (the file cannot be created, or the
+/// connection has carried out requests already).
+/// (Code 0xADD00009.)
+pub const ADDIPOS_E_RECORD: u32 = 0xADD00009;
+/// The server refused a request as malformed.
+/// (Code 0xADD0000A.)
+pub const ADDIPOS_E_PROTOCOL: u32 = 0xADD0000A;
+/// A fault inside the library; the connection may be in an unknown
+/// state: close it.
+/// (Code 0xADD000FF.)
+pub const ADDIPOS_E_INTERNAL: u32 = 0xADD000FF;
+
+/// `tc_exec`: run until the spooler is empty.
+pub const ADDIPOS_EXEC_ALL: u64 = u64::MAX;
+/// Machine axes: X Y Z A B C U V, the length of every position array.
+pub const ADDIPOS_AXES: u32 = 8;
+
+/// The library's version, e.g. `"0.1.0"`.
+const VERSION: &CStr =
+    match CStr::from_bytes_with_nul(concat!(env!("CARGO_PKG_VERSION"), "\0").as_bytes()) {
+        Ok(v) => v,
+        Err(_) => c"unknown",
+    };
+
+thread_local! {
+    /// Why the last `addipos_open` of this thread returned NULL.
+    static OPEN_ERROR: RefCell<CString> = RefCell::new(CString::default());
+}
+
+/// Runs `f`, a panic turned into `ADDIPOS_E_INTERNAL`.
+fn guard(f: impl FnOnce() -> u32) -> u32 {
+    catch_unwind(AssertUnwindSafe(f)).unwrap_or(ADDIPOS_E_INTERNAL)
+}
+
+/// The code of a result.
+fn code(r: Result<()>) -> u32 {
+    match r {
+        Ok(()) => ADDIPOS_OK,
+        Err(e) => e.code().code(),
+    }
+}
+
+/// Runs `f` on the connection `a`; NULL is `ADDIPOS_E_ARGUMENT`, a token
+/// that names no open connection `ADDIPOS_E_CONNECTION`.
+fn on(a: *const Addipos, f: impl FnOnce(&Machine) -> Result<()>) -> u32 {
+    guard(|| {
+        if a.is_null() {
+            return ADDIPOS_E_ARGUMENT;
+        }
+        match registry::get(a.addr()) {
+            Some(m) => code(f(&m)),
+            None => ADDIPOS_E_CONNECTION,
+        }
+    })
+}
+
+/// A bad argument, kept as the connection's last failure.
+fn refuse(m: &Machine, message: String) -> Result<()> {
+    m.refuse(Error::argument(message))
+}
+
+/// The text of a C string, if it is UTF-8.
+fn text_of(s: *const c_char) -> Option<String> {
+    if s.is_null() {
+        return None;
+    }
+    // SAFETY: not NULL; the caller promises a NUL-terminated string that
+    // stays valid for the call.
+    let c = unsafe { CStr::from_ptr(s) };
+    c.to_str().ok().map(str::to_string)
+}
+
+/// The 8 doubles at `p`, if `p` is not NULL.
+fn axes_at(p: *const f64) -> Option<[f64; AXES]> {
+    // SAFETY: the caller promises `p` is NULL or points to 8 readable,
+    // aligned doubles; `as_ref` answers None for NULL.
+    unsafe { p.cast::<[f64; AXES]>().as_ref() }.copied()
+}
+
+/// The 3 doubles at `p`, if `p` is not NULL.
+fn ijk_at(p: *const f64) -> Option<[f64; 3]> {
+    // SAFETY: the caller promises `p` is NULL or points to 3 readable,
+    // aligned doubles.
+    unsafe { p.cast::<[f64; 3]>().as_ref() }.copied()
+}
+
+/// Writes `value` to `out`; false when `out` is NULL.
+fn put<T>(out: *mut T, value: T) -> bool {
+    // SAFETY: the caller promises `out` is NULL or points to a writable,
+    // aligned `T` (a `T[n]` for an array) that no one else uses during
+    // the call.
+    match unsafe { out.as_mut() } {
+        Some(slot) => {
+            *slot = value;
+            true
+        }
+        None => false,
+    }
+}
+
+/// Axis words from a mask and a position array (bit i: `pos[i]` given).
+fn words(call: &str, mask: u32, pos: *const f64) -> std::result::Result<AxisWords, String> {
+    if mask >> AXES != 0 {
+        return Err(format!(
+            "{call}: mask 0x{mask:x} names axes beyond 7 (bits 0..7 are X Y Z A B C U V)"
+        ));
+    }
+    let mut w: AxisWords = [None; AXES];
+    if mask == 0 {
+        return Ok(w);
+    }
+    let p = axes_at(pos).ok_or_else(|| format!("{call}: pos is NULL but mask names axes"))?;
+    for (i, slot) in w.iter_mut().enumerate() {
+        if mask & (1 << i) != 0 {
+            *slot = Some(p[i]);
+        }
+    }
+    Ok(w)
+}
+
+/// A feed: `feed <= 0` is the modal one.
+fn feed_of(feed: f64) -> Option<f64> {
+    // NaN is handed on: the emulator refuses it with Range.
+    (feed > 0.0 || feed.is_nan()).then_some(feed)
+}
+
+/// The handle `h`, or the null-handle failure.
+fn handle(m: &Machine, h: UoiHandle, call: &str) -> Result<Handle> {
+    match Handle::from_raw(h) {
+        Some(h) => Ok(h),
+        None => Err(m.refuse_with(Error::new(
+            ErrorCode::NullHandle,
+            format!("{call}: the null handle 0 (initialise the object with uoi_init first)"),
+        ))),
+    }
+}
+
+/// The library's version, `"MAJOR.MINOR.PATCH"` (static).
+#[no_mangle]
+pub extern "C" fn addipos_version() -> *const c_char {
+    VERSION.as_ptr()
+}
+
+/// Opens a connection. `target` NULL or `""`: `$ADDIPOS_TARGET` if set,
+/// else an embedded emulator with the built-in settings, stepped.
+/// `"embedded"`, `"embedded:realtime"`, `"embedded:realtime=10"`,
+/// `"embedded:config=FILE"` (options joined by commas): an emulator
+/// inside this process. `"HOST:PORT"`, `"localhost:PORT"` or a bare
+/// port: a running `addipos serve`, which this version cannot open yet
+/// (NULL, and `addipos_open_error` says so). With `$ADDIPOS_RECORD` set,
+/// the connection records its session as a trace into that file. NULL on
+/// failure: `addipos_open_error()` says why.
+///
+/// # Safety
+///
+/// `target` is NULL or a NUL-terminated string.
+#[no_mangle]
+pub unsafe extern "C" fn addipos_open(target: *const c_char) -> *mut Addipos {
+    let opened = catch_unwind(AssertUnwindSafe(|| {
+        let text = if target.is_null() {
+            String::new()
+        } else {
+            text_of(target).ok_or_else(|| Error::argument("addipos_open: target is not UTF-8"))?
+        };
+        let machine = Machine::open(&text)?;
+        registry::insert(machine)
+            .ok_or_else(|| Error::new(ErrorCode::Connection, "addipos_open: too many connections"))
+    }));
+    let result = opened.unwrap_or_else(|_| Err(Error::new(ErrorCode::Internal, "panic")));
+    let message = match &result {
+        Ok(_) => String::new(),
+        Err(e) => e.message().replace('\0', " "),
+    };
+    OPEN_ERROR.with(|o| *o.borrow_mut() = CString::new(message).unwrap_or_default());
+    match result {
+        Ok(token) => std::ptr::without_provenance_mut(token),
+        Err(_) => std::ptr::null_mut(),
+    }
+}
+
+/// Why the last `addipos_open` of this thread returned NULL (`""` after
+/// one that succeeded). Valid until this thread's next `addipos_open`.
+#[no_mangle]
+pub extern "C" fn addipos_open_error() -> *const c_char {
+    OPEN_ERROR.with(|o| o.borrow().as_ptr())
+}
+
+/// Closes a connection: a wait in progress on it ends, the recording is
+/// written out, and the connection goes once no call uses it any more.
+/// NULL and a closed connection are allowed (nothing happens).
+#[no_mangle]
+pub extern "C" fn addipos_close(a: *mut Addipos) {
+    guard(|| {
+        if let Some(m) = registry::remove(a.addr()) {
+            m.close();
+        }
+        ADDIPOS_OK
+    });
+}
+
+/// The last failure on this connection, in words (`""` if none). The
+/// text stays valid until the next failed call on the connection or its
+/// close; a program that shares the connection between threads should
+/// use `addipos_error_copy`. A NULL or closed connection gives a static
+/// text.
+#[no_mangle]
+pub extern "C" fn addipos_error_text(a: *const Addipos) -> *const c_char {
+    if a.is_null() {
+        return c"".as_ptr();
+    }
+    let text = catch_unwind(|| registry::get(a.addr()).map(|m| m.with_failure(|t| t.as_ptr())));
+    match text {
+        Ok(Some(p)) => p,
+        Ok(None) => c"not an open connection (closed, or not returned by addipos_open)".as_ptr(),
+        Err(_) => c"internal fault".as_ptr(),
+    }
+}
+
+/// Copies the last failure's text into `buf` (at most `size` bytes,
+/// NUL included, cut if longer); returns the text's full length. For a
+/// NULL or closed connection, or NULL `buf`, copies nothing and returns
+/// 0.
+///
+/// # Safety
+///
+/// `buf` is NULL or points to `size` writable bytes.
+#[no_mangle]
+pub unsafe extern "C" fn addipos_error_copy(
+    a: *const Addipos,
+    buf: *mut c_char,
+    size: usize,
+) -> usize {
+    let copied = catch_unwind(AssertUnwindSafe(|| {
+        let m = registry::get(a.addr())?;
+        let text = m.last_failure();
+        let n = text.len().min(size.checked_sub(1)?);
+        if buf.is_null() {
+            return None;
+        }
+        // SAFETY: `buf` is not NULL and holds `size` bytes (the caller's
+        // promise); `n + 1 <= size`, and `text` is our own string.
+        unsafe {
+            std::ptr::copy_nonoverlapping(text.as_ptr().cast::<c_char>(), buf, n);
+            *buf.add(n) = 0;
+        }
+        Some(text.len())
+    }));
+    copied.ok().flatten().unwrap_or(0)
+}
+
+/// Records this connection's session as a trace into the file `path`
+/// (created or emptied), before its first request; `path` NULL stops the
+/// recording and writes it out. A write error later stops the recording
+/// (the call goes on; `addipos_error_text` says why, `addipos_recording`
+/// answers 0).
+///
+/// # Safety
+///
+/// `path` is NULL or a NUL-terminated string.
+#[no_mangle]
+pub unsafe extern "C" fn addipos_record(a: *mut Addipos, path: *const c_char) -> u32 {
+    on(a, |m| {
+        if path.is_null() {
+            m.stop_recording();
+            return Ok(());
+        }
+        match text_of(path) {
+            Some(p) => m.record(Path::new(&p)),
+            None => refuse(m, "addipos_record: path is not UTF-8".into()),
+        }
+    })
+}
+
+/// 1 while the connection records its session, else 0.
+#[no_mangle]
+pub extern "C" fn addipos_recording(a: *const Addipos) -> c_int {
+    let on = catch_unwind(|| registry::get(a.addr()).is_some_and(|m| m.recording()));
+    c_int::from(on.unwrap_or(false))
+}
+
+/// How long `tc_exec` may wait, in milliseconds (default 30000).
+#[no_mangle]
+pub extern "C" fn addipos_set_timeout(a: *mut Addipos, ms: u32) -> u32 {
+    on(a, |m| {
+        m.set_timeout(Duration::from_millis(ms.into()));
+        Ok(())
+    })
+}
+
+/// Initialises a handle to the object `d` names. Refuses an object that
+/// does not exist (`ADDIPOS_E_NO_OBJECT`, `ADDIPOS_E_NO_SUBINDEX`); `*h`
+/// is then 0. The handle belongs to this connection and is void after a
+/// Clean.
+///
+/// # Safety
+///
+/// `d` is NULL or points to a readable `uoi_descriptor`; `h` is NULL or
+/// points to a writable `uoi_handle`.
+#[no_mangle]
+pub unsafe extern "C" fn uoi_init(a: *mut Addipos, d: *const Descriptor, h: *mut UoiHandle) -> u32 {
+    on(a, |m| {
+        // SAFETY: the caller promises `d` is NULL or a readable descriptor.
+        let Some(d) = (unsafe { d.as_ref() }).copied() else {
+            return refuse(m, "uoi_init: the descriptor is NULL".into());
+        };
+        if !put(h, 0) {
+            return refuse(m, "uoi_init: the handle pointer is NULL".into());
+        }
+        let handle = m.handle(&d)?;
+        put(h, handle.raw());
+        Ok(())
+    })
+}
+
+/// Releases a handle and sets `*h` to 0 (0 itself is allowed: nothing
+/// happens). The handle answers `ADDIPOS_E_STALE_HANDLE` from then on.
+///
+/// # Safety
+///
+/// `h` is NULL or points to a readable and writable `uoi_handle`.
+#[no_mangle]
+pub unsafe extern "C" fn uoi_clean_handle(a: *mut Addipos, h: *mut UoiHandle) -> u32 {
+    on(a, |m| {
+        // SAFETY: the caller promises `h` is NULL or a readable handle.
+        let Some(raw) = (unsafe { h.as_ref() }).copied() else {
+            return refuse(m, "uoi_clean_handle: the handle pointer is NULL".into());
+        };
+        if let Some(handle) = Handle::from_raw(raw) {
+            m.release(handle)?;
+        }
+        put(h, 0);
+        Ok(())
+    })
+}
+
+/// Reads an i32 object through its handle.
+///
+/// # Safety
+///
+/// `value` is NULL or points to a writable `int32_t`.
+#[no_mangle]
+pub unsafe extern "C" fn uoi_read_int(a: *mut Addipos, h: UoiHandle, value: *mut i32) -> u32 {
+    on(a, |m| {
+        if value.is_null() {
+            return refuse(m, "uoi_read_int: value is NULL".into());
+        }
+        let v = m.read_int(handle(m, h, "uoi_read_int")?)?;
+        put(value, v);
+        Ok(())
+    })
+}
+
+/// Writes an i32 object through its handle.
+#[no_mangle]
+pub extern "C" fn uoi_write_int(a: *mut Addipos, h: UoiHandle, value: i32) -> u32 {
+    on(a, |m| m.write_int(handle(m, h, "uoi_write_int")?, value))
+}
+
+/// Reads a double object through its handle (an i32 object:
+/// `ADDIPOS_E_TYPE_MISMATCH`).
+///
+/// # Safety
+///
+/// `value` is NULL or points to a writable `double`.
+#[no_mangle]
+pub unsafe extern "C" fn uoi_read_double(a: *mut Addipos, h: UoiHandle, value: *mut f64) -> u32 {
+    on(a, |m| {
+        if value.is_null() {
+            return refuse(m, "uoi_read_double: value is NULL".into());
+        }
+        let v = m.read_double(handle(m, h, "uoi_read_double")?)?;
+        put(value, v);
+        Ok(())
+    })
+}
+
+/// Writes a double object through its handle.
+#[no_mangle]
+pub extern "C" fn uoi_write_double(a: *mut Addipos, h: UoiHandle, value: f64) -> u32 {
+    on(a, |m| {
+        m.write_double(handle(m, h, "uoi_write_double")?, value)
+    })
+}
+
+/// Runs `f` with the axis words of `mask` and `pos`, or refuses them.
+fn with_words(
+    m: &Machine,
+    call: &str,
+    mask: u32,
+    pos: *const f64,
+    f: impl FnOnce(AxisWords) -> Result<()>,
+) -> Result<()> {
+    match words(call, mask, pos) {
+        Ok(w) => f(w),
+        Err(why) => refuse(m, why),
+    }
+}
+
+/// Spools a feed line to the axes of `mask` (bit i: `pos[i]` given, 0 X
+/// .. 7 V; others keep their value); `feed <= 0`: the modal feed.
+///
+/// # Safety
+///
+/// `pos` is NULL (only with `mask` 0) or points to 8 readable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn tc_lin(a: *mut Addipos, mask: u32, pos: *const f64, feed: f64) -> u32 {
+    on(a, |m| {
+        with_words(m, "tc_lin", mask, pos, |w| m.lin(w, feed_of(feed)))
+    })
+}
+
+/// Spools a rapid line to the axes of `mask`.
+///
+/// # Safety
+///
+/// `pos` is NULL (only with `mask` 0) or points to 8 readable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn tc_rap(a: *mut Addipos, mask: u32, pos: *const f64) -> u32 {
+    on(a, |m| {
+        with_words(m, "tc_rap", mask, pos, |w| m.rap(w, None))
+    })
+}
+
+/// Spools an arc in the main plane, counter-clockwise when `ccw` is not
+/// 0: end point from `mask`/`pos`, centre offsets `I J K` from the start
+/// from `ijk_mask` (bits 0..2) and `ijk`; `feed <= 0`: the modal feed.
+///
+/// # Safety
+///
+/// `pos` is NULL (only with `mask` 0) or points to 8 readable doubles;
+/// `ijk` is NULL (only with `ijk_mask` 0) or points to 3 readable
+/// doubles.
+#[no_mangle]
+pub unsafe extern "C" fn tc_cir(
+    a: *mut Addipos,
+    ccw: c_int,
+    mask: u32,
+    pos: *const f64,
+    ijk_mask: u32,
+    ijk: *const f64,
+    feed: f64,
+) -> u32 {
+    on(a, |m| {
+        if ijk_mask >> 3 != 0 {
+            return refuse(
+                m,
+                format!("tc_cir: ijk_mask 0x{ijk_mask:x} beyond bits 0..2 (I J K)"),
+            );
+        }
+        let centre = match (ijk_mask, ijk_at(ijk)) {
+            (0, _) => [None; 3],
+            (_, None) => return refuse(m, "tc_cir: ijk is NULL but ijk_mask names words".into()),
+            (bits, Some(v)) => std::array::from_fn(|k| (bits & (1 << k) != 0).then_some(v[k])),
+        };
+        let dir = if ccw != 0 { ArcDir::Ccw } else { ArcDir::Cw };
+        with_words(m, "tc_cir", mask, pos, |w| {
+            m.cir(dir, w, centre, feed_of(feed))
+        })
+    })
+}
+
+/// Direct positioning (JA) of the axes of `mask`: what waits in the
+/// spooler and the correction buffer is dropped.
+///
+/// # Safety
+///
+/// `pos` is NULL (only with `mask` 0) or points to 8 readable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn tc_ja(a: *mut Addipos, mask: u32, pos: *const f64) -> u32 {
+    on(a, |m| with_words(m, "tc_ja", mask, pos, |w| m.ja(w)))
+}
+
+/// Direct stop (JS) of the axes of `mask`.
+#[no_mangle]
+pub extern "C" fn tc_js(a: *mut Addipos, mask: u32) -> u32 {
+    on(a, |m| {
+        if mask >> AXES != 0 {
+            return refuse(m, format!("tc_js: mask 0x{mask:x} names axes beyond 7"));
+        }
+        m.js(std::array::from_fn(|i| mask & (1 << i) != 0))
+    })
+}
+
+/// Special function `function` to machine axis `axis` (0..7); 2001
+/// spools the held profile (SSF 2001).
+#[no_mangle]
+pub extern "C" fn tc_ssf(a: *mut Addipos, axis: u32, function: i32) -> u32 {
+    on(a, |m| m.ssf(axis as usize, function))
+}
+
+/// The legacy `rs()`: coordinate rotation back to angle 0, centre 0.
+#[no_mangle]
+pub extern "C" fn tc_rs(a: *mut Addipos) -> u32 {
+    on(a, |m| m.rs())
+}
+
+/// Runs the executor `cycles` interpolation cycles, `ADDIPOS_EXEC_ALL`
+/// until the spooler is empty. Stepped: runs them now. In real time:
+/// waits until the clock has run them (or the spooler is empty), never
+/// ahead of the clock. Returns at the latest after the connection's
+/// timeout with `ADDIPOS_E_TIMEOUT`; what ran stays run.
+#[no_mangle]
+pub extern "C" fn tc_exec(a: *mut Addipos, cycles: u64) -> u32 {
+    let cycles = (cycles != ADDIPOS_EXEC_ALL).then_some(cycles);
+    on(a, |m| m.exec(cycles))
+}
+
+/// The executed position of the 8 axes into `pos`.
+///
+/// # Safety
+///
+/// `pos` is NULL or points to 8 writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn tc_pos(a: *mut Addipos, pos: *mut f64) -> u32 {
+    on(a, |m| {
+        if pos.is_null() {
+            return refuse(m, "tc_pos: pos is NULL".into());
+        }
+        let p = m.position()?;
+        put(pos.cast::<[f64; AXES]>(), p);
+        Ok(())
+    })
+}
+
+/// Motion waiting into `*len`: elements in the spooler, plus plane-null
+/// profiles waiting with the held profile.
+///
+/// # Safety
+///
+/// `len` is NULL or points to a writable `uint32_t`.
+#[no_mangle]
+pub unsafe extern "C" fn tc_queue(a: *mut Addipos, len: *mut u32) -> u32 {
+    on(a, |m| {
+        if len.is_null() {
+            return refuse(m, "tc_queue: len is NULL".into());
+        }
+        let n = m.queue()?;
+        put(len, u32::try_from(n).unwrap_or(u32::MAX));
+        Ok(())
+    })
+}

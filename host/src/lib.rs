@@ -1,0 +1,47 @@
+//! # addipos — the host library of the ADDIPOS TC emulator
+//!
+//! A legacy PCAP host program initialises object descriptors (BusNumber,
+//! DeviceNumber, Index, SubIndex), gets handles, reads and writes
+//! through them, spools interpolation commands and waits for the machine
+//! to move. This crate lets such a program run on the emulator:
+//!
+//! * the Rust API: a [`Machine`] is one connection (to an emulator inside
+//!   the process, stepped or in real time); [`Handle`]s name objects and
+//!   are void after a Clean; every call answers a typed [`Error`] with its
+//!   [`ErrorCode`] (the CANopen code of an access error, or a code of the
+//!   library's own); motion calls, `exec`, `position`, `queue`; a session
+//!   recorded as a conformance trace;
+//! * the C ABI (`libaddipos`, header `include/addipos.h`), a thin layer
+//!   over it: `addipos_open`, `uoi_init`, `uoi_read_int`, `tc_lin`,
+//!   `tc_exec`, ... (docs/host-api.md).
+//!
+//! ```
+//! use addipos::{Descriptor, Machine};
+//!
+//! let m = Machine::open("embedded").unwrap();
+//! let plane = m.handle(&Descriptor { bus_number: 1300, device_number: 0, index: 3, sub_index: 0 }).unwrap();
+//! assert_eq!(m.read_int(plane).unwrap(), 17);
+//! m.lin([Some(10.0), None, None, None, None, None, None, None], Some(600.0)).unwrap();
+//! m.exec(None).unwrap();
+//! assert_eq!(m.position().unwrap()[0], 10.0);
+//! ```
+
+mod error;
+pub mod ffi;
+mod handles;
+mod link;
+mod machine;
+mod objects;
+mod record;
+mod registry;
+pub mod target;
+
+pub use error::{Error, ErrorCode, Result};
+pub use handles::{Handle, MAX_HANDLES};
+pub use machine::{Machine, DEFAULT_TIMEOUT, RECORD_ENV};
+pub use objects::{find_object, Descriptor};
+pub use target::{EmbeddedOptions, Target};
+
+pub use emulator::RealTimeFactor;
+pub use tc_request::{ArcDir, AxisPos, AxisWords, SpoolRecord, AXES, AXIS_NAMES};
+pub use uoi::{AccessError, ObjectAddress};
