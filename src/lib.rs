@@ -28,6 +28,7 @@ pub mod picture;
 pub mod reference;
 pub mod remote;
 pub mod service;
+mod serving;
 pub mod session;
 pub mod tools;
 pub mod trace;

@@ -16,7 +16,6 @@ use addipos::remote::{replay_remote, RemoteTarget};
 use addipos::trace::{parse_trace, replay};
 use nc::run::{run_program, At, Controller, Report};
 use tc_request::{Origin, Reply, Request, SpoolRecord};
-use uoi::tcp::Core;
 use uoi::{Value, ValueType};
 
 fn program_path(name: &str) -> PathBuf {
@@ -236,7 +235,7 @@ fn run_command_reports_the_otc_type_error() {
 
 #[test]
 fn every_seed_trace_replays_over_tcp() {
-    let server = common::TestServer::local(Core::Lock);
+    let server = common::TestServer::local();
     let mut target = RemoteTarget::connect(&server.addr.to_string()).expect("connect");
     for name in RUNNING {
         let run = run_nc(&program(name));

@@ -17,9 +17,10 @@ use tracing::{debug, warn};
 
 use super::access::AccessToken;
 use super::halves::{ClosableRead, ClosableWrite};
+use super::handler::{Handler, Session};
 use super::idle::{Activity, Closed};
-use super::server::{Handler, Served, Session};
 use super::shared::Shared;
+use super::slices::{to_the_end, BeforeWait, By};
 use crate::wire::{
     Answer, CodecError, Op, ProtocolError, Rejected, Reply, Request, ServerCodec, MAX_FRAME,
     PREFIX_LEN,
@@ -32,18 +33,15 @@ const WRITE_BATCH: usize = 64 * 1024;
 type Incoming = Result<(u32, Request), Rejected>;
 
 /// Where a connection's answers go.
-pub(crate) type AnswerSink = FramedWrite<ClosableWrite<OwnedWriteHalf>, ServerCodec>;
+type AnswerSink = FramedWrite<ClosableWrite<OwnedWriteHalf>, ServerCodec>;
 
-/// The shared handler's answer, unless the connection was closed
-/// meanwhile.
-async fn shared_answer<H: Handler>(
-    shared: &Shared<H>,
-    activity: &Activity,
-    req: Request,
-    sink: Option<&mut AnswerSink>,
-) -> Option<Answer> {
-    let ans = shared.handle(req, activity, sink).await;
-    activity.closed().is_none().then_some(ans)
+/// Before a request waits, the answers already queued leave.
+impl BeforeWait for AnswerSink {
+    async fn before_wait(&mut self) {
+        // A failed flush shows again at the next send, which closes the
+        // connection.
+        let _ = self.flush().await;
+    }
 }
 
 /// The answer frame for request `id` of op `op`.
@@ -140,8 +138,8 @@ impl<H: Handler> Connection<H> {
             // Room for the largest frame from the start.
             reader: FramedRead::with_capacity(r, ServerCodec, MAX_FRAME + PREFIX_LEN),
             writer,
+            session: shared.open_session(),
             shared,
-            session: H::Session::default(),
             activity,
             gate,
         }
@@ -177,41 +175,20 @@ impl<H: Handler> Connection<H> {
         }
     }
 
-    /// The answer to a request: from the connection's session, slice by
-    /// slice, or else from the shared handler. `None` when the connection
-    /// was closed (idle, evicted, stopping) before the request was done:
-    /// the rest of it is dropped.
+    /// The answer to a request: from the connection's session if it
+    /// takes it, else from the shared handler, slice by slice. The
+    /// answers already queued leave before the request waits for
+    /// something outside the handler ([`Slice::Wait`](super::Slice::Wait)):
+    /// a pipelining client is not kept waiting for them behind it. `None`
+    /// when the connection was closed (idle, evicted, stopping) before the
+    /// request was done: the rest of it is dropped.
     async fn served(&mut self, req: Request) -> Option<Answer> {
-        match self.session.handle(req) {
-            Served::Here(ans) => Some(ans),
-            Served::Shared(req) => {
-                let sink = Some(&mut self.writer);
-                shared_answer(&self.shared, &self.activity, req, sink).await
-            }
-            // Rare (a long request of a session): boxed, so that its state
-            // does not enlarge every request's future.
-            Served::More(rest) => Box::pin(self.session_rest(rest)).await,
-        }
-    }
-
-    /// The rest of a session's request, slice by slice, letting other tasks
-    /// run in between; `None` once the connection is closed.
-    async fn session_rest(&mut self, rest: Request) -> Option<Answer> {
-        let mut req = rest;
-        loop {
-            tokio::task::yield_now().await;
-            if self.activity.closed().is_some() {
-                return None;
-            }
-            match self.session.handle(req) {
-                Served::Here(ans) => return Some(ans),
-                Served::Shared(req) => {
-                    let sink = Some(&mut self.writer);
-                    return shared_answer(&self.shared, &self.activity, req, sink).await;
-                }
-                Served::More(rest) => req = rest,
-            }
-        }
+        let by = if self.session.takes(&req) {
+            By::Session(&mut self.session)
+        } else {
+            By::Shared(&self.shared)
+        };
+        to_the_end(by, req, &self.activity, &mut self.writer).await
     }
 
     /// The answer to one frame, and whether the connection goes on: from
