@@ -26,7 +26,8 @@ impl<H: Handler> Submit for (Shared<H>, Activity) {
         let (shared, activity) = self;
         Box::pin(async move {
             // Never `None`: nothing closes the activity of no connection.
-            to_the_end(By::Shared(shared), req, activity, &mut ())
+            let first = shared.serve(req);
+            to_the_end(By::Shared(shared), first, activity, &mut ())
                 .await
                 .unwrap_or(Answer::Protocol(ProtocolError::Busy))
         })

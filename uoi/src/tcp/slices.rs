@@ -72,17 +72,17 @@ impl BeforeWait for () {
     async fn before_wait(&mut self) {}
 }
 
-/// Serves `req` to its end with `by`; `caller` is told before the request
-/// waits. `None` when `activity` is closed (idle, evicted, stopping)
-/// before the request is done: the rest of it is dropped, so a closed
-/// connection never keeps the handler busy.
+/// Serves a request to its end with `by`, from what its last slice left
+/// (`slice`); `caller` is told before the request waits. `None` when
+/// `activity` is closed (idle, evicted, stopping) before the request is
+/// done: the rest of it is dropped, so a closed connection never keeps the
+/// handler busy.
 pub(crate) async fn to_the_end<H: Handler>(
     mut by: By<'_, H>,
-    req: Request,
+    mut slice: Slice,
     activity: &Activity,
     caller: &mut impl BeforeWait,
 ) -> Option<Answer> {
-    let mut slice = by.serve(req);
     loop {
         slice = match slice {
             Slice::Done(answer) => return Some(answer),
