@@ -1,7 +1,9 @@
-//! One request served to its end, slice by slice, by a connection's
-//! session or by the shared handler: the one loop every request of a
-//! connection, and of another face through a
-//! [`CoreHandle`](super::CoreHandle), goes through.
+//! A request served to its end, slice by slice, by a connection's session
+//! or by the shared handler: the one loop for whatever a request's first
+//! slice left (more slices, or a wait), for a connection's requests and for
+//! those of another face through a [`CoreHandle`](super::CoreHandle). A
+//! connection serves the first slice itself, in line: most requests take
+//! one slice and never come here.
 //!
 //! Between two slices other tasks run (and, for the shared handler, the
 //! requests waiting for its lock first), and the request stops once its
