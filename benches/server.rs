@@ -10,7 +10,12 @@
 //! the range. Inside a round the servers take turns (sequential: blocks of
 //! 1,000 round trips; pipelined: ten turns), so a change of the machine's
 //! state during the run (another job, the VM's idle polling) falls on all
-//! of them alike; the same-thread runs visit them in a rotated order.
+//! of them alike; so do the same-thread runs, all servers on the client's
+//! thread.
+//! Beside the rates, the CPU time the server's thread spent per request
+//! (from `/proc/self/task/TID/schedstat`, in nanoseconds): it shows the
+//! cost of the server's own path, and moves far less than the rates when
+//! the machine is shared.
 
 // Test and bench helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
@@ -26,7 +31,7 @@ use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
 use tokio_modbus::prelude::{ExceptionCode, Request as MbRequest, Response as MbResponse};
 use tokio_modbus::server::tcp::{accept_tcp_connection, Server as MbServer};
-use uoi::tcp::{Core, Server, ServerConfig};
+use uoi::tcp::{Server, ServerConfig};
 use uoi::wire::{encode_request, Request};
 use uoi::{ObjectAddress, ValueType};
 
@@ -84,27 +89,53 @@ impl tokio_modbus::server::Service for HoldingRegisters {
     }
 }
 
-/// Starts a server on its own one-thread runtime; returns its address.
-fn start<F, Fut>(make: F) -> SocketAddr
+/// The thread id of the calling thread.
+fn this_thread() -> u32 {
+    let link = std::fs::read_link("/proc/thread-self").expect("/proc/thread-self");
+    let tid = link.file_name().and_then(|n| n.to_str()).expect("tid");
+    tid.parse().expect("tid")
+}
+
+/// CPU time thread `tid` of this process has had so far, in ns.
+fn cpu_ns(tid: u32) -> u64 {
+    let stat =
+        std::fs::read_to_string(format!("/proc/self/task/{tid}/schedstat")).expect("schedstat");
+    let on_cpu = stat.split_whitespace().next().expect("first field");
+    on_cpu.parse().expect("ns")
+}
+
+/// A server running on its own thread: where it listens, and that
+/// thread's id.
+#[derive(Clone, Copy)]
+struct Running {
+    addr: SocketAddr,
+    tid: u32,
+}
+
+/// Starts a server on its own one-thread runtime.
+fn start<F, Fut>(make: F) -> Running
 where
     F: FnOnce(std::sync::mpsc::Sender<SocketAddr>) -> Fut + Send + 'static,
     Fut: Future<Output = ()>,
 {
     let (tx, rx) = std::sync::mpsc::channel();
+    let (tid_tx, tid_rx) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
+        tid_tx.send(this_thread()).expect("tid");
         let rt = tokio::runtime::Builder::new_current_thread()
             .enable_all()
             .build()
             .expect("runtime");
         rt.block_on(make(tx));
     });
-    rx.recv_timeout(Duration::from_secs(10)).expect("server up")
+    let addr = rx.recv_timeout(Duration::from_secs(10)).expect("server up");
+    let tid = tid_rx.recv().expect("tid");
+    Running { addr, tid }
 }
 
-async fn serve_ours(core: Core, tx: std::sync::mpsc::Sender<SocketAddr>) {
+async fn serve_ours(tx: std::sync::mpsc::Sender<SocketAddr>) {
     let cfg = ServerConfig {
         listen: "127.0.0.1:0".parse().expect("addr"),
-        core,
         // Every bench connection comes from 127.0.0.1.
         max_connections_per_peer: 256,
         ..ServerConfig::default()
@@ -132,37 +163,51 @@ async fn serve_modbus(tx: std::sync::mpsc::Sender<SocketAddr>) {
     let _ = server.serve(&on_connected, |_e| {}).await;
 }
 
-/// Sequential round trips with server and client on one thread: no
-/// cross-core wake-up, so this shows the cost of the software itself.
-/// `key`: "lock", "owner" or "modbus".
-fn sequential_same_thread(key: &str, n: usize) -> (f64, f64, f64) {
+/// Sequential round trips with the servers and the client on one thread:
+/// no cross-core wake-up, so this shows the cost of the software itself.
+/// `keys`: "ours" and/or "modbus", served side by side and taking turns
+/// as in [`sequential`]; (req/s, p50 µs, p99 µs) each.
+fn sequential_same_thread(keys: &[&str], n: usize) -> Vec<(f64, f64, f64)> {
     let rt = tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build()
         .expect("runtime");
-    let p = if key == "modbus" { modbus() } else { ours() };
     rt.block_on(async {
-        let (tx, rx) = std::sync::mpsc::channel();
-        match key {
-            "modbus" => tokio::spawn(serve_modbus(tx)),
-            "owner" => tokio::spawn(serve_ours(Core::Owner, tx)),
-            _ => tokio::spawn(serve_ours(Core::Lock, tx)),
-        };
-        let addr = loop {
-            if let Ok(a) = rx.try_recv() {
-                break a;
-            }
-            tokio::task::yield_now().await;
-        };
-        sequential(&[(&p, addr)], n).await[0]
+        let mut servers = Vec::new();
+        for key in keys {
+            let (tx, rx) = std::sync::mpsc::channel();
+            let proto = match *key {
+                "modbus" => {
+                    tokio::spawn(serve_modbus(tx));
+                    modbus()
+                }
+                _ => {
+                    tokio::spawn(serve_ours(tx));
+                    ours()
+                }
+            };
+            let addr = loop {
+                if let Ok(a) = rx.try_recv() {
+                    break a;
+                }
+                tokio::task::yield_now().await;
+            };
+            let tid = this_thread();
+            servers.push((proto, Running { addr, tid }));
+        }
+        let servers: Vec<(&Proto, Running)> = servers.iter().map(|(p, r)| (p, *r)).collect();
+        let got = sequential(&servers, n).await;
+        got.into_iter()
+            .map(|(r, p50, p99, _)| (r, p50, p99))
+            .collect()
     })
 }
 
-fn start_ours(core: Core) -> SocketAddr {
-    start(move |tx| serve_ours(core, tx))
+fn start_ours() -> Running {
+    start(serve_ours)
 }
 
-fn start_modbus() -> SocketAddr {
+fn start_modbus() -> Running {
     start(serve_modbus)
 }
 
@@ -187,17 +232,22 @@ struct SeqClient {
     ans: Vec<u8>,
     lat: Vec<Duration>,
     busy: Duration,
+    /// The server's thread, and the CPU time it had during the runs.
+    server: u32,
+    cpu_ns: u64,
 }
 
 impl SeqClient {
     /// Connects and warms up with 2,000 round trips.
-    async fn open(p: &Proto, addr: SocketAddr) -> Self {
+    async fn open(p: &Proto, to: Running) -> Self {
         let mut c = Self {
             p: p.clone(),
-            s: connect(addr).await,
+            s: connect(to.addr).await,
             ans: vec![0u8; p.answer_len],
             lat: Vec::new(),
             busy: Duration::ZERO,
+            server: to.tid,
+            cpu_ns: 0,
         };
         c.run(2_000).await;
         assert!(
@@ -208,10 +258,12 @@ impl SeqClient {
         );
         c.lat.clear();
         c.busy = Duration::ZERO;
+        c.cpu_ns = 0;
         c
     }
 
     async fn run(&mut self, n: usize) {
+        let cpu0 = cpu_ns(self.server);
         let t0 = Instant::now();
         for _ in 0..n {
             let t = Instant::now();
@@ -220,10 +272,11 @@ impl SeqClient {
             self.lat.push(t.elapsed());
         }
         self.busy += t0.elapsed();
+        self.cpu_ns += cpu_ns(self.server) - cpu0;
     }
 
-    /// (req/s, p50 µs, p99 µs).
-    fn figures(mut self) -> (f64, f64, f64) {
+    /// (req/s, p50 µs, p99 µs, server CPU ns per request).
+    fn figures(mut self) -> (f64, f64, f64, f64) {
         let n = self.lat.len();
         self.lat.sort();
         let us = |d: Duration| d.as_secs_f64() * 1e6;
@@ -231,16 +284,18 @@ impl SeqClient {
             n as f64 / self.busy.as_secs_f64(),
             us(self.lat[n / 2]),
             us(self.lat[n * 99 / 100]),
+            self.cpu_ns as f64 / n as f64,
         )
     }
 }
 
 /// `n` sequential round trips on one connection to each server, in
-/// blocks of [`SEQ_BLOCK`] taking turns: (req/s, p50 µs, p99 µs) each.
-async fn sequential(servers: &[(&Proto, SocketAddr)], n: usize) -> Vec<(f64, f64, f64)> {
+/// blocks of [`SEQ_BLOCK`] taking turns: (req/s, p50 µs, p99 µs, server
+/// CPU ns per request) each.
+async fn sequential(servers: &[(&Proto, Running)], n: usize) -> Vec<(f64, f64, f64, f64)> {
     let mut clients = Vec::new();
-    for (p, addr) in servers {
-        clients.push(SeqClient::open(p, *addr).await);
+    for (p, to) in servers {
+        clients.push(SeqClient::open(p, *to).await);
     }
     let blocks = n.div_ceil(SEQ_BLOCK);
     for b in 0..blocks {
@@ -261,14 +316,17 @@ struct PipeClient {
     streams: Vec<TcpStream>,
     requests: usize,
     busy: Duration,
+    /// The server's thread, and the CPU time it had during the runs.
+    server: u32,
+    cpu_ns: u64,
 }
 
 impl PipeClient {
-    async fn open(p: &Proto, addr: SocketAddr, conns: usize, batch: usize) -> Self {
+    async fn open(p: &Proto, to: Running, conns: usize, batch: usize) -> Self {
         let burst = p.request.repeat(batch);
         let mut streams = Vec::new();
         for _ in 0..conns {
-            streams.push(connect(addr).await);
+            streams.push(connect(to.addr).await);
         }
         Self {
             p: p.clone(),
@@ -277,11 +335,14 @@ impl PipeClient {
             streams,
             requests: 0,
             busy: Duration::ZERO,
+            server: to.tid,
+            cpu_ns: 0,
         }
     }
 
     /// `batches` batches on every connection at once.
     async fn run(&mut self, batches: usize) {
+        let cpu0 = cpu_ns(self.server);
         let t0 = Instant::now();
         let mut tasks = tokio::task::JoinSet::new();
         for mut s in self.streams.drain(..) {
@@ -300,21 +361,23 @@ impl PipeClient {
             self.streams.push(s.expect("client"));
         }
         self.busy += t0.elapsed();
+        self.cpu_ns += cpu_ns(self.server) - cpu0;
         self.requests += self.streams.len() * batches * self.batch;
     }
 }
 
 /// About `total` requests to each server over `conns` connections, in
-/// batches of `batch`, the servers taking [`PIPE_TURNS`] turns: req/s each.
+/// batches of `batch`, the servers taking [`PIPE_TURNS`] turns: req/s and
+/// server CPU ns per request, each.
 async fn pipelined(
-    servers: &[(&Proto, SocketAddr)],
+    servers: &[(&Proto, Running)],
     conns: usize,
     total: usize,
     batch: usize,
-) -> Vec<f64> {
+) -> Vec<(f64, f64)> {
     let mut clients = Vec::new();
-    for (p, addr) in servers {
-        clients.push(PipeClient::open(p, *addr, conns, batch).await);
+    for (p, to) in servers {
+        clients.push(PipeClient::open(p, *to, conns, batch).await);
     }
     let batches = (total / conns / batch).max(1);
     let per_turn = batches.div_ceil(PIPE_TURNS);
@@ -330,17 +393,22 @@ async fn pipelined(
     }
     clients
         .iter()
-        .map(|c| c.requests as f64 / c.busy.as_secs_f64())
+        .map(|c| {
+            let n = c.requests as f64;
+            (n / c.busy.as_secs_f64(), c.cpu_ns as f64 / n)
+        })
         .collect()
 }
 
 /// What to run, from the command line (after `--`): `--quick` (short
 /// runs), `--rounds N` (default 5, quick 3), `--only seq|pipe|same` (one
-/// section), `--target lock|owner|modbus` (one server; for profiling) and
-/// `--n N` (sequential round trips per round).
+/// section), `--target ours|modbus` (one server; for profiling), `--n N`
+/// (sequential round trips per round) and `--total N` (pipelined requests
+/// per connection count and round).
 struct Args {
     quick: bool,
     n: Option<usize>,
+    total: Option<usize>,
     rounds: usize,
     only: Option<String>,
     target: Option<String>,
@@ -354,14 +422,13 @@ impl Args {
                 .position(|a| a == flag)
                 .and_then(|i| argv.get(i + 1).cloned())
         };
+        let number = |flag: &str| value(flag).map(|n| n.parse().expect("a number"));
         let quick = argv.iter().any(|a| a == "--quick");
-        let rounds = value("--rounds")
-            .map(|r| r.parse().expect("--rounds N"))
-            .unwrap_or(if quick { 3 } else { 5 });
         Self {
             quick,
-            n: value("--n").map(|n| n.parse().expect("--n N")),
-            rounds,
+            n: number("--n"),
+            total: number("--total"),
+            rounds: number("--rounds").unwrap_or(if quick { 3 } else { 5 }),
             only: value("--only"),
             target: value("--target"),
         }
@@ -376,12 +443,11 @@ impl Args {
     }
 }
 
-/// One server under test: protocol, short name, where it listens.
+/// One server under test: protocol, short name, where it runs.
 struct Target {
     proto: Proto,
     key: &'static str,
-    core: &'static str,
-    addr: SocketAddr,
+    running: Running,
 }
 
 /// Samples of one figure over the rounds.
@@ -425,9 +491,17 @@ impl Samples {
     }
 }
 
-/// The figures of one target: sequential rate, p50, p99, pipelined 1/8/64.
+/// The figures of one target across threads: sequential rate, p50, p99
+/// and server CPU per request; pipelined rate at 1/8/64 connections, then
+/// server CPU per request at each.
 #[derive(Default)]
-struct Figures([Samples; 6]);
+struct Figures([Samples; 10]);
+
+/// Where the figures of one target are.
+const SEQ_RATE: usize = 0;
+const SEQ_CPU: usize = 3;
+const PIPE_RATE: usize = 4;
+const PIPE_CPU: usize = 7;
 
 const PIPE_CONNS: [usize; 3] = [1, 8, 64];
 
@@ -443,10 +517,9 @@ fn rotated(n: usize, r: usize) -> impl Iterator<Item = usize> {
     (0..n).map(move |k| (k + r) % n)
 }
 
-/// The ratio ours/theirs of the same round, over the rounds: median
-/// (min–max).
-fn ratio(ours: &Samples, theirs: &Samples) -> String {
-    let r = Samples(ours.0.iter().zip(&theirs.0).map(|(a, b)| a / b).collect());
+/// The ratio a/b of the same round, over the rounds: median (min–max).
+fn ratio(a: &Samples, b: &Samples) -> String {
+    let r = Samples(a.0.iter().zip(&b.0).map(|(a, b)| a / b).collect());
     if r.0.is_empty() {
         return "–".into();
     }
@@ -455,27 +528,21 @@ fn ratio(ours: &Samples, theirs: &Samples) -> String {
 
 /// Starts the servers `args` asks for (each on its own thread).
 fn start_targets(args: &Args) -> Vec<Target> {
-    [
-        ("lock", "lock"),
-        ("owner", "owner task"),
-        ("modbus", "reference"),
-    ]
-    .into_iter()
-    .filter(|(key, _)| args.target(key))
-    .map(|(key, core)| {
-        let (proto, addr) = match key {
-            "lock" => (ours(), start_ours(Core::Lock)),
-            "owner" => (ours(), start_ours(Core::Owner)),
-            _ => (modbus(), start_modbus()),
-        };
-        Target {
-            proto,
-            key,
-            core,
-            addr,
-        }
-    })
-    .collect()
+    ["ours", "modbus"]
+        .into_iter()
+        .filter(|key| args.target(key))
+        .map(|key| {
+            let (proto, running) = match key {
+                "ours" => (ours(), start_ours()),
+                _ => (modbus(), start_modbus()),
+            };
+            Target {
+                proto,
+                key,
+                running,
+            }
+        })
+        .collect()
 }
 
 /// The figures of every round.
@@ -487,9 +554,9 @@ struct Results {
     same_keys: Vec<&'static str>,
 }
 
-fn push3(into: &mut [Samples], got: (f64, f64, f64)) {
-    for (k, x) in [got.0, got.1, got.2].into_iter().enumerate() {
-        into[k].0.push(x);
+fn push(into: &mut [Samples], got: &[f64]) {
+    for (k, x) in got.iter().enumerate() {
+        into[k].0.push(*x);
     }
 }
 
@@ -498,8 +565,8 @@ fn run_rounds(args: &Args, targets: &[Target], seq_n: usize, total: usize) -> Re
         .enable_all()
         .build()
         .expect("runtime");
-    let servers: Vec<(&Proto, SocketAddr)> = targets.iter().map(|t| (&t.proto, t.addr)).collect();
-    let same_keys: Vec<&'static str> = ["lock", "owner", "modbus"]
+    let servers: Vec<(&Proto, Running)> = targets.iter().map(|t| (&t.proto, t.running)).collect();
+    let same_keys: Vec<&'static str> = ["ours", "modbus"]
         .into_iter()
         .filter(|k| args.target(k))
         .collect();
@@ -511,24 +578,23 @@ fn run_rounds(args: &Args, targets: &[Target], seq_n: usize, total: usize) -> Re
     for round in 0..args.rounds {
         if args.section("seq") {
             let got = client.block_on(sequential(&servers, seq_n));
-            for (i, fig) in got.into_iter().enumerate() {
-                push3(&mut res.figs[i].0[..3], fig);
+            for (i, (rate, p50, p99, cpu)) in got.into_iter().enumerate() {
+                push(&mut res.figs[i].0[SEQ_RATE..], &[rate, p50, p99, cpu]);
             }
         }
         if args.section("pipe") {
             for (c, conns) in PIPE_CONNS.into_iter().enumerate() {
                 let got = client.block_on(pipelined(&servers, conns, total, 128));
-                for (i, rate) in got.into_iter().enumerate() {
-                    res.figs[i].0[3 + c].0.push(rate);
+                for (i, (rate, cpu)) in got.into_iter().enumerate() {
+                    res.figs[i].0[PIPE_RATE + c].0.push(rate);
+                    res.figs[i].0[PIPE_CPU + c].0.push(cpu);
                 }
             }
         }
         if args.section("same") {
-            for i in rotated(res.same_keys.len(), round) {
-                push3(
-                    &mut res.same[i],
-                    sequential_same_thread(res.same_keys[i], seq_n),
-                );
+            let got = sequential_same_thread(&res.same_keys, seq_n);
+            for (i, (rate, p50, p99)) in got.into_iter().enumerate() {
+                push(&mut res.same[i], &[rate, p50, p99]);
             }
         }
         eprintln!("round {} done, load average {}", round + 1, loadavg());
@@ -537,33 +603,46 @@ fn run_rounds(args: &Args, targets: &[Target], seq_n: usize, total: usize) -> Re
 }
 
 fn print_tables(targets: &[Target], res: &Results) {
-    println!("| server | core | sequential req/s | p50 µs | p99 µs | pipelined 1 conn req/s | 8 conns | 64 conns |");
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("| server | sequential req/s | p50 µs | p99 µs | pipelined 1 conn req/s | 8 conns | 64 conns |");
+    println!("|---|---|---|---|---|---|---|");
     for (t, f) in targets.iter().zip(&res.figs) {
         let s = &f.0;
         println!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} |",
             t.proto.name,
-            t.core,
-            s[0].cell(true),
-            s[1].cell(false),
-            s[2].cell(false),
-            s[3].cell(true),
-            s[4].cell(true),
-            s[5].cell(true)
+            s[SEQ_RATE].cell(true),
+            s[SEQ_RATE + 1].cell(false),
+            s[SEQ_RATE + 2].cell(false),
+            s[PIPE_RATE].cell(true),
+            s[PIPE_RATE + 1].cell(true),
+            s[PIPE_RATE + 2].cell(true)
         );
     }
     println!();
-    println!("| server, client on the same thread | core | sequential req/s | p50 µs | p99 µs |");
+    println!("| server thread's CPU, ns per request | sequential | pipelined 1 conn | 8 conns | 64 conns |");
     println!("|---|---|---|---|---|");
+    for (t, f) in targets.iter().zip(&res.figs) {
+        let s = &f.0;
+        println!(
+            "| {} | {} | {} | {} | {} |",
+            t.proto.name,
+            s[SEQ_CPU].cell(false),
+            s[PIPE_CPU].cell(false),
+            s[PIPE_CPU + 1].cell(false),
+            s[PIPE_CPU + 2].cell(false)
+        );
+    }
+    println!();
+    println!("| server, client on the same thread | sequential req/s | p50 µs | p99 µs |");
+    println!("|---|---|---|---|");
     for (key, s) in res.same_keys.iter().zip(&res.same) {
-        let (name, core) = match *key {
-            "modbus" => ("tokio-modbus", "reference"),
-            "owner" => ("addipos UOI", "owner task"),
-            _ => ("addipos UOI", "lock"),
+        let name = if *key == "modbus" {
+            "tokio-modbus"
+        } else {
+            "addipos UOI"
         };
         println!(
-            "| {name} | {core} | {} | {} | {} |",
+            "| {name} | {} | {} | {} |",
             s[0].cell(true),
             s[1].cell(false),
             s[2].cell(false)
@@ -572,34 +651,40 @@ fn print_tables(targets: &[Target], res: &Results) {
 }
 
 /// Ours / tokio-modbus, round by round (the servers take turns inside a
-/// round, so a round's ratio compares like with like).
+/// round, so a round's ratio compares like with like); for the CPU per
+/// request, tokio-modbus / ours (above 1: ours takes less).
 fn print_ratios(targets: &[Target], res: &Results) {
-    let Some(m) = targets.iter().position(|t| t.key == "modbus") else {
+    let (Some(o), Some(m)) = (
+        targets.iter().position(|t| t.key == "ours"),
+        targets.iter().position(|t| t.key == "modbus"),
+    ) else {
         return;
     };
-    let ms = res.same_keys.iter().position(|k| *k == "modbus");
+    let same = match (
+        res.same_keys.iter().position(|k| *k == "ours"),
+        res.same_keys.iter().position(|k| *k == "modbus"),
+    ) {
+        (Some(i), Some(j)) => ratio(&res.same[i][0], &res.same[j][0]),
+        _ => "–".into(),
+    };
+    let (l, r) = (&res.figs[o].0, &res.figs[m].0);
     println!();
-    println!("| ours / tokio-modbus, per round | sequential | pipelined 1 conn | 8 conns | 64 conns | same thread |");
+    println!("| per round | sequential | pipelined 1 conn | 8 conns | 64 conns | same thread |");
     println!("|---|---|---|---|---|---|");
-    for (t, f) in targets.iter().zip(&res.figs) {
-        if t.key == "modbus" {
-            continue;
-        }
-        let (l, r) = (&f.0, &res.figs[m].0);
-        let same = match (res.same_keys.iter().position(|k| *k == t.key), ms) {
-            (Some(i), Some(j)) => ratio(&res.same[i][0], &res.same[j][0]),
-            _ => "–".into(),
-        };
-        println!(
-            "| {} | {} | {} | {} | {} | {} |",
-            t.core,
-            ratio(&l[0], &r[0]),
-            ratio(&l[3], &r[3]),
-            ratio(&l[4], &r[4]),
-            ratio(&l[5], &r[5]),
-            same
-        );
-    }
+    println!(
+        "| ours / tokio-modbus, req/s | {} | {} | {} | {} | {same} |",
+        ratio(&l[SEQ_RATE], &r[SEQ_RATE]),
+        ratio(&l[PIPE_RATE], &r[PIPE_RATE]),
+        ratio(&l[PIPE_RATE + 1], &r[PIPE_RATE + 1]),
+        ratio(&l[PIPE_RATE + 2], &r[PIPE_RATE + 2]),
+    );
+    println!(
+        "| tokio-modbus / ours, server CPU per request | {} | {} | {} | {} | – |",
+        ratio(&r[SEQ_CPU], &l[SEQ_CPU]),
+        ratio(&r[PIPE_CPU], &l[PIPE_CPU]),
+        ratio(&r[PIPE_CPU + 1], &l[PIPE_CPU + 1]),
+        ratio(&r[PIPE_CPU + 2], &l[PIPE_CPU + 2]),
+    );
 }
 
 fn main() {
@@ -610,6 +695,7 @@ fn main() {
         (50_000, 1_000_000)
     };
     let seq_n = args.n.unwrap_or(seq_n);
+    let total = args.total.unwrap_or(total);
     println!(
         "rounds: {}, sequential {} round trips, pipelined {} requests; load average at start: {}",
         args.rounds,

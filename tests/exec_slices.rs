@@ -16,7 +16,7 @@ use emulator::EmulatorService;
 use tc_module::extension::NoKey;
 use tc_module::{AxisPos, Cycle, CycleTime, Groups, TcExtension, AXES};
 use tc_request::{Reply, Request};
-use uoi::tcp::{BlockingClient, Core};
+use uoi::tcp::BlockingClient;
 use uoi::ObjectDesc;
 
 mod common;
@@ -47,9 +47,9 @@ impl TcExtension for Hook {
 }
 
 /// Starts a server of an emulator with `hook`; stopped when dropped.
-fn serve(core: Core, hook: Hook) -> TestServer {
+fn serve(hook: Hook) -> TestServer {
     let emu = Emulator::with_extension([0.0; AXES], CycleTime::DEFAULT, hook);
-    TestServer::with(loopback(core), EmulatorService::with_emulator(emu))
+    TestServer::with(loopback(), EmulatorService::with_emulator(emu))
 }
 
 fn call(client: &mut BlockingClient, req: &Request) -> Reply {
@@ -57,10 +57,11 @@ fn call(client: &mut BlockingClient, req: &Request) -> Reply {
     Reply::from_wire(req.wire_op(), &ans).expect("reply")
 }
 
-fn another_request_is_answered_during_a_huge_exec(core: Core) {
+#[test]
+fn another_request_is_answered_during_a_huge_exec() {
     let hook = Hook::default();
     let (cycles, stop) = (Arc::clone(&hook.cycles), Arc::clone(&hook.stop));
-    let server = serve(core, hook);
+    let server = serve(hook);
     let addr = server.addr;
     let exec_done = Arc::new(AtomicBool::new(false));
     let done = Arc::clone(&exec_done);
@@ -94,14 +95,4 @@ fn another_request_is_answered_during_a_huge_exec(core: Core) {
     stop.store(true, Ordering::SeqCst);
     assert_eq!(long.join().expect("exec thread"), Reply::Ok);
     assert!(exec_done.load(Ordering::SeqCst));
-}
-
-#[test]
-fn lock_core_serves_others_between_exec_slices() {
-    another_request_is_answered_during_a_huge_exec(Core::Lock);
-}
-
-#[test]
-fn owner_core_serves_others_between_exec_slices() {
-    another_request_is_answered_during_a_huge_exec(Core::Owner);
 }

@@ -16,7 +16,6 @@ use tc_request::{Origin, Reply, Request, SpoolRecord};
 use trace::nc_run::{run_nc, NcRun};
 use trace::remote::{replay_remote, RemoteTarget};
 use trace::{parse_trace, replay};
-use uoi::tcp::Core;
 use uoi::{Value, ValueType};
 
 /// Line and block number of a run error or fault.
@@ -250,7 +249,7 @@ fn run_command_reports_the_otc_type_error() {
 
 #[test]
 fn every_seed_trace_replays_over_tcp() {
-    let server = common::TestServer::local(Core::Lock);
+    let server = common::TestServer::local();
     let mut target = RemoteTarget::connect(&server.addr.to_string()).expect("connect");
     for name in RUNNING {
         let run = run_nc(&program(name));

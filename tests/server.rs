@@ -13,7 +13,7 @@ use bytes::BytesMut;
 use emulator::EmulatorService;
 use tc_request::{Reply, Request as TcRequest};
 use trace::remote::{replay_remote, RemoteTarget};
-use uoi::tcp::{BlockingClient, Client, Core, Server, ServerConfig};
+use uoi::tcp::{BlockingClient, Client, Server, ServerConfig};
 use uoi::wire::{encode_request, Answer, Op, ProtocolError, Request, PREFIX_LEN};
 use uoi::{AccessError, ObjectAddress, Value, ValueType};
 
@@ -25,8 +25,9 @@ fn corpus() -> Vec<trace::Trace> {
     trace::load_corpus(&dir).unwrap_or_else(|e| panic!("{e}"))
 }
 
-fn replay_corpus_over(core: Core) {
-    let server = TestServer::local(core);
+#[test]
+fn whole_corpus_passes_over_tcp() {
+    let server = TestServer::local();
     let mut target = RemoteTarget::connect(&server.addr.to_string()).expect("connect");
     let traces = corpus();
     assert!(traces.len() >= 40);
@@ -34,21 +35,7 @@ fn replay_corpus_over(core: Core) {
     for t in &traces {
         failed.extend(replay_remote(t, &mut target).iter().map(|m| m.to_string()));
     }
-    assert!(
-        failed.is_empty(),
-        "over TCP ({core:?}):\n{}",
-        failed.join("\n")
-    );
-}
-
-#[test]
-fn whole_corpus_passes_over_tcp_with_the_lock_core() {
-    replay_corpus_over(Core::Lock);
-}
-
-#[test]
-fn whole_corpus_passes_over_tcp_with_the_owner_core() {
-    replay_corpus_over(Core::Owner);
+    assert!(failed.is_empty(), "over TCP:\n{}", failed.join("\n"));
 }
 
 fn addr(s: &str) -> ObjectAddress {
@@ -57,7 +44,7 @@ fn addr(s: &str) -> ObjectAddress {
 
 #[test]
 fn several_clients_on_different_groups_at_once() {
-    let server = TestServer::local(Core::Lock);
+    let server = TestServer::local();
     let threads: Vec<_> = (1..=8u16)
         .map(|g| {
             let a = server.addr.to_string();
@@ -156,7 +143,7 @@ fn snapshot(c: &mut BlockingClient) -> Vec<String> {
 
 #[test]
 fn malformed_input_is_answered_or_closed_and_changes_nothing() {
-    let server = TestServer::local(Core::Lock);
+    let server = TestServer::local();
     let mut good = BlockingClient::connect(&server.addr.to_string()).expect("connect");
     good.write(addr("1300/1/1/6"), Value::F64(2.5))
         .expect("setup");
@@ -336,7 +323,7 @@ fn non_loopback_needs_allow_remote() {
 
 #[test]
 fn shutdown_closes_connections_and_returns() {
-    let server = TestServer::local(Core::Lock);
+    let server = TestServer::local();
     let mut s = raw(&server);
     s.write_all(&frame(1, &TcRequest::Queue.to_wire()))
         .expect("write");

@@ -10,15 +10,15 @@ use std::path::Path;
 
 use tc_request::text::parse_request;
 use tc_request::{Reply, Request};
-use uoi::tcp::{BlockingClient, Client, Core};
+use uoi::tcp::{BlockingClient, Client};
 use uoi::{AccessError, Value};
 
 mod common;
 use common::{bin, ServeProcess, TestServer};
 
-/// A server of a fresh emulator with `core`; stopped when dropped.
-fn serve(core: Core) -> (SocketAddr, TestServer) {
-    let s = TestServer::local(core);
+/// A server of a fresh emulator; stopped when dropped.
+fn serve() -> (SocketAddr, TestServer) {
+    let s = TestServer::local();
     (s.addr, s)
 }
 
@@ -50,8 +50,9 @@ fn spool_log(c: &mut BlockingClient, logging: bool) -> Reply {
 
 const RADIUS: &str = "R 1300/1/1/6 d";
 
-fn private_session_and_its_end(core: Core) {
-    let (addr, _stop) = serve(core);
+#[test]
+fn a_session_is_private_and_ends_with_its_connection() {
+    let (addr, _stop) = serve();
     let a = addr.to_string();
     let mut shared = BlockingClient::connect(&a).expect("connect");
     assert_eq!(call(&mut shared, "W 1300/1/1/6 d 7.25"), Reply::Ok);
@@ -81,18 +82,8 @@ fn private_session_and_its_end(core: Core) {
 }
 
 #[test]
-fn a_session_is_private_and_ends_with_its_connection_lock_core() {
-    private_session_and_its_end(Core::Lock);
-}
-
-#[test]
-fn a_session_is_private_and_ends_with_its_connection_owner_core() {
-    private_session_and_its_end(Core::Owner);
-}
-
-#[test]
 fn a_refused_setup_leaves_the_connection_where_it_was() {
-    let (addr, _stop) = serve(Core::Lock);
+    let (addr, _stop) = serve();
     let mut c = BlockingClient::connect(&addr.to_string()).expect("connect");
     assert_eq!(call(&mut c, "W 1300/1/1/6 d 2"), Reply::Ok);
     let bad = Request::Setup {
@@ -107,13 +98,11 @@ fn a_refused_setup_leaves_the_connection_where_it_was() {
 
 #[test]
 fn the_shared_emulator_cannot_be_logged() {
-    for core in [Core::Lock, Core::Owner] {
-        let (addr, _stop) = serve(core);
-        let mut c = BlockingClient::connect(&addr.to_string()).expect("connect");
-        assert_eq!(spool_log(&mut c, true), Reply::Access(AccessError::State));
-        assert_eq!(call(&mut c, "LIN X1"), Reply::Ok);
-        assert_eq!(spool_log(&mut c, false), Reply::Access(AccessError::State));
-    }
+    let (addr, _stop) = serve();
+    let mut c = BlockingClient::connect(&addr.to_string()).expect("connect");
+    assert_eq!(spool_log(&mut c, true), Reply::Access(AccessError::State));
+    assert_eq!(call(&mut c, "LIN X1"), Reply::Ok);
+    assert_eq!(spool_log(&mut c, false), Reply::Access(AccessError::State));
 }
 
 /// Spools `n` lines on a connection in pipelined batches.
@@ -160,7 +149,7 @@ fn short(r: &Reply) -> String {
 
 #[test]
 fn a_full_session_log_is_reported_until_the_next_setup() {
-    let (addr, _stop) = serve(Core::Lock);
+    let (addr, _stop) = serve();
     let cap = emulator::LOG_CAPACITY;
     let replies = spool_lines(addr, true, cap + 1);
     let n = replies.len();

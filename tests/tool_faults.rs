@@ -23,7 +23,7 @@ use tool_store::{
     FaultKind, FaultyStorage, MemStorage, Op, Record, Storage, Strictness, ToolField, ToolKey,
     ToolStore, ToolValue,
 };
-use uoi::tcp::{BlockingClient, Core};
+use uoi::tcp::BlockingClient;
 use uoi::wire::{Answer, Request};
 use uoi::{AccessError, ObjectAddress, Value, ValueType};
 
@@ -64,23 +64,19 @@ impl Storage for Disk {
 
 /// A server of a fresh emulator whose tool data goes to `disk` through
 /// `faults` (a `FaultyStorage` around the disk).
-fn serve(core: Core, faults: impl FnOnce(FaultyStorage<Disk>) -> FaultyStorage<Disk>) -> Rig {
-    serve_on(Disk::default(), core, faults)
+fn serve(faults: impl FnOnce(FaultyStorage<Disk>) -> FaultyStorage<Disk>) -> Rig {
+    serve_on(Disk::default(), faults)
 }
 
 /// As [`serve`], on `disk`.
-fn serve_on(
-    disk: Disk,
-    core: Core,
-    faults: impl FnOnce(FaultyStorage<Disk>) -> FaultyStorage<Disk>,
-) -> Rig {
+fn serve_on(disk: Disk, faults: impl FnOnce(FaultyStorage<Disk>) -> FaultyStorage<Disk>) -> Rig {
     let storage = faults(FaultyStorage::new(disk.clone()));
     let (store, _) = ToolStore::open(storage, Strictness::Strict).expect("open");
     let mut service = EmulatorService::new([0.0; 8], CycleTime::DEFAULT);
     service.set_tools(Box::new(Durable::new(
         Writer::start(store).expect("writer"),
     )));
-    let server = TestServer::with(loopback(core), service);
+    let server = TestServer::with(loopback(), service);
     let client = BlockingClient::connect(&server.addr.to_string()).expect("connect");
     Rig {
         server: Some(server),
@@ -162,7 +158,7 @@ fn never_journalled(disk: &MemStorage, g: u8, index: u16, field: ToolField, v: f
 /// value stays, the next write works; after a crash and after a clean
 /// stop the store holds exactly the acknowledged writes.
 fn refused_write_changes_nothing(op: Op, kind: FaultKind) {
-    let mut rig = serve(Core::Lock, |s| s.fail_at(op, 2, kind));
+    let mut rig = serve(|s| s.fail_at(op, 2, kind));
     assert_eq!(rig.set(1, 5, RADIUS, 1.5), Answer::Ok);
     assert_eq!(
         rig.set(1, 5, RADIUS, 2.5),
@@ -224,7 +220,7 @@ fn group_1_kept(rig: &mut Rig) {
 #[test]
 fn a_reset_or_clean_the_disk_refuses_keeps_the_tools() {
     // Appends 1..=3: the tools; 4: the RESET; 5: the Clean.
-    let mut rig = serve(Core::Lock, |s| {
+    let mut rig = serve(|s| {
         s.fail_at(Op::Append, 4, FaultKind::Fail)
             .fail_at(Op::Sync, 4, FaultKind::Fail)
     });
@@ -257,10 +253,11 @@ fn a_reset_or_clean_the_disk_refuses_keeps_the_tools() {
 /// order, so the value in memory is the one a restart loads. The disk's
 /// flush takes a while, so the writes of both connections share batches
 /// and their answers race.
-fn same_field_from_two_connections(core: Core) {
+#[test]
+fn memory_and_journal_agree_on_concurrent_writes_of_one_field() {
     const ROUNDS: u32 = 150;
     let disk = Disk(Arc::default(), Duration::from_micros(200));
-    let mut rig = serve_on(disk, core, |s| s);
+    let mut rig = serve_on(disk, |s| s);
     let addr = rig.server.as_ref().unwrap().addr.to_string();
     assert_eq!(rig.write(tc(1, 3, 8), Value::I32(9)), Answer::Ok);
     let step = Arc::new(Barrier::new(3));
@@ -289,32 +286,22 @@ fn same_field_from_two_connections(core: Core) {
         step.wait();
         let memory = rig.get(3, 9, RADIUS);
         let on_disk = stored(&reopen(rig.disk.snapshot()), 3, 9, ToolField::Radius);
-        assert_eq!(memory, on_disk, "{core:?} round {round}");
+        assert_eq!(memory, on_disk, "round {round}");
     }
     for w in writers {
         w.join().expect("writer");
     }
     let memory = rig.get(3, 9, RADIUS);
     let stopped = reopen(rig.stop());
-    assert_eq!(
-        stored(&stopped, 3, 9, ToolField::Radius),
-        memory,
-        "{core:?}"
-    );
+    assert_eq!(stored(&stopped, 3, 9, ToolField::Radius), memory);
     assert!(stopped.storage().journal().is_empty(), "compacted at stop");
-}
-
-#[test]
-fn memory_and_journal_agree_on_concurrent_writes_of_one_field() {
-    same_field_from_two_connections(Core::Lock);
-    same_field_from_two_connections(Core::Owner);
 }
 
 #[test]
 fn writes_work_again_once_a_journal_that_could_not_be_repaired_is_compacted() {
     // Append 2 leaves half a record and cutting it off fails too: the
     // journal ends in a torn record the store cannot remove.
-    let mut rig = serve(Core::Lock, |s| {
+    let mut rig = serve(|s| {
         s.fail_at(Op::Append, 2, FaultKind::Short(12))
             .fail_at(Op::Truncate, 1, FaultKind::Fail)
     });
@@ -343,7 +330,7 @@ fn writes_work_again_once_a_journal_that_could_not_be_repaired_is_compacted() {
 #[test]
 fn a_refused_reset_or_otc_off_changes_nothing_at_all() {
     // Appends: 1 RADIUS, 2 typ, 3 wear constant; 4 the RESET; 5 OTC OFF.
-    let mut rig = serve(Core::Lock, |s| {
+    let mut rig = serve(|s| {
         s.fail_at(Op::Append, 4, FaultKind::Fail)
             .fail_at(Op::Append, 5, FaultKind::Fail)
     });

@@ -10,7 +10,7 @@ use serde::Deserialize;
 use tc_module::limits::{check_point, MAX_COORD};
 use tc_module::spooler::{check_capacity, DEFAULT_SPOOL_CAPACITY};
 use tc_module::{CycleTime, AXES};
-use uoi::tcp::{AccessPolicy, Core, ServerConfig};
+use uoi::tcp::{AccessPolicy, ServerConfig};
 
 use crate::address::parse_address;
 
@@ -59,8 +59,6 @@ pub struct Config {
     /// Seconds the answers waiting for a client that does not read them
     /// may take to leave before the connection is closed.
     pub write_timeout_s: u64,
-    /// `lock` or `owner`.
-    pub core: String,
     /// Interpolation cycle in ms.
     pub cycle_ms: f64,
     /// Elements the spooler holds.
@@ -110,7 +108,6 @@ impl Default for Config {
             evict_after_ms: 1000,
             idle_timeout_s: 300,
             write_timeout_s: 30,
-            core: "lock".into(),
             cycle_ms: 1.0,
             spool_capacity: DEFAULT_SPOOL_CAPACITY as u64,
             start: [0.0; AXES],
@@ -142,15 +139,6 @@ impl Config {
     pub fn server(&self) -> Result<ServerConfig, ConfigError> {
         let listen = parse_address(&self.listen)
             .map_err(|e| ConfigError(format!("listen = \"{}\": {e}", self.listen)))?;
-        let core = match self.core.as_str() {
-            "lock" => Core::Lock,
-            "owner" => Core::Owner,
-            other => {
-                return Err(ConfigError(format!(
-                    "core = \"{other}\": use \"lock\" or \"owner\""
-                )))
-            }
-        };
         if !(1..=MAX_CONNECTIONS).contains(&self.max_connections) {
             return Err(ConfigError(format!(
                 "max_connections = {} must lie in 1..={MAX_CONNECTIONS}",
@@ -189,7 +177,7 @@ impl Config {
                 token: None,
                 on_loopback: self.token_on_loopback,
             },
-            core,
+            ..ServerConfig::default()
         })
     }
 
@@ -269,8 +257,6 @@ mod tests {
             .unwrap_err()
             .0
             .contains("listn"));
-        let c = Config::parse("core = \"fast\"").unwrap();
-        assert!(c.server().unwrap_err().0.contains("core"));
         let c = Config::parse("listen = \"nowhere\"").unwrap();
         assert!(c.server().unwrap_err().0.contains("nowhere"));
         for bad in ["0", "1e-320", "0.0001", "1000.5", "nan", "inf"] {

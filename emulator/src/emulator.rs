@@ -157,7 +157,7 @@ mod tests {
     use super::*;
     use crate::EmulatorService;
     use tc_request::text::parse_request;
-    use uoi::tcp::Handler;
+    use uoi::tcp::{Handler, Slice};
 
     fn run(emu: &mut Emulator, text: &str) -> Reply {
         emu.run(&parse_request(text).expect("request"))
@@ -188,7 +188,10 @@ mod tests {
     fn a_clean_over_the_wire_counts_in_the_shared_emulator() {
         let mut service = EmulatorService::new([0.0; AXES], CycleTime::DEFAULT);
         let clean = parse_request("W 1300/0/1/0 i 1").expect("W").to_wire();
-        assert_eq!(service.handle(clean), uoi::wire::Answer::Ok);
+        assert!(matches!(
+            service.serve(clean),
+            Slice::Done(uoi::wire::Answer::Ok)
+        ));
         assert_eq!(service.emulator_mut().clean_epoch(), 1);
     }
 }

@@ -39,6 +39,7 @@ mod emulator;
 pub mod opcua;
 mod reference;
 mod service;
+mod serving;
 mod session;
 pub mod tools;
 

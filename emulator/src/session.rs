@@ -2,53 +2,57 @@
 //! emulator of its own, fresh at the given start and cycle. Every later
 //! request of that connection goes to it, no other connection sees it, and
 //! it ends with the connection. Only a session keeps a spool log, and the
-//! log is bounded.
+//! log is bounded. The service that opens the sessions counts them
+//! ([`SessionPlaces`]).
 
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
 
 use tc_module::limits::check_point;
 use tc_module::spooler::{DEFAULT_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY};
 use tc_module::{AxisPos, CycleTime};
 use tc_request::wire::{TcOp, SPOOL_BATCH};
 use tc_request::{Reply, Request, SpoolRecord};
-use uoi::tcp::{Served, Session, Slice};
+use uoi::tcp::{Session, Slice};
 use uoi::wire::{Answer, Op, ProtocolError, Request as WireRequest};
 use uoi::AccessError;
 
-use crate::service::{serve_slice, Control};
+use crate::serving::{serve_slice, Control};
 use crate::Emulator;
 
-/// Most conformance sessions open at once in one server process: each
-/// may hold a spooler of up to [`MAX_SESSION_SPOOL`] elements, so this
-/// bounds what sessions can take of memory (16 × 25 MB).
+/// Most conformance sessions open at once in one server: each may hold a
+/// spooler of up to [`MAX_SESSION_SPOOL`] elements, so this bounds what
+/// sessions can take of memory (16 × 25 MB).
 pub const MAX_SESSIONS: usize = 16;
 
 /// Largest spooler a session may ask for (the server's default capacity).
 pub const MAX_SESSION_SPOOL: usize = DEFAULT_SPOOL_CAPACITY;
 
-/// Sessions open now, in this process.
-static OPEN_SESSIONS: AtomicUsize = AtomicUsize::new(0);
+/// The places of the sessions of one service: at most [`MAX_SESSIONS`]
+/// have an emulator at once (cloned into each session it opens).
+#[derive(Debug, Clone, Default)]
+pub struct SessionPlaces(Arc<AtomicUsize>);
 
-/// One of the [`MAX_SESSIONS`] places; given back when dropped.
-#[derive(Debug)]
-struct SessionPlace;
-
-impl SessionPlace {
+impl SessionPlaces {
     /// A place, or `None` when all are taken.
-    fn take() -> Option<Self> {
-        OPEN_SESSIONS
+    fn take(&self) -> Option<SessionPlace> {
+        self.0
             .fetch_update(Ordering::AcqRel, Ordering::Acquire, |n| {
                 (n < MAX_SESSIONS).then_some(n + 1)
             })
             .ok()
-            .map(|_| SessionPlace)
+            .map(|_| SessionPlace(Arc::clone(&self.0)))
     }
 }
 
+/// One of the [`MAX_SESSIONS`] places; given back when dropped.
+#[derive(Debug)]
+struct SessionPlace(Arc<AtomicUsize>);
+
 impl Drop for SessionPlace {
     fn drop(&mut self) {
-        OPEN_SESSIONS.fetch_sub(1, Ordering::AcqRel);
+        self.0.fetch_sub(1, Ordering::AcqRel);
     }
 }
 
@@ -56,28 +60,47 @@ impl Drop for SessionPlace {
 /// (ten `SPOOL_LOG` answers).
 pub const LOG_CAPACITY: usize = 10 * SPOOL_BATCH;
 
-/// A connection's conformance session, once it has sent `SETUP`.
-#[derive(Debug, Default)]
+/// A connection's session: a conformance session once it has sent
+/// `SETUP`, until then nothing of its own.
+#[derive(Debug)]
 pub struct ConformanceSession {
     own: Option<Box<Conformance>>,
+    /// Where its place comes from when it sends `SETUP`.
+    places: SessionPlaces,
+}
+
+/// Whether `req` is a `SETUP`.
+fn is_setup(req: &WireRequest) -> bool {
+    req.op() == Op::Ext(TcOp::Setup.code())
 }
 
 impl Session for ConformanceSession {
-    /// `SETUP` always; everything else once there is a session, one slice
-    /// at a time (a long `EXEC` comes back as [`Served::More`], so the
-    /// connection lets others run and stops it if it is closed).
-    fn handle(&mut self, req: WireRequest) -> Served {
-        if req.op() == Op::Ext(TcOp::Setup.code()) {
-            return Served::Here(self.setup(&req));
+    /// `SETUP` always; everything else once there is a session.
+    fn takes(&self, req: &WireRequest) -> bool {
+        self.own.is_some() || is_setup(req)
+    }
+
+    /// One slice at a time (a long `EXEC` comes back as [`Slice::More`],
+    /// so the connection lets others run and stops it if it is closed).
+    fn serve(&mut self, req: WireRequest) -> Slice {
+        if is_setup(&req) {
+            return Slice::Done(self.setup(&req));
         }
         match self.own.as_deref_mut() {
-            Some(own) => own.handle_slice(req),
-            None => Served::Shared(req),
+            Some(own) => own.serve(req),
+            // Not taken: `takes` says no without an emulator.
+            None => Slice::Done(Answer::Access(AccessError::State)),
         }
     }
 }
 
 impl ConformanceSession {
+    /// A session with nothing of its own yet, taking its place from
+    /// `places` on `SETUP`.
+    pub fn new(places: SessionPlaces) -> Self {
+        Self { own: None, places }
+    }
+
     /// `SETUP`: a fresh emulator for this connection, in place of any it
     /// had. Refused (`BadPayload`, `Range`, `Full` when [`MAX_SESSIONS`]
     /// are open), it changes nothing.
@@ -97,7 +120,7 @@ impl ConformanceSession {
         };
         let place = match self.own.take() {
             Some(own) => own.place,
-            None => match SessionPlace::take() {
+            None => match self.places.take() {
                 Some(p) => p,
                 None => return Answer::Access(AccessError::Full),
             },
@@ -141,20 +164,17 @@ struct Conformance {
 
 impl Conformance {
     /// Serves one slice of a request on the private emulator.
-    fn handle_slice(&mut self, req: WireRequest) -> Served {
-        let served = match serve_slice(&mut self.emu, req) {
-            Ok(Slice::Done(ans)) => Served::Here(ans),
-            Ok(Slice::More(rest)) => Served::More(rest),
-            // `serve_slice` never waits: only the shared service persists.
-            Ok(Slice::Wait(_)) => Served::Here(Answer::Protocol(ProtocolError::Busy)),
+    fn serve(&mut self, req: WireRequest) -> Slice {
+        let slice = match serve_slice(&mut self.emu, req) {
+            Ok(slice) => slice,
             Err(Control::SpoolLog(logging)) => {
-                Served::Here(self.log.fetch(&mut self.emu, logging).to_wire())
+                Slice::Done(self.log.fetch(&mut self.emu, logging).to_wire())
             }
             // The session takes SETUP before its emulator sees it.
-            Err(Control::Setup) => Served::Here(Answer::Access(AccessError::State)),
+            Err(Control::Setup) => Slice::Done(Answer::Access(AccessError::State)),
         };
         self.log.collect(&mut self.emu);
-        served
+        slice
     }
 }
 
@@ -198,5 +218,45 @@ impl SpoolLog {
         let n = self.pending.len().min(SPOOL_BATCH);
         let batch: Vec<SpoolRecord> = self.pending.drain(..n).collect();
         Reply::Spool(batch, !self.pending.is_empty())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tc_module::CycleTime;
+
+    fn setup() -> WireRequest {
+        Request::Setup {
+            start: [0.0; 8],
+            cycle_s: CycleTime::DEFAULT.secs(),
+            spool_capacity: 0,
+        }
+        .to_wire()
+    }
+
+    /// `SETUP` on a fresh session of `places`: its answer, and the session.
+    fn open(places: &SessionPlaces) -> (Answer, ConformanceSession) {
+        let mut s = ConformanceSession::new(places.clone());
+        assert!(s.takes(&setup()));
+        let answer = s.serve(setup()).finish(|_| unreachable!("one slice"));
+        (answer, s)
+    }
+
+    #[test]
+    fn each_service_counts_its_own_sessions() {
+        let mine = SessionPlaces::default();
+        let held: Vec<_> = (0..MAX_SESSIONS).map(|_| open(&mine)).collect();
+        assert!(held.iter().all(|(a, _)| *a == Answer::Ok));
+        assert_eq!(open(&mine).0, Answer::Access(AccessError::Full));
+        // Another service's sessions are not counted against these.
+        assert_eq!(open(&SessionPlaces::default()).0, Answer::Ok);
+        // A session that ends gives its place back; one without an
+        // emulator never took one.
+        let read = WireRequest::Read(uoi::ObjectAddress::new(1300, 0, 3, 0), uoi::ValueType::I32);
+        let without = ConformanceSession::new(mine.clone());
+        assert!(!without.takes(&read));
+        drop(held);
+        assert_eq!(open(&mine).0, Answer::Ok);
     }
 }

@@ -6,7 +6,7 @@ use tc_module::{CycleTime, AXES};
 use tc_request::wire::SPOOL_BATCH;
 use tc_request::{Reply, Request, SpoolRecord};
 use tokio_util::codec::{Decoder, Encoder};
-use uoi::tcp::{Handler, Served, Session};
+use uoi::tcp::{Handler, Session};
 use uoi::wire::{Answer, ClientCodec, Op, Rejected, Request as WireRequest, ServerCodec};
 
 use emulator::ConformanceSession;
@@ -30,9 +30,10 @@ pub struct Connection {
 
 impl Default for Connection {
     fn default() -> Self {
+        let mut shared = EmulatorService::new([0.0; AXES], CycleTime::DEFAULT);
         Self {
-            shared: EmulatorService::new([0.0; AXES], CycleTime::DEFAULT),
-            session: ConformanceSession::default(),
+            session: shared.open_session(),
+            shared,
             cycles_left: EXEC_BUDGET,
             frames: 0,
         }
@@ -59,13 +60,13 @@ impl Connection {
     /// The answer of the session, else of the shared emulator, to `req`
     /// within the harness's bounds.
     fn answer(&mut self, req: WireRequest) -> Answer {
-        let mut req = self.bounded(req);
-        loop {
-            match self.session.handle(req) {
-                Served::Here(ans) => return ans,
-                Served::Shared(req) => return self.shared.handle(req),
-                Served::More(rest) => req = rest,
-            }
+        let req = self.bounded(req);
+        if self.session.takes(&req) {
+            let session = &mut self.session;
+            session.serve(req).finish(|rest| session.serve(rest))
+        } else {
+            let shared = &mut self.shared;
+            shared.serve(req).finish(|rest| shared.serve(rest))
         }
     }
 

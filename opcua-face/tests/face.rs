@@ -20,7 +20,7 @@ use opcua_face::{answer_value, Device, Face, FaceConfig, IndexKind, Reading, Row
 use tokio::task::JoinHandle;
 use tokio_util::sync::CancellationToken;
 use ua::{until, Login, Ua};
-use uoi::tcp::{AccessToken, Client, CoreHandle, Handler, Server, ServerConfig};
+use uoi::tcp::{AccessToken, Client, CoreHandle, Handler, Server, ServerConfig, Slice};
 use uoi::wire::{Answer, Request};
 use uoi::{
     Access, AccessError, Bus, Meaning, ObjectAddress, ObjectDesc, ObjectServer, Value, ValueRange,
@@ -152,8 +152,9 @@ struct Objects(ObjectServer);
 
 impl Handler for Objects {
     type Session = ();
-    fn handle(&mut self, req: Request) -> Answer {
-        match req {
+    fn open_session(&mut self) {}
+    fn serve(&mut self, req: Request) -> Slice {
+        Slice::Done(match req {
             Request::Read(a, ty) => self
                 .0
                 .read(a, ty)
@@ -163,7 +164,7 @@ impl Handler for Objects {
                 .write(a, v)
                 .map_or_else(Answer::Access, |()| Answer::Ok),
             _ => Answer::Access(AccessError::NoObject),
-        }
+        })
     }
 }
 

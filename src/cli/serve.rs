@@ -9,7 +9,7 @@ use emulator::tools::open::open_tools;
 use emulator::{parse_address, Config, ConfigError, EmulatorService, DEFAULT_CONFIG};
 use opcua_face::{Face, FaceConfig};
 use tokio_util::sync::CancellationToken;
-use uoi::tcp::{AccessToken, Server};
+use uoi::tcp::{AccessToken, Refused, Server};
 
 use super::token;
 use super::{Failure, Outcome};
@@ -156,12 +156,19 @@ fn server_token(data_dir: &Path) -> std::io::Result<AccessToken> {
 /// Why the server could not listen on `addr`, and what to do about it.
 fn listen_error(addr: SocketAddr, e: &std::io::Error) -> String {
     const HINT: &str = "choose another with --listen ADDR or `listen` in the settings file";
+    // The server's own refusal of a non-loopback address, with the option
+    // that allows it.
+    match e.get_ref().and_then(|r| r.downcast_ref::<Refused>()) {
+        Some(Refused::NotAllowed(a)) => {
+            return format!("{a} is not a loopback address: listening there needs --allow-remote")
+        }
+        Some(refused) => return refused.to_string(),
+        None => {}
+    }
     match e.kind() {
         std::io::ErrorKind::AddrInUse => {
             format!("cannot listen on {addr}: address already in use ({HINT})")
         }
-        // The server's own refusal (a non-loopback address) says what to do.
-        _ if e.raw_os_error().is_none() => e.to_string(),
         _ => format!("cannot listen on {addr}: {e} ({HINT})"),
     }
 }

@@ -13,7 +13,7 @@ use std::thread::JoinHandle;
 use std::time::Duration;
 
 use emulator::EmulatorService;
-use uoi::tcp::{Core, Handler, Server, ServerConfig};
+use uoi::tcp::{Handler, Server, ServerConfig};
 
 /// A server on its own thread and runtime (two workers), stopped on drop.
 pub struct TestServer {
@@ -65,17 +65,16 @@ impl TestServer {
         )
     }
 
-    /// A server of a fresh emulator on 127.0.0.1 with `core`.
-    pub fn local(core: Core) -> Self {
-        Self::start(loopback(core))
+    /// A server of a fresh emulator on 127.0.0.1.
+    pub fn local() -> Self {
+        Self::start(loopback())
     }
 }
 
-/// Default settings on 127.0.0.1, any port, with `core`.
-pub fn loopback(core: Core) -> ServerConfig {
+/// Default settings on 127.0.0.1, any port.
+pub fn loopback() -> ServerConfig {
     ServerConfig {
         listen: "127.0.0.1:0".parse().expect("addr"),
-        core,
         ..ServerConfig::default()
     }
 }

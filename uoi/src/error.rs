@@ -103,9 +103,9 @@ code_enum! {
         Range = 0x0609_0030 => "value outside the object's range",
         /// Refused in the current state of the module.
         State = 0x0800_0022 => "refused in the current state",
-        /// No room to store it (the spooler is full): try again after the
-        /// executor has run.
-        Full = 0x0504_0005 => "no room: the spooler is full, or every conformance session is taken",
+        /// No room to take it now (a queue or store of the module is
+        /// full): nothing changed; send it again once room is made.
+        Full = 0x0504_0005 => "no room for it now: nothing changed",
         /// The value could not be stored durably (the disk refused it);
         /// nothing changed.
         Storage = 0x0800_0020 => "the value could not be stored: nothing changed",

@@ -1,13 +1,13 @@
 //! Another face of the same handler: requests submitted through the
 //! server's `CoreHandle` are served by the handler the UOI connections
-//! share (lock or owner core), so each side sees the other's writes.
+//! share, so each side sees the other's writes.
 
 // Test helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use std::time::Duration;
 
-use uoi::tcp::{Client, Core, Handler, Server, ServerConfig};
+use uoi::tcp::{Client, Handler, Server, ServerConfig, Slice};
 use uoi::wire::{Answer, Request};
 use uoi::{AccessError, ObjectAddress, Value, ValueType};
 
@@ -18,15 +18,17 @@ struct Register(i32);
 impl Handler for Register {
     type Session = ();
 
-    fn handle(&mut self, req: Request) -> Answer {
-        match req {
+    fn open_session(&mut self) {}
+
+    fn serve(&mut self, req: Request) -> Slice {
+        Slice::Done(match req {
             Request::Read(a, _) if a.index == 1 => Answer::Value(Value::I32(self.0)),
             Request::Write(a, Value::I32(v)) if a.index == 1 => {
                 self.0 = v;
                 Answer::Ok
             }
             _ => Answer::Access(AccessError::NoObject),
-        }
+        })
     }
 }
 
@@ -34,10 +36,10 @@ fn reg() -> ObjectAddress {
     ObjectAddress::new(7, 0, 1, 0)
 }
 
-async fn both_faces_see_each_other(core: Core) {
+#[tokio::test]
+async fn both_faces_see_each_other() {
     let cfg = ServerConfig {
         listen: "127.0.0.1:0".parse().expect("addr"),
-        core,
         ..ServerConfig::default()
     };
     let server = Server::bind(cfg, Register::default()).await.expect("bind");
@@ -72,14 +74,4 @@ async fn both_faces_see_each_other(core: Core) {
         .expect("stops")
         .expect("task")
         .expect("run");
-}
-
-#[tokio::test]
-async fn with_the_lock_core() {
-    both_faces_see_each_other(Core::Lock).await;
-}
-
-#[tokio::test]
-async fn with_the_owner_core() {
-    both_faces_see_each_other(Core::Owner).await;
 }

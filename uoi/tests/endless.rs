@@ -1,6 +1,6 @@
 //! A request that never ends (a huge `EXEC` with a per-cycle model, in the
-//! emulator) is served slice by slice, by the shared handler (both cores)
-//! or by a connection's session: other clients are served meanwhile, and
+//! emulator) is served slice by slice, by the shared handler or by a
+//! connection's session: other clients are served meanwhile, and
 //! once its connection is closed (here by the idle timeout) no further
 //! slice of it runs.
 
@@ -15,66 +15,69 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
 use bytes::BytesMut;
-use common::{connect, local, serve_with};
-use uoi::tcp::{Core, Handler, Served, ServerConfig, Session, Slice};
+use common::{connect, index_of, local, serve_with};
+use uoi::tcp::{Handler, ServerConfig, Session, Slice};
 use uoi::wire::{encode_request, Answer, Request};
 use uoi::{ObjectAddress, Value, ValueType};
 
 /// Slices run of the endless request, per test (each test its own index).
-static SLICES: [AtomicU64; 3] = [AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0)];
+static SLICES: [AtomicU64; 2] = [AtomicU64::new(0), AtomicU64::new(0)];
 
-/// A READ of index 0 never ends: every slice hands back the rest; in the
-/// shared handler for sub 0, in the session for sub 1. Any other READ is
-/// answered with its index.
+/// The slot of the endless request the shared handler serves.
+const SHARED: usize = 0;
+/// The slot of the endless request a session serves.
+const SESSION: usize = 1;
+
+/// A READ of index 0, sub 0 never ends in the shared handler: every slice
+/// hands back the rest. Any other READ is answered with its index.
 struct Endless;
 
 impl Handler for Endless {
     type Session = EndlessSession;
 
-    fn handle(&mut self, req: Request) -> Answer {
-        match req {
-            Request::Read(a, _) => Answer::Value(Value::I32(i32::from(a.index))),
-            _ => Answer::Ok,
-        }
+    fn open_session(&mut self) -> EndlessSession {
+        EndlessSession
     }
 
-    fn handle_slice(&mut self, req: Request) -> Slice {
+    fn serve(&mut self, req: Request) -> Slice {
         match req {
             Request::Read(a, _) if a.index == 0 => {
                 SLICES[usize::from(a.sub)].fetch_add(1, Ordering::Relaxed);
                 Slice::More(req)
             }
-            other => Slice::Done(self.handle(other)),
+            other => Slice::Done(index_of(&other)),
         }
     }
 }
 
-/// Takes READs of index 0, sub 2 itself, endlessly; READs of index 0,
-/// sub 3 take as many more slices as their device number, then answer 42.
-#[derive(Default)]
+/// Takes READs of index 0, sub 1 and 3: those of sub 1 never end; those
+/// of sub 3 take as many more slices as their device number, then answer
+/// 42.
 struct EndlessSession;
 
 impl Session for EndlessSession {
-    fn handle(&mut self, req: Request) -> Served {
+    fn takes(&self, req: &Request) -> bool {
+        matches!(req, Request::Read(a, _) if a.index == 0 && (a.sub == 1 || a.sub == 3))
+    }
+
+    fn serve(&mut self, req: Request) -> Slice {
         match req {
-            Request::Read(a, _) if a.index == 0 && a.sub == 2 => {
-                SLICES[2].fetch_add(1, Ordering::Relaxed);
-                Served::More(req)
-            }
-            Request::Read(a, ty) if a.index == 0 && a.sub == 3 => match a.device {
-                0 => Served::Here(Answer::Value(Value::I32(42))),
-                n => Served::More(Request::Read(ObjectAddress::new(7, n - 1, 0, 3), ty)),
+            Request::Read(a, ty) if a.sub == 3 => match a.device {
+                0 => Slice::Done(Answer::Value(Value::I32(42))),
+                n => Slice::More(Request::Read(ObjectAddress::new(7, n - 1, 0, 3), ty)),
             },
-            other => Served::Shared(other),
+            req => {
+                SLICES[SESSION].fetch_add(1, Ordering::Relaxed);
+                Slice::More(req)
+            }
         }
     }
 }
 
 /// A server with the [`Endless`] handler and an idle timeout of 300 ms.
-fn serve(core: Core) -> (SocketAddr, tokio::sync::oneshot::Sender<()>) {
+fn serve() -> (SocketAddr, tokio::sync::oneshot::Sender<()>) {
     let cfg = ServerConfig {
         idle_timeout: Duration::from_millis(300),
-        core,
         ..local()
     };
     serve_with(cfg, Endless)
@@ -89,8 +92,8 @@ fn read(s: &mut TcpStream, index: u16, sub: u16) {
 
 /// The endless request of `slot` runs while another client is answered,
 /// and stops for good once its connection is closed.
-fn endless_request_stops_with_its_connection(core: Core, slot: usize) {
-    let (addr, _stop) = serve(core);
+fn endless_request_stops_with_its_connection(slot: usize) {
+    let (addr, _stop) = serve();
     let mut hog = connect(addr);
     read(&mut hog, 0, slot as u16);
     // Another client is answered while the endless request runs.
@@ -119,18 +122,13 @@ fn endless_request_stops_with_its_connection(core: Core, slot: usize) {
 }
 
 #[test]
-fn lock_core_drops_the_rest_of_a_request_of_a_closed_connection() {
-    endless_request_stops_with_its_connection(Core::Lock, 0);
-}
-
-#[test]
-fn owner_core_drops_the_rest_of_a_request_of_a_closed_connection() {
-    endless_request_stops_with_its_connection(Core::Owner, 1);
+fn the_shared_handler_drops_the_rest_of_a_request_of_a_closed_connection() {
+    endless_request_stops_with_its_connection(SHARED);
 }
 
 #[test]
 fn a_session_answers_a_request_of_many_slices() {
-    let (addr, _stop) = serve(Core::Lock);
+    let (addr, _stop) = serve();
     let mut s = connect(addr);
     let mut f = BytesMut::new();
     let req = Request::Read(ObjectAddress::new(7, 5, 0, 3), ValueType::I32);
@@ -145,5 +143,5 @@ fn a_session_answers_a_request_of_many_slices() {
 
 #[test]
 fn a_session_serves_a_long_request_in_slices_and_stops_with_its_connection() {
-    endless_request_stops_with_its_connection(Core::Lock, 2);
+    endless_request_stops_with_its_connection(SESSION);
 }

@@ -1,7 +1,8 @@
 //! A request that waits for something outside the handler (a durable
 //! write, in `addipos`): the server awaits it without holding the
 //! handler, so other clients are answered meanwhile, and resumes it with
-//! how the wait ended, on both cores.
+//! how the wait ended; the same for a request a connection's session
+//! takes.
 
 // Test helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
@@ -13,9 +14,9 @@ use std::net::TcpStream;
 use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
 
-use common::{connect, local, read_answer, read_frame, read_head, serve_with};
+use common::{connect, index_of, local, read_answer, read_frame, read_head, serve_with};
 use tokio::sync::oneshot;
-use uoi::tcp::{Core, Handler, ServerConfig, Slice, Wait};
+use uoi::tcp::{Handler, Session, Slice, Wait};
 use uoi::wire::{Answer, Request};
 use uoi::{AccessError, Value};
 
@@ -29,33 +30,21 @@ struct Waiting {
     waits: Waits,
 }
 
-impl Handler for Waiting {
-    type Session = ();
-
-    fn handle(&mut self, req: Request) -> Answer {
-        match req {
-            Request::Read(a, _) => Answer::Value(Value::I32(i32::from(a.index))),
-            _ => Answer::Ok,
-        }
+impl Waiting {
+    /// A wait handed to the test, with its token.
+    fn wait(&mut self) -> Slice {
+        let (tx, rx) = oneshot::channel();
+        self.next += 1;
+        let w = self.waits.lock().unwrap();
+        w.send((self.next, tx)).unwrap();
+        Slice::Wait(Wait {
+            done: rx,
+            token: self.next,
+        })
     }
 
-    fn handle_slice(&mut self, req: Request) -> Slice {
-        match req {
-            Request::Read(a, _) if a.index == 9 => {
-                let (tx, rx) = oneshot::channel();
-                self.next += 1;
-                let w = self.waits.lock().unwrap();
-                w.send((self.next, tx)).unwrap();
-                Slice::Wait(Wait {
-                    done: rx,
-                    token: self.next,
-                })
-            }
-            other => Slice::Done(self.handle(other)),
-        }
-    }
-
-    fn resume(&mut self, token: u64, ok: bool) -> Slice {
+    /// The answer of the wait `token` once it ended.
+    fn resumed(token: u64, ok: bool) -> Slice {
         Slice::Done(if ok {
             Answer::Value(Value::I32(1000 + token as i32))
         } else {
@@ -64,52 +53,95 @@ impl Handler for Waiting {
     }
 }
 
-fn read(s: &mut TcpStream, index: u16) {
-    s.write_all(&read_frame(index)).expect("send");
+impl Handler for Waiting {
+    /// A session that takes READs of index 8 and waits for them the same way.
+    type Session = Waiting;
+
+    fn open_session(&mut self) -> Waiting {
+        Waiting {
+            next: 100,
+            waits: Arc::clone(&self.waits),
+        }
+    }
+
+    fn serve(&mut self, req: Request) -> Slice {
+        match req {
+            Request::Read(a, _) if a.index == 9 => self.wait(),
+            other => Slice::Done(index_of(&other)),
+        }
+    }
+
+    fn resume(&mut self, token: u64, ok: bool) -> Slice {
+        Self::resumed(token, ok)
+    }
 }
 
-fn waits_resume_without_holding_the_handler(core: Core) {
+impl Session for Waiting {
+    fn takes(&self, req: &Request) -> bool {
+        matches!(req, Request::Read(a, _) if a.index == 8)
+    }
+
+    fn serve(&mut self, _req: Request) -> Slice {
+        self.wait()
+    }
+
+    fn resume(&mut self, token: u64, ok: bool) -> Slice {
+        Self::resumed(token, ok)
+    }
+}
+
+fn waiting() -> (Waiting, mpsc::Receiver<(u64, oneshot::Sender<bool>)>) {
     let (wtx, wrx) = mpsc::channel();
     let handler = Waiting {
         next: 0,
         waits: Arc::new(Mutex::new(wtx)),
     };
-    let (addr, _stop) = serve_with(ServerConfig { core, ..local() }, handler);
+    (handler, wrx)
+}
+
+fn read(s: &mut TcpStream, index: u16) {
+    s.write_all(&read_frame(index)).expect("send");
+}
+
+/// A request of `index` waits while another client is answered, and is
+/// resumed with how its wait ended.
+fn waits_resume_without_holding_the_handler(index: u16) {
+    let (handler, wrx) = waiting();
+    let (addr, _stop) = serve_with(local(), handler);
     let mut waiter = connect(addr);
-    read(&mut waiter, 9);
+    read(&mut waiter, index);
     let (token, done) = wrx.recv().expect("the request waits");
     // Another client is answered while the first one waits.
     let mut other = connect(addr);
     read(&mut other, 5);
     assert_eq!(read_answer(&mut other), (5, 5));
     done.send(true).unwrap();
-    assert_eq!(read_answer(&mut waiter), (9, 1000 + token as i32));
+    assert_eq!(
+        read_answer(&mut waiter),
+        (u32::from(index), 1000 + token as i32)
+    );
     // A wait that fails (its sender dropped) is resumed as failed.
-    read(&mut waiter, 9);
+    read(&mut waiter, index);
     let (_, done) = wrx.recv().expect("the request waits");
     drop(done);
     assert_eq!(read_head(&mut waiter).2, AccessError::State.code());
 }
 
 #[test]
-fn lock_core_serves_others_while_a_request_waits() {
-    waits_resume_without_holding_the_handler(Core::Lock);
+fn others_are_served_while_a_request_waits() {
+    waits_resume_without_holding_the_handler(9);
 }
 
 #[test]
-fn owner_core_serves_others_while_a_request_waits() {
-    waits_resume_without_holding_the_handler(Core::Owner);
+fn others_are_served_while_a_request_of_a_session_waits() {
+    waits_resume_without_holding_the_handler(8);
 }
 
 /// Pipelined requests that wait: the answers already made leave before a
-/// request waits, so the client is not kept waiting for them (lock core).
+/// request waits, so the client is not kept waiting for them.
 #[test]
 fn answers_made_leave_before_a_request_waits() {
-    let (wtx, wrx) = mpsc::channel();
-    let handler = Waiting {
-        next: 0,
-        waits: Arc::new(Mutex::new(wtx)),
-    };
+    let (handler, wrx) = waiting();
     let (addr, _stop) = serve_with(local(), handler);
     let mut c = connect(addr);
     let frames: Vec<u8> = (0..20).flat_map(|_| read_frame(9)).collect();

@@ -12,14 +12,15 @@ use futures_util::{SinkExt, StreamExt};
 use tokio::io::AsyncWriteExt;
 use tokio::net::tcp::{OwnedReadHalf, OwnedWriteHalf};
 use tokio::net::TcpStream;
-use tokio_util::codec::{FramedRead, FramedWrite};
+use tokio_util::codec::{Encoder, FramedRead, FramedWrite};
 use tracing::{debug, warn};
 
 use super::access::AccessToken;
 use super::halves::{ClosableRead, ClosableWrite};
+use super::handler::{Handler, Session, Slice};
 use super::idle::{Activity, Closed};
-use super::server::{Handler, Served, Session};
 use super::shared::Shared;
+use super::slices::{to_the_end, BeforeWait, By};
 use crate::wire::{
     Answer, CodecError, Op, ProtocolError, Rejected, Reply, Request, ServerCodec, MAX_FRAME,
     PREFIX_LEN,
@@ -32,18 +33,15 @@ const WRITE_BATCH: usize = 64 * 1024;
 type Incoming = Result<(u32, Request), Rejected>;
 
 /// Where a connection's answers go.
-pub(crate) type AnswerSink = FramedWrite<ClosableWrite<OwnedWriteHalf>, ServerCodec>;
+type AnswerSink = FramedWrite<ClosableWrite<OwnedWriteHalf>, ServerCodec>;
 
-/// The shared handler's answer, unless the connection was closed
-/// meanwhile.
-async fn shared_answer<H: Handler>(
-    shared: &Shared<H>,
-    activity: &Activity,
-    req: Request,
-    sink: Option<&mut AnswerSink>,
-) -> Option<Answer> {
-    let ans = shared.handle(req, activity, sink).await;
-    activity.closed().is_none().then_some(ans)
+/// Before a request waits, the answers already queued leave.
+impl BeforeWait for AnswerSink {
+    async fn before_wait(&mut self) {
+        // A failed flush shows again at the next send, which closes the
+        // connection.
+        let _ = self.flush().await;
+    }
 }
 
 /// The answer frame for request `id` of op `op`.
@@ -105,12 +103,36 @@ pub(crate) async fn serve_connection<H: Handler>(
 ) {
     let mut conn = Connection::new(stream, shared, activity, gate);
     while let Some(item) = conn.next_request().await {
-        let (out, then) = conn.answer(item).await;
+        let (out, then) = match conn.answer(item) {
+            Answered::Now(out, then) => (out, then),
+            // Rare (a long request, or one that waits): boxed, so that its
+            // state does not enlarge the future every request moves.
+            Answered::Later(rest) => Box::pin(conn.finish(rest)).await,
+        };
         if conn.send(out).await.is_err() || then == Then::Close {
             break;
         }
     }
     conn.close().await;
+}
+
+/// The answer to one frame, or the request its first slice left
+/// unfinished.
+enum Answered {
+    /// The answer frame, and whether the connection goes on.
+    Now(Reply, Then),
+    /// A request with more slices to go, or waiting.
+    Later(Unfinished),
+}
+
+/// A request its first slice did not finish.
+struct Unfinished {
+    id: u32,
+    op: u8,
+    /// Its connection's session serves it (else the shared handler).
+    by_session: bool,
+    /// What its last slice left: more to serve, or a wait.
+    slice: Slice,
 }
 
 /// The state of one connection.
@@ -140,8 +162,8 @@ impl<H: Handler> Connection<H> {
             // Room for the largest frame from the start.
             reader: FramedRead::with_capacity(r, ServerCodec, MAX_FRAME + PREFIX_LEN),
             writer,
+            session: shared.open_session(),
             shared,
-            session: H::Session::default(),
             activity,
             gate,
         }
@@ -177,49 +199,12 @@ impl<H: Handler> Connection<H> {
         }
     }
 
-    /// The answer to a request: from the connection's session, slice by
-    /// slice, or else from the shared handler. `None` when the connection
-    /// was closed (idle, evicted, stopping) before the request was done:
-    /// the rest of it is dropped.
-    async fn served(&mut self, req: Request) -> Option<Answer> {
-        match self.session.handle(req) {
-            Served::Here(ans) => Some(ans),
-            Served::Shared(req) => {
-                let sink = Some(&mut self.writer);
-                shared_answer(&self.shared, &self.activity, req, sink).await
-            }
-            // Rare (a long request of a session): boxed, so that its state
-            // does not enlarge every request's future.
-            Served::More(rest) => Box::pin(self.session_rest(rest)).await,
-        }
-    }
-
-    /// The rest of a session's request, slice by slice, letting other tasks
-    /// run in between; `None` once the connection is closed.
-    async fn session_rest(&mut self, rest: Request) -> Option<Answer> {
-        let mut req = rest;
-        loop {
-            tokio::task::yield_now().await;
-            if self.activity.closed().is_some() {
-                return None;
-            }
-            match self.session.handle(req) {
-                Served::Here(ans) => return Some(ans),
-                Served::Shared(req) => {
-                    let sink = Some(&mut self.writer);
-                    return shared_answer(&self.shared, &self.activity, req, sink).await;
-                }
-                Served::More(rest) => req = rest,
-            }
-        }
-    }
-
-    /// The answer to one frame, and whether the connection goes on: from
-    /// the connection's session, or else from the shared handler. A peer
-    /// not yet authorized gets `Unauthorized` for anything but HELLO, and
-    /// the connection is closed.
-    async fn answer(&mut self, item: Incoming) -> (Reply, Then) {
-        match item {
+    /// The answer to one frame, or what its first slice left: a request
+    /// goes to the connection's session if it takes it, else to the
+    /// shared handler. A peer not yet authorized gets `Unauthorized` for
+    /// anything but HELLO, and the connection is closed.
+    fn answer(&mut self, item: Incoming) -> Answered {
+        let (out, then) = match item {
             Ok((id, Request::Hello(token))) => {
                 let (ans, then) = self.gate.hello(&token);
                 (reply(id, Op::Hello.code(), ans), then)
@@ -236,26 +221,62 @@ impl<H: Handler> Connection<H> {
             }
             Ok((id, req)) => {
                 let op = req.op().code();
-                match self.served(req).await {
-                    Some(ans) => (reply(id, op, ans), Then::GoOn),
-                    None => (
-                        reply(id, op, Answer::Protocol(ProtocolError::Busy)),
-                        Then::Close,
-                    ),
+                let by_session = self.session.takes(&req);
+                let slice = if by_session {
+                    self.session.serve(req)
+                } else {
+                    self.shared.serve(req)
+                };
+                match slice {
+                    Slice::Done(ans) => (reply(id, op, ans), Then::GoOn),
+                    slice => {
+                        return Answered::Later(Unfinished {
+                            id,
+                            op,
+                            by_session,
+                            slice,
+                        })
+                    }
                 }
             }
             Err(r) => {
                 debug!(error = %r.error, "bad request");
                 (reply(r.id, r.op, Answer::Protocol(r.error)), Then::GoOn)
             }
+        };
+        Answered::Now(out, then)
+    }
+
+    /// The answer to a request its first slice left unfinished, served
+    /// slice by slice. The answers already queued leave before the request
+    /// waits for something outside the handler: a pipelining client is not
+    /// kept waiting for them behind it. When the connection is closed
+    /// (idle, evicted, stopping) before the request is done, the rest of it
+    /// is dropped and the connection ends.
+    async fn finish(&mut self, rest: Unfinished) -> (Reply, Then) {
+        let by = if rest.by_session {
+            By::Session(&mut self.session)
+        } else {
+            By::Shared(&self.shared)
+        };
+        match to_the_end(by, rest.slice, &self.activity, &mut self.writer).await {
+            Some(ans) => (reply(rest.id, rest.op, ans), Then::GoOn),
+            None => {
+                let busy = Answer::Protocol(ProtocolError::Busy);
+                (reply(rest.id, rest.op, busy), Then::Close)
+            }
         }
     }
 
     /// Queues an answer, and writes the queue out unless another complete
-    /// request is already buffered (its answer joins the batch).
+    /// request is already buffered (its answer joins the batch) and the
+    /// batch is not full. The answer is encoded straight into the
+    /// writer's buffer: the sink's readiness step would only repeat the
+    /// batch check.
     async fn send(&mut self, out: Reply) -> Result<(), CodecError> {
-        self.writer.feed(out).await?;
-        if !ServerCodec::has_frame(self.reader.read_buffer()) {
+        ServerCodec.encode(out, self.writer.write_buffer_mut())?;
+        let full = self.writer.write_buffer().len() >= WRITE_BATCH;
+        if full || !ServerCodec::has_frame(self.reader.read_buffer()) {
             self.writer.flush().await?;
         }
         Ok(())

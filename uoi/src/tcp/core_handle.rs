@@ -1,16 +1,17 @@
 //! A door to the server's shared handler for another face of the same
 //! object table (an OPC UA server, a fieldbus gateway): its requests are
 //! served by the one handler the UOI connections share, under the same
-//! lock or by the same owner task, so every face sees every change at once.
+//! lock, so every face sees every change at once.
 
 use std::future::Future;
 use std::pin::Pin;
 use std::sync::Arc;
 
+use super::handler::Handler;
 use super::idle::Activity;
-use super::server::Handler;
 use super::shared::Shared;
-use crate::wire::{Answer, Request};
+use super::slices::{to_the_end, By};
+use crate::wire::{Answer, ProtocolError, Request};
 
 /// A boxed answer on its way.
 type Pending<'a> = Pin<Box<dyn Future<Output = Answer> + Send + 'a>>;
@@ -23,7 +24,13 @@ trait Submit: Send + Sync {
 impl<H: Handler> Submit for (Shared<H>, Activity) {
     fn submit(&self, req: Request) -> Pending<'_> {
         let (shared, activity) = self;
-        Box::pin(shared.handle(req, activity, None))
+        Box::pin(async move {
+            // Never `None`: nothing closes the activity of no connection.
+            let first = shared.serve(req);
+            to_the_end(By::Shared(shared), first, activity, &mut ())
+                .await
+                .unwrap_or(Answer::Protocol(ProtocolError::Busy))
+        })
     }
 }
 

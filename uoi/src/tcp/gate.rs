@@ -25,15 +25,19 @@ use tokio_util::codec::FramedWrite;
 use tracing::{debug, info, warn};
 
 use super::access::AccessPolicy;
+use super::config::ServerConfig;
 use super::connection::{reply, serve_connection, Gatekeeper};
+use super::handler::Handler;
 use super::idle::Watchdog;
 use super::places::{Full, Limits, Places, Seat};
-use super::server::{Handler, ServerConfig};
 use super::shared::Shared;
 use crate::wire::{Answer, ProtocolError, ServerCodec};
 
 /// Looks for a place per grace while newcomers wait.
 const RETRIES_PER_GRACE: u32 = 8;
+
+/// Shortest time between two looks for a place.
+const MIN_RETRY: Duration = Duration::from_millis(1);
 
 /// A newcomer waiting for a place.
 struct Waiting {
@@ -89,10 +93,11 @@ impl<H: Handler> Gate<H> {
         })
     }
 
-    /// How often to look for places while newcomers wait.
-    pub(crate) fn retry_every(&self) -> Duration {
-        let grace = self.grace.unwrap_or(Duration::from_secs(1));
-        (grace / RETRIES_PER_GRACE).max(Duration::from_millis(1))
+    /// How often to look for places while newcomers wait; `None` without
+    /// eviction (then nobody waits).
+    pub(crate) fn retry_every(&self) -> Option<Duration> {
+        self.grace
+            .map(|grace| (grace / RETRIES_PER_GRACE).max(MIN_RETRY))
     }
 
     /// Whether newcomers wait for a place.

@@ -96,9 +96,12 @@ impl Activity {
         Self::new(None)
     }
 
-    /// Records progress: a complete request read.
+    /// Records progress: a complete request read. Only the connection's
+    /// own task moves the count, so a plain load and store do (no locked
+    /// read-modify-write per request).
     pub(crate) fn progress(&self) {
-        self.progress.fetch_add(1, Ordering::Relaxed);
+        let seen = self.progress.load(Ordering::Relaxed);
+        self.progress.store(seen.wrapping_add(1), Ordering::Relaxed);
     }
 
     /// Records that a write found the socket full: the answers wait.

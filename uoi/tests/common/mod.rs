@@ -10,7 +10,7 @@ use std::net::{SocketAddr, TcpStream};
 use std::time::Duration;
 
 use bytes::BytesMut;
-use uoi::tcp::{Handler, Server, ServerConfig};
+use uoi::tcp::{Handler, Server, ServerConfig, Slice};
 use uoi::wire::{encode_request, Answer, Request};
 use uoi::{ObjectAddress, Value, ValueType};
 
@@ -20,11 +20,18 @@ pub struct Index;
 impl Handler for Index {
     type Session = ();
 
-    fn handle(&mut self, req: Request) -> Answer {
-        match req {
-            Request::Read(a, _) => Answer::Value(Value::I32(i32::from(a.index))),
-            _ => Answer::Ok,
-        }
+    fn open_session(&mut self) {}
+
+    fn serve(&mut self, req: Request) -> Slice {
+        Slice::Done(index_of(&req))
+    }
+}
+
+/// The object's index for a READ, `Ok` for anything else.
+pub fn index_of(req: &Request) -> Answer {
+    match req {
+        Request::Read(a, _) => Answer::Value(Value::I32(i32::from(a.index))),
+        _ => Answer::Ok,
     }
 }
 
