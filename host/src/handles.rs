@@ -175,10 +175,11 @@ impl Handles {
             return Err(Error::new(
                 ErrorCode::StaleHandle,
                 format!(
-                    "{call}: handle {h} ({}) was initialised before a Clean (1300/0/1/0 = 1): \
+                    "{call}: handle {h} ({}) was initialised before a Clean ({} = 1): \
                      Clean rejects every TC object, so every handle issued before it is void; \
                      initialise the object again with uoi_init",
-                    slot.target.addr
+                    slot.target.addr,
+                    tc_objects::TcObject::Clean.address()
                 ),
             ));
         }

@@ -86,6 +86,13 @@ fn constants_named_as_address_parts_are_found() {
 }
 
 #[test]
+fn error_codes_named_after_a_subindex_are_no_address() {
+    let src = "/// Missing subindex.\npub const E_NO_SUBINDEX: u32 = 0x06090011;\n\
+               /// Its subindex.\nconst LIMIT_SUB: u16 = 0x11;\n";
+    assert_eq!(lines(src), [4]);
+}
+
+#[test]
 fn numbers_that_are_no_address_are_left_alone() {
     let src = "\
 //! `R 1300/0/3/0 i` in a doc comment, and a doc test:

@@ -19,7 +19,9 @@
 //!    `a.sub == 6`.
 //! 5. A constant or static named as a bus, device or subindex number
 //!    (a word `BUS`, `DEVICE(S)`, `SUB(S)`, `SUBINDEX` in its name) whose
-//!    value holds an integer literal: `const ERROR_SUB: u16 = 1;`.
+//!    value holds an integer literal that fits a `u16` (an address part):
+//!    `const ERROR_SUB: u16 = 1;`, but not `const E_NO_SUBINDEX: u32 =
+//!    0x06090011;`.
 //!
 //! Test-only items and modules are skipped.
 
@@ -326,8 +328,12 @@ fn pat_has_int(p: &Pat) -> bool {
 struct Ints(bool);
 
 impl<'ast> Visit<'ast> for Ints {
-    fn visit_lit_int(&mut self, _: &'ast syn::LitInt) {
-        self.0 = true;
+    /// Only a number an address part can hold (bus, device and subindex
+    /// are `u16`): a 32-bit error code such as `0x06090011` is no address.
+    fn visit_lit_int(&mut self, lit: &'ast syn::LitInt) {
+        if lit.base10_parse::<u64>().is_ok_and(|n| n <= u64::from(u16::MAX)) {
+            self.0 = true;
+        }
     }
 }
 
