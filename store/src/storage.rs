@@ -20,9 +20,10 @@ pub const JOURNAL_FILE: &str = "journal.wzj";
 
 /// Durable storage of tool files and the journal.
 ///
-/// The store calls these in a fixed pattern: append, then sync, before a
-/// change counts; after a failed append or sync it truncates the journal
-/// back to its length before the call.
+/// The store calls these in a fixed pattern: append, then sync, then a
+/// look whether the journal is still in place, before a change counts;
+/// after a failed append or sync it truncates the journal back to its
+/// length before the call.
 pub trait Storage {
     /// The whole content of the file `name`, `None` if it does not exist.
     fn read_file(&mut self, name: &str) -> io::Result<Option<Vec<u8>>>;
@@ -45,6 +46,38 @@ pub trait Storage {
 
     /// Cuts the journal to `len` bytes and makes that durable.
     fn truncate_journal(&mut self, len: u64) -> io::Result<()>;
+
+    /// Whether the journal this storage appends to is still the file its
+    /// name leads to: not deleted, not replaced by another file (on disk:
+    /// the open file's device and inode are those of the path, and it
+    /// still has a link). If not, the storage lets go of it: the next
+    /// append creates the journal anew under its name, and appends made
+    /// since it went are lost with it.
+    fn journal_in_place(&mut self) -> io::Result<bool>;
+
+    /// Removes the temporary files a replacement cut short left behind
+    /// (`group01.wz.tmp` after a crash or a full disk in
+    /// [`write_file_atomic`](Self::write_file_atomic)); returns their names.
+    fn remove_temporaries(&mut self) -> io::Result<Vec<String>>;
+}
+
+/// The temporary file [`Storage::write_file_atomic`] writes `name` into
+/// before renaming it.
+pub fn temporary_name(name: &str) -> String {
+    format!("{name}.tmp")
+}
+
+/// Whether `name` is the temporary file of a tool file
+/// (`group01.wz.tmp` .. `group32.wz.tmp`): what
+/// [`Storage::remove_temporaries`] removes, and nothing else.
+pub fn is_temporary(name: &str) -> bool {
+    let Some(digits) = name
+        .strip_prefix("group")
+        .and_then(|n| n.strip_suffix(".wz.tmp"))
+    else {
+        return false;
+    };
+    digits.len() == 2 && digits.bytes().all(|b| b.is_ascii_digit())
 }
 
 impl<S: Storage + ?Sized> Storage for Box<S> {
@@ -65,5 +98,11 @@ impl<S: Storage + ?Sized> Storage for Box<S> {
     }
     fn truncate_journal(&mut self, len: u64) -> io::Result<()> {
         (**self).truncate_journal(len)
+    }
+    fn journal_in_place(&mut self) -> io::Result<bool> {
+        (**self).journal_in_place()
+    }
+    fn remove_temporaries(&mut self) -> io::Result<Vec<String>> {
+        (**self).remove_temporaries()
     }
 }
