@@ -107,6 +107,9 @@ impl Storage for Counting {
     fn journal_in_place(&mut self) -> io::Result<bool> {
         self.fs.journal_in_place()
     }
+    fn available_space(&mut self) -> io::Result<Option<u64>> {
+        self.fs.available_space()
+    }
     fn remove_temporaries(&mut self) -> io::Result<Vec<String>> {
         self.fs.remove_temporaries()
     }

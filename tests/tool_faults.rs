@@ -68,6 +68,9 @@ impl Storage for Disk {
     fn journal_in_place(&mut self) -> io::Result<bool> {
         self.0.lock().unwrap().journal_in_place()
     }
+    fn available_space(&mut self) -> io::Result<Option<u64>> {
+        self.0.lock().unwrap().available_space()
+    }
     fn remove_temporaries(&mut self) -> io::Result<Vec<String>> {
         self.0.lock().unwrap().remove_temporaries()
     }

@@ -55,6 +55,10 @@ pub trait Storage {
     /// since it went are lost with it.
     fn journal_in_place(&mut self) -> io::Result<bool>;
 
+    /// Bytes free for the files on their volume (what an unprivileged
+    /// writer may still use); `None` where that cannot be known.
+    fn available_space(&mut self) -> io::Result<Option<u64>>;
+
     /// Removes the temporary files a replacement cut short left behind
     /// (`group01.wz.tmp` after a crash or a full disk in
     /// [`write_file_atomic`](Self::write_file_atomic)); returns their names.
@@ -101,6 +105,9 @@ impl<S: Storage + ?Sized> Storage for Box<S> {
     }
     fn journal_in_place(&mut self) -> io::Result<bool> {
         (**self).journal_in_place()
+    }
+    fn available_space(&mut self) -> io::Result<Option<u64>> {
+        (**self).available_space()
     }
     fn remove_temporaries(&mut self) -> io::Result<Vec<String>> {
         (**self).remove_temporaries()

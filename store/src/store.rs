@@ -89,15 +89,15 @@ pub enum StoreError {
     Poisoned,
     /// Compaction could not write a tool file; what the disk needs.
     #[error(
-        "writing {file}: {source} (to compact, the disk needs room for {needs} bytes, \
-         the largest tool file; compacting then frees the journal's {journal} bytes)"
+        "writing {file}: {source} (to compact, the disk needs {needs} bytes free for the \
+         tool files; compacting then frees the journal's {journal} bytes)"
     )]
     Compaction {
         /// The tool file.
         file: String,
-        /// Bytes free on the disk that compaction needs: the largest tool
-        /// file it writes (each is written beside the old one, then
-        /// renamed over it).
+        /// Bytes free on the disk that compaction needs: the new tool
+        /// files, and the largest one once more (each is written beside
+        /// the old one, then renamed over it).
         needs: u64,
         /// The journal's size, freed once compaction is done.
         journal: u64,

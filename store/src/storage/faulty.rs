@@ -259,6 +259,13 @@ impl<S: Storage> Storage for FaultyStorage<S> {
         Ok(in_place)
     }
 
+    fn available_space(&mut self) -> io::Result<Option<u64>> {
+        match &self.volume {
+            Some(v) => Ok(Some(v.free())),
+            None => self.inner.available_space(),
+        }
+    }
+
     fn remove_temporaries(&mut self) -> io::Result<Vec<String>> {
         self.inner.remove_temporaries()
     }

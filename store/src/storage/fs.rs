@@ -158,6 +158,10 @@ impl Storage for FsStorage {
         Ok(in_place)
     }
 
+    fn available_space(&mut self) -> io::Result<Option<u64>> {
+        free_space(&self.dir)
+    }
+
     fn remove_temporaries(&mut self) -> io::Result<Vec<String>> {
         let entries = match fs::read_dir(&self.dir) {
             Ok(entries) => entries,
@@ -174,6 +178,24 @@ impl Storage for FsStorage {
         removed.sort();
         Ok(removed)
     }
+}
+
+/// Bytes an unprivileged writer may still use on the volume of `dir`
+/// (statvfs: available blocks times the fragment size); `None` before the
+/// folder exists.
+#[cfg(unix)]
+fn free_space(dir: &Path) -> io::Result<Option<u64>> {
+    match rustix::fs::statvfs(dir) {
+        Ok(st) => Ok(Some(st.f_bavail.saturating_mul(st.f_frsize))),
+        Err(rustix::io::Errno::NOENT) => Ok(None),
+        Err(e) => Err(e.into()),
+    }
+}
+
+/// Unknown without statvfs.
+#[cfg(not(unix))]
+fn free_space(_dir: &Path) -> io::Result<Option<u64>> {
+    Ok(None)
 }
 
 /// Whether the open file `open` is the file `named` (the metadata of a
@@ -266,6 +288,16 @@ mod tests {
         s.append_journal(b"new\n").unwrap();
         s.sync_journal().unwrap();
         assert!(!s.journal_in_place().unwrap());
+    }
+
+    #[test]
+    fn free_space_is_known_once_the_folder_exists() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = FsStorage::new(dir.path().join("tools"));
+        assert_eq!(s.available_space().unwrap(), None);
+        fs::create_dir(s.dir()).unwrap();
+        let free = s.available_space().unwrap();
+        assert!(cfg!(not(unix)) || free.is_some_and(|f| f > 0), "{free:?}");
     }
 
     #[test]

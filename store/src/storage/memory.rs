@@ -96,6 +96,11 @@ impl Storage for MemStorage {
         Ok(self.orphan.take().is_none())
     }
 
+    /// Memory has no volume to run full.
+    fn available_space(&mut self) -> io::Result<Option<u64>> {
+        Ok(None)
+    }
+
     fn remove_temporaries(&mut self) -> io::Result<Vec<String>> {
         let names: Vec<String> = self
             .files

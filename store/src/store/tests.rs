@@ -206,42 +206,43 @@ fn needs_compaction_past_the_bound() {
     assert_eq!((default.bytes, default.records), (4 << 20, 100_000));
 }
 
-/// Issue 20, point 13: the journal may grow to a few times the tool
-/// files, at least to a floor, at most to the fixed bound.
+/// Issue 20, point 13: a disk short of room calls for compaction once the
+/// journal holds enough to be worth it: when less is free than the tool
+/// files need (new files whole, the largest once more, in 4 KiB blocks,
+/// at most 64 bytes a value and 320 of header) plus 64 KiB.
 #[test]
-fn the_journal_is_due_at_a_multiple_of_the_tool_files() {
-    let bound = CompactionBound::default();
-    assert_eq!(bound.journal_limit(0), 64 << 10, "the floor");
-    assert_eq!(bound.journal_limit(100_000), 400_000, "4 times the files");
-    assert_eq!(bound.journal_limit(10 << 20), 4 << 20, "the fixed bound");
-
-    let bound = CompactionBound {
-        floor: 100,
-        ..CompactionBound::default()
-    };
-    let (store, _) = open(MemStorage::new());
-    let mut store = store.with_compaction_bound(bound);
-    let values: Vec<Record> = (0..32)
-        .map(|i| radius(1, i, 1000.0 + f64::from(i)))
-        .collect();
-    store.append(&values).unwrap();
-    store.compact().unwrap();
-    let files = store.files_size();
-    assert_eq!(
-        files,
-        store.storage().file("group01.wz").unwrap().len() as u64
-    );
-    // Rewrite the same values until the journal is 4 times the files.
-    let mut writes = 0;
-    while !store.needs_compaction() {
-        store.append(&[values[writes % 32]]).unwrap();
-        writes += 1;
+fn a_disk_short_of_room_calls_for_compaction() {
+    let (mut store, _) = open(MemStorage::new());
+    let mut n = 0;
+    while store.journal_size().0 < 16 << 10 {
+        assert!(!store.short_of_room(0), "a small journal frees too little");
+        store
+            .append(&[radius(1, n % 32, f64::from(n) + 0.5)])
+            .unwrap();
+        n += 1;
     }
-    let (journal, _) = store.journal_size();
-    assert!(
-        journal >= 4 * files && journal < 4 * files + 40,
-        "{journal} vs {files}"
-    );
+    // Group 1: 32 values, no file yet: one block new, one beside.
+    assert_eq!(store.compaction_room(), 2 * 4096);
+    assert!(store.short_of_room(2 * 4096 + (64 << 10) - 1));
+    assert!(!store.short_of_room(2 * 4096 + (64 << 10)));
+    assert!(!store.needs_compaction(), "not by the size bound");
+    // A group of 1,024 values with a file: written beside the old one.
+    let many: Vec<Record> = (0..1024)
+        .map(|i| radius(2, i, (f64::from(i) + 0.5) / 7.0))
+        .collect();
+    store.append(&many).unwrap();
+    store.compact().unwrap();
+    assert_eq!(store.compaction_room(), 0, "nothing changed since");
+    while store.journal_size().0 < 16 << 10 {
+        store
+            .append(&[radius(2, n % 1024, f64::from(n) + 0.5)])
+            .unwrap();
+        n += 1;
+    }
+    let blocks = (320 + 64 * 1024u64).div_ceil(4096);
+    assert_eq!(store.compaction_room(), blocks * 4096);
+    assert!(store.short_of_room(blocks * 4096 + (64 << 10) - 1));
+    assert!(!store.short_of_room(blocks * 4096 + (64 << 10)));
 }
 
 /// Compaction rewrites only the groups changed since their file was

@@ -1,6 +1,7 @@
 //! Keeping a served store healthy: the journal's writer thread calls these.
 //!
-//! * compaction when the journal is due, and at shutdown;
+//! * compaction when the journal is due, early when the disk runs short
+//!   of room, and at shutdown;
 //! * a failed compaction is not tried again at once: the next attempt
 //!   waits [`FIRST_PAUSE`], doubled after each further failure up to
 //!   [`LONGEST_PAUSE`], so a full disk costs a few attempts a minute, not
@@ -9,8 +10,8 @@
 //!   which frees the journal's room, and is then written again;
 //! * a journal left with a half record that could not be cut off
 //!   (poisoned) is compacted before the next write;
-//! * their warnings come at most once a second per kind, with the count of
-//!   those left out.
+//! * their warnings come at most once a second per kind (a disk short of
+//!   room: once a minute), with the count of those left out.
 
 use std::time::{Duration, Instant};
 
@@ -29,6 +30,9 @@ pub const FIRST_PAUSE: Duration = Duration::from_secs(1);
 /// a row: 1, 2, 4, 8, 16 s).
 pub const LONGEST_PAUSE: Duration = Duration::from_secs(16);
 
+/// At most one warning of a disk short of room per this time.
+const LOW_SPACE_WARNING_EVERY: Duration = Duration::from_secs(60);
+
 /// Compaction attempts held back after failures, and the warnings that a
 /// broken disk could repeat.
 #[derive(Debug)]
@@ -39,6 +43,7 @@ pub(super) struct Upkeep {
     next_try: Option<Instant>,
     compaction_warnings: LogLimit,
     lost_journal_warnings: LogLimit,
+    low_space_warnings: LogLimit,
 }
 
 impl Default for Upkeep {
@@ -48,6 +53,7 @@ impl Default for Upkeep {
             next_try: None,
             compaction_warnings: LogLimit::per_second(),
             lost_journal_warnings: LogLimit::per_second(),
+            low_space_warnings: LogLimit::new(LOW_SPACE_WARNING_EVERY),
         }
     }
 }
@@ -104,13 +110,35 @@ impl<S: Storage> ToolStore<S> {
         }
     }
 
-    /// Compacts if the journal is due and compaction is not paused after
-    /// failures, at the time `now`.
+    /// Compacts if the journal is due, or the disk is short of room
+    /// ([`short_of_room`](Self::short_of_room)), and compaction is not
+    /// paused after failures, at the time `now`.
     pub fn maintain_at(&mut self, now: Instant) {
-        if self.needs_compaction() && self.upkeep.may_try(now) {
-            // A failure is logged and paused by `try_compact`.
-            let _ = self.try_compact(now);
+        if !self.upkeep.may_try(now) {
+            return;
         }
+        if !self.needs_compaction() {
+            if self.journal_len < self.bound.least {
+                return;
+            }
+            // A failed look at the free space leaves it to the bound.
+            let Some(free) = self.storage.available_space().ok().flatten() else {
+                return;
+            };
+            if !self.short_of_room(free) {
+                return;
+            }
+            if let Some(suppressed) = self.upkeep.low_space_warnings.allow_at(now) {
+                warn!(
+                    free_bytes = free,
+                    journal_bytes = self.journal_len,
+                    suppressed,
+                    "the disk of the tool data is nearly full; compacting the tool journal early"
+                );
+            }
+        }
+        // A failure is logged and paused by `try_compact`.
+        let _ = self.try_compact(now);
     }
 
     /// When the next compaction attempt may come, if paused.
