@@ -33,6 +33,11 @@ pub const LONGEST_PAUSE: Duration = Duration::from_secs(16);
 /// At most one warning of a disk short of room per this time.
 const LOW_SPACE_WARNING_EVERY: Duration = Duration::from_secs(60);
 
+/// The free space is looked at again once the journal grew this much
+/// since the last look (a statvfs costs about as much as 1 % of a
+/// fast fdatasync; free space matters here in steps of 64 KiB).
+const SPACE_LOOK_EVERY: u64 = 4 << 10;
+
 /// Compaction attempts held back after failures, and the warnings that a
 /// broken disk could repeat.
 #[derive(Debug)]
@@ -41,6 +46,8 @@ pub(super) struct Upkeep {
     failures: u32,
     /// No compaction attempt before this.
     next_try: Option<Instant>,
+    /// The journal's size at the last look at the free space.
+    space_looked_at: Option<u64>,
     compaction_warnings: LogLimit,
     lost_journal_warnings: LogLimit,
     low_space_warnings: LogLimit,
@@ -51,6 +58,7 @@ impl Default for Upkeep {
         Self {
             failures: 0,
             next_try: None,
+            space_looked_at: None,
             compaction_warnings: LogLimit::per_second(),
             lost_journal_warnings: LogLimit::per_second(),
             low_space_warnings: LogLimit::new(LOW_SPACE_WARNING_EVERY),
@@ -118,9 +126,12 @@ impl<S: Storage> ToolStore<S> {
             return;
         }
         if !self.needs_compaction() {
-            if self.journal_len < self.bound.least {
+            let looked = self.upkeep.space_looked_at;
+            let grown = looked.is_none_or(|at| self.journal_len.abs_diff(at) >= SPACE_LOOK_EVERY);
+            if self.journal_len < self.bound.least || !grown {
                 return;
             }
+            self.upkeep.space_looked_at = Some(self.journal_len);
             // A failed look at the free space leaves it to the bound.
             let Some(free) = self.storage.available_space().ok().flatten() else {
                 return;
