@@ -104,6 +104,15 @@ impl Storage for Counting {
     fn truncate_journal(&mut self, len: u64) -> io::Result<()> {
         self.fs.truncate_journal(len)
     }
+    fn journal_in_place(&mut self) -> io::Result<bool> {
+        self.fs.journal_in_place()
+    }
+    fn available_space(&mut self) -> io::Result<Option<u64>> {
+        self.fs.available_space()
+    }
+    fn remove_temporaries(&mut self) -> io::Result<Vec<String>> {
+        self.fs.remove_temporaries()
+    }
 }
 
 /// Starts a server on its own one-thread runtime, with durable tool data

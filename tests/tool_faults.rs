@@ -4,12 +4,17 @@
 //! and changes nothing; later writes work; after a restart (the store
 //! reopened from what the disk holds, after a crash or a clean stop) no
 //! acknowledged write is lost and no refused write is visible.
+//!
+//! Issue 20: a journal deleted under the server (point 11), and a small
+//! volume, simulated and real, that the journal must not wedge (point 13).
 
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 mod common;
 
 use std::io;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 use std::sync::{Arc, Barrier, Mutex};
 use std::time::Duration;
 
@@ -59,6 +64,15 @@ impl Storage for Disk {
     }
     fn truncate_journal(&mut self, len: u64) -> io::Result<()> {
         self.0.lock().unwrap().truncate_journal(len)
+    }
+    fn journal_in_place(&mut self) -> io::Result<bool> {
+        self.0.lock().unwrap().journal_in_place()
+    }
+    fn available_space(&mut self) -> io::Result<Option<u64>> {
+        self.0.lock().unwrap().available_space()
+    }
+    fn remove_temporaries(&mut self) -> io::Result<Vec<String>> {
+        self.0.lock().unwrap().remove_temporaries()
     }
 }
 
@@ -381,4 +395,249 @@ fn a_refused_reset_or_otc_off_changes_nothing_at_all() {
         tool_store::ToolValue::F64(l) => assert!((l + 0.1).abs() < 1e-9, "length {l}"),
         other => panic!("{other:?}"),
     }
+}
+
+/// Issue 20, point 11: the journal deleted, then replaced, under a running
+/// server. Each write after it is acknowledged only once the journal is
+/// made anew; a crash then loses nothing, the writes before the deletion
+/// included.
+#[test]
+fn a_journal_deleted_under_the_server_loses_no_acknowledged_write() {
+    let mut rig = serve(|s| s);
+    assert_eq!(rig.set(1, 5, RADIUS, 1.5), Answer::Ok);
+    assert_eq!(rig.set(2, 1, LENGTH, 4.5), Answer::Ok);
+    rig.disk.0.lock().unwrap().delete_journal();
+    assert_eq!(rig.set(1, 5, RADIUS, 2.5), Answer::Ok);
+    let crashed = reopen(rig.disk.snapshot());
+    assert_eq!(stored(&crashed, 1, 5, ToolField::Radius), 2.5);
+    assert_eq!(stored(&crashed, 2, 1, ToolField::Length), 4.5);
+    // Replaced by the journal as it was before any write: old values must
+    // not come back.
+    rig.disk.0.lock().unwrap().replace_journal(Vec::new());
+    let stale = radius_record(1, 5, 1.5);
+    rig.disk
+        .0
+        .lock()
+        .unwrap()
+        .journal_mut()
+        .extend(stale.bytes());
+    assert_eq!(rig.set(3, 2, RADIUS, 6.0), Answer::Ok);
+    let crashed = reopen(rig.disk.snapshot());
+    assert_eq!(stored(&crashed, 1, 5, ToolField::Radius), 2.5);
+    assert_eq!(stored(&crashed, 3, 2, ToolField::Radius), 6.0);
+    assert_eq!(crashed.values().count(), 3);
+    assert_eq!(reopen(rig.stop()).values().count(), 3);
+}
+
+/// The journal line setting RADIUS of (`g`, `index`) to `mm`.
+fn radius_record(g: u8, index: u16, mm: f64) -> String {
+    Record::Set {
+        group: g,
+        key: ToolKey::new(index, ToolField::Radius).unwrap(),
+        value: ToolValue::F64(mm),
+    }
+    .encode()
+}
+
+/// The 256 KB volume of issue 20.
+const VOLUME: u64 = 256 << 10;
+
+/// The `n`-th write of the 512 live values (16 groups of 32 entries):
+/// its group, entry and a value with many digits.
+fn live(n: u32) -> (u16, i32, f64) {
+    (
+        (n % 16) as u16 + 1,
+        (n / 16 % 32) as i32,
+        (f64::from(n) + 0.5) / 7.0,
+    )
+}
+
+/// Writes `writes` of the live values over `client`, pipelined; the
+/// answers to the RADIUS writes.
+fn write_live(client: &mut BlockingClient, writes: std::ops::Range<u32>) -> Vec<Answer> {
+    let mut answers = Vec::new();
+    let all: Vec<u32> = writes.collect();
+    for chunk in all.chunks(100) {
+        let reqs: Vec<Request> = chunk
+            .iter()
+            .flat_map(|&n| {
+                let (g, index, v) = live(n);
+                [
+                    Request::Write(tc(1, g, 8), Value::I32(index)),
+                    Request::Write(tc(1, g, RADIUS), Value::F64(v)),
+                ]
+            })
+            .collect();
+        let got = client.pipeline(&reqs).expect("pipeline");
+        answers.extend(got.into_iter().skip(1).step_by(2));
+    }
+    answers
+}
+
+/// Every live value written last in `writes` is what `store` holds.
+fn live_values_held(store: &ToolStore<MemStorage>, writes: std::ops::Range<u32>) {
+    let last = writes.end;
+    for n in writes.rev().take(512) {
+        let (g, index, v) = live(n);
+        let got = stored(store, g as u8, index as u16, ToolField::Radius);
+        assert_eq!(got, v, "g{g} wz[{index}] (writes up to {last})");
+    }
+    assert_eq!(store.values().count(), 512);
+}
+
+/// Issue 20, point 13, on a simulated 256 KB volume: 512 live values and
+/// 6,000 writes are all acknowledged (before, the journal filled the
+/// volume after about 5,500 and every later write was refused, also after
+/// a restart); after a crash every value is there and writes go on.
+#[test]
+fn a_small_volume_is_not_wedged_by_the_journal() {
+    let mut rig = serve(|s| s.with_capacity(VOLUME));
+    let answers = write_live(&mut rig.client, 0..6000);
+    let refused = answers.iter().filter(|a| **a != Answer::Ok).count();
+    assert_eq!(
+        refused,
+        0,
+        "{:?}",
+        answers.iter().find(|a| **a != Answer::Ok)
+    );
+    let crashed = rig.disk.snapshot();
+    live_values_held(&reopen(crashed.clone()), 0..6000);
+    drop(rig);
+    let mut again = serve_on(
+        Disk(Arc::new(Mutex::new(crashed)), Duration::ZERO),
+        |s| s.with_capacity(VOLUME),
+    );
+    let answers = write_live(&mut again.client, 6000..7000);
+    assert!(
+        answers.iter().all(|a| *a == Answer::Ok),
+        "after the restart"
+    );
+    live_values_held(&reopen(again.stop()), 0..7000);
+}
+
+/// A tmpfs of `size` mounted at a fresh folder of the test's, unmounted
+/// when dropped; `None` (with a note) where mounting is not allowed.
+struct SmallVolume(PathBuf);
+
+impl SmallVolume {
+    fn mount(name: &str, size: &str) -> Option<Self> {
+        let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+        let _ = Command::new("umount")
+            .arg(&dir)
+            .stderr(std::process::Stdio::null())
+            .status();
+        std::fs::create_dir_all(&dir).unwrap();
+        let mounted = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", &format!("size={size}"), "tmpfs"])
+            .arg(&dir)
+            .output();
+        match mounted {
+            Ok(out) if out.status.success() => Some(Self(dir)),
+            other => {
+                eprintln!("skipped: cannot mount a {size} tmpfs here (needs root): {other:?}");
+                None
+            }
+        }
+    }
+
+    fn path(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for SmallVolume {
+    fn drop(&mut self) {
+        let _ = Command::new("umount")
+            .arg(&self.0)
+            .stderr(std::process::Stdio::null())
+            .status();
+        let _ = std::fs::remove_dir(&self.0);
+    }
+}
+
+/// A file that takes all the room left on the volume at `dir`.
+fn fill(dir: &Path) -> PathBuf {
+    use std::io::Write;
+    let path = dir.join("ballast");
+    let mut f = std::fs::File::create(&path).unwrap();
+    let block = vec![0x55u8; 4096];
+    while f.write_all(&block).is_ok() {}
+    while f.write_all(&block[..1]).is_ok() {}
+    path
+}
+
+/// A server of a fresh emulator on the tool folder `tools` of a real disk.
+fn serve_dir(tools: &Path) -> (TestServer, BlockingClient) {
+    let (store, _) = ToolStore::open_dir(tools, Strictness::Strict).expect("open");
+    let mut service = EmulatorService::new([0.0; 8], CycleTime::DEFAULT);
+    service.set_tools(Box::new(Durable::new(
+        Writer::start(store).expect("writer"),
+    )));
+    let server = TestServer::with(loopback(), service);
+    let client = BlockingClient::connect(&server.addr.to_string()).expect("connect");
+    (server, client)
+}
+
+/// The tool folder `tools` as a store in memory (strictly loaded).
+fn load_dir(tools: &Path) -> ToolStore<MemStorage> {
+    let mut mem = MemStorage::new();
+    for entry in std::fs::read_dir(tools).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let bytes = std::fs::read(&path).unwrap();
+        match name.as_str() {
+            tool_store::JOURNAL_FILE => *mem.journal_mut() = bytes,
+            ".lock" => {}
+            _ => mem.put_file(&name, bytes),
+        }
+    }
+    reopen(mem)
+}
+
+/// Issue 20, point 13, on a real 256 KB file system: 512 live values and
+/// 6,000 writes, all acknowledged. Then the volume is filled by something
+/// else: writes are refused (`Storage`) and leave no temporary file; once
+/// the room is back they work, and after a restart every acknowledged
+/// value is there.
+#[test]
+fn a_real_small_volume_is_not_wedged() {
+    let Some(volume) = SmallVolume::mount("tool-faults-volume", "256k") else {
+        return;
+    };
+    let tools = volume.path().join("tools");
+    let (server, mut client) = serve_dir(&tools);
+    let answers = write_live(&mut client, 0..6000);
+    let refused = answers.iter().filter(|a| **a != Answer::Ok).count();
+    assert_eq!(
+        refused,
+        0,
+        "{:?}",
+        answers.iter().find(|a| **a != Answer::Ok)
+    );
+    live_values_held(&load_dir(&tools), 0..6000);
+
+    let ballast = fill(volume.path());
+    let answers = write_live(&mut client, 6000..6600);
+    assert!(
+        answers.contains(&Answer::Access(AccessError::Storage)),
+        "a full disk took every write"
+    );
+    let names: Vec<String> = std::fs::read_dir(&tools)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(!names.iter().any(|n| n.ends_with(".tmp")), "{names:?}");
+    std::fs::remove_file(ballast).unwrap();
+    let answers = write_live(&mut client, 6600..7600);
+    assert!(answers.iter().all(|a| *a == Answer::Ok), "room again");
+    drop(client);
+    drop(server);
+    live_values_held(&load_dir(&tools), 6600..7600);
+    let (server, mut client) = serve_dir(&tools);
+    let answers = write_live(&mut client, 7600..8000);
+    assert!(
+        answers.iter().all(|a| *a == Answer::Ok),
+        "after the restart"
+    );
+    drop(server);
 }

@@ -1,8 +1,13 @@
 //! Starting `addipos serve` on damaged tool data (issue 10): a bad line of
 //! a tool file or of the journal (other than its torn last record) refuses
 //! the start, naming the file and the line; `--ignore-bad-tools` starts
-//! anyway and logs every skipped line; a torn last journal record is
-//! dropped with a log line and the server starts.
+//! anyway, logs every skipped line and keeps a copy of each damaged file;
+//! a torn last journal record (cut off before its newline) is dropped
+//! with a log line and the server starts.
+//!
+//! Issue 20: a complete last record with a bad checksum is damage, not a
+//! torn write (point 12); leftover temporary files are removed at start
+//! (point 13).
 
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
@@ -191,8 +196,82 @@ fn ignore_bad_tools_starts_and_logs_each_skipped_line() {
             log.contains("skipped a bad tool") && log.contains(place),
             "{name}: {place} not logged: {log}"
         );
+        // The damaged file was kept as it was before the repair.
+        let file = place.split(':').next().unwrap();
+        let original = &files.iter().find(|(f, _)| *f == file).unwrap().1;
+        let copies = bad_copies(&dir, file);
+        assert_eq!(copies.len(), 1, "{name}: {copies:?}");
+        assert_eq!(&std::fs::read_to_string(&copies[0]).unwrap(), original);
+        assert!(log.contains(&*copies[0].to_string_lossy()), "{name}: {log}");
         let _ = std::fs::remove_dir_all(&dir);
     }
+}
+
+/// The copies `<file>.bad-<time>` kept in the tool folder of `dir`.
+fn bad_copies(dir: &Path, file: &str) -> Vec<PathBuf> {
+    std::fs::read_dir(dir.join("tools"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with(&format!("{file}.bad-")))
+        })
+        .collect()
+}
+
+/// Issue 20, point 12: a bit flip in the last complete journal record is
+/// not a torn write. The start is refused with the file and the line, and
+/// nothing is cut off the journal; `--ignore-bad-tools` starts without
+/// it, after keeping a copy of the journal as it was.
+#[test]
+fn a_bit_flip_in_the_last_complete_record_refuses_the_start() {
+    let mut journal = format!("{}{}", radius_record(3, 4, 12.5), radius_record(3, 5, 1.0));
+    // "g3 wz[5].radius 10000 *crc\n": a digit of the value flipped.
+    let at = journal.rfind("10000").unwrap();
+    journal.replace_range(at..at + 1, "3");
+    let dir = data_dir("bitflip", &[("journal.wzj", &journal)]);
+    let (code, err) = refused(&dir);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("journal.wzj:2") && err.contains("checksum"),
+        "{err}"
+    );
+    let left = std::fs::read_to_string(dir.join("tools").join("journal.wzj")).unwrap();
+    assert_eq!(left, journal, "the journal was changed");
+
+    let server = start(&dir, &["--ignore-bad-tools"]);
+    assert_eq!(radius(&server.addr, 3, 4), 12.5);
+    assert_eq!(radius(&server.addr, 3, 5), 0.0);
+    let log = server.stop();
+    assert!(log.contains("journal.wzj:2"), "{log}");
+    let copies = bad_copies(&dir, "journal.wzj");
+    assert_eq!(copies.len(), 1, "{copies:?}");
+    assert_eq!(std::fs::read_to_string(&copies[0]).unwrap(), journal);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 20, point 13: a temporary file left by a compaction cut short
+/// (here a 0-byte one, as a full disk left it) is removed at start, and
+/// the log says so.
+#[test]
+fn leftover_temporary_files_are_removed_at_start() {
+    let dir = data_dir(
+        "leftover",
+        &[
+            ("group01.wz", GOOD),
+            ("group01.wz.tmp", ""),
+            ("group02.wz.tmp", "wz[1].ra"),
+        ],
+    );
+    let server = start(&dir, &[]);
+    assert_eq!(radius(&server.addr, 1, 1), 30.0);
+    let log = server.stop();
+    for name in ["group01.wz.tmp", "group02.wz.tmp"] {
+        assert!(!dir.join("tools").join(name).exists(), "{name} left");
+        assert!(log.contains(&format!("removed {name}")), "{name}: {log}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

@@ -7,9 +7,11 @@
 //! clean *f1b0ad49
 //! ```
 //!
-//! A record counts only with its newline and a matching checksum. A bad
-//! last line is a torn tail (a write cut short by a crash): it is dropped
-//! and reported. A bad line anywhere before the last is corruption.
+//! A record counts only with its newline and a matching checksum. A last
+//! line without its newline is a torn tail (a write cut short by a crash):
+//! it is dropped and reported. Any complete line that is bad, the last one
+//! included, is corruption: a write cut short cannot leave a newline after
+//! a wrong byte, but a flipped bit can.
 
 use crate::field::{FileField, ToolValue};
 use crate::file::{format_assignment, parse_assignment, LineError};
@@ -71,8 +73,8 @@ pub struct JournalError {
     pub error: RecordError,
 }
 
-/// A dropped torn tail: the last line of the journal, incomplete or with a
-/// bad checksum.
+/// A dropped torn tail: the last line of the journal, cut short before its
+/// newline.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct TornTail {
     /// Its line number, counting from 1.
@@ -81,7 +83,7 @@ pub struct TornTail {
     pub offset: u64,
     /// Its length in bytes, newline included if there is one.
     pub bytes: u64,
-    /// Why it was dropped.
+    /// Why it was dropped (always [`RecordError::Incomplete`]).
     pub reason: RecordError,
 }
 
@@ -92,7 +94,7 @@ pub struct Replay {
     pub records: Vec<Record>,
     /// The dropped torn tail, if any.
     pub torn_tail: Option<TornTail>,
-    /// Bad lines before the last that were skipped (lenient reading only).
+    /// Bad complete lines that were skipped (lenient reading only).
     pub skipped: Vec<JournalError>,
     /// Bytes up to the end of the last good line (or skipped bad line):
     /// the length to truncate the journal to before appending again.
@@ -179,14 +181,15 @@ pub fn encode_batch(records: &[Record]) -> Vec<u8> {
         .collect()
 }
 
-/// Reads a journal: a bad last line is dropped as a torn tail, a bad line
-/// before it is the error.
+/// Reads a journal: a last line without its newline is dropped as a torn
+/// tail; any other bad line is the error.
 pub fn replay(bytes: &[u8]) -> Result<Replay, JournalError> {
     read(bytes, false)
 }
 
-/// Reads a journal, skipping bad lines before the last (reported in
-/// [`Replay::skipped`]) instead of failing.
+/// Reads a journal, skipping bad complete lines (reported in
+/// [`Replay::skipped`]) instead of failing; a torn tail is dropped as by
+/// [`replay`].
 pub fn replay_lenient(bytes: &[u8]) -> Replay {
     // Lenient reading never fails: every bad line is skipped.
     read(bytes, true).unwrap_or_default()
@@ -203,10 +206,10 @@ fn read(bytes: &[u8], lenient: bool) -> Result<Replay, JournalError> {
             Some(nl) => (nl + 1, Record::decode(&rest[..nl])),
             None => (rest.len(), Err(RecordError::Incomplete)),
         };
-        let is_last = offset + len == bytes.len();
         match result {
             Ok(record) => out.records.push(record),
-            Err(reason) if is_last => {
+            // Only a line without its newline is the last one.
+            Err(reason @ RecordError::Incomplete) => {
                 out.torn_tail = Some(TornTail {
                     line,
                     offset: offset as u64,

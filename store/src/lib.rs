@@ -31,6 +31,9 @@ pub use journal::{replay as replay_journal, JournalError, Record, RecordError, R
 pub use lock::{lock_exclusive, tools_dir, LockError, LOCK_FILE, TOOLS_DIR};
 pub use open::{open_tools, OpenTools};
 pub use storage::{FaultKind, FaultyStorage, FsStorage, MemStorage, Op, Storage, JOURNAL_FILE};
-pub use store::{group_file_name, CompactionBound, OpenReport, StoreError, Strictness, ToolStore};
+pub use store::{
+    group_file_name, CompactionBound, OpenReport, StoreError, Strictness, ToolStore, FIRST_PAUSE,
+    LONGEST_PAUSE,
+};
 pub use table::{GroupTable, ToolKey, GROUPS, TOOL_ENTRIES};
 pub use writer::{Done, Journal, Writer, MAX_BATCH, QUEUE};

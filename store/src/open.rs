@@ -1,10 +1,14 @@
 //! Opening the tool data of a data directory for a server: the tool
-//! folder locked for it, the tool files loaded and the journal replayed
-//! (refusing bad lines, or skipping them when asked), what was found
-//! logged, and skipped lines compacted away.
+//! folder locked for it, leftover temporary files removed, the tool files
+//! loaded and the journal replayed (refusing bad lines, or skipping them
+//! when asked), what was found logged, a copy kept of each file whose bad
+//! lines were skipped before compaction drops them, and a journal already
+//! past its bound compacted.
 
+use std::collections::BTreeSet;
 use std::fs::File;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use tracing::{info, warn};
 
@@ -28,6 +32,9 @@ fn log_report(dir: &Path, report: &OpenReport) {
         journal_records = report.replayed,
         "tool data loaded"
     );
+    for name in &report.removed_temporaries {
+        info!("removed {name}, left over from a tool file replacement cut short");
+    }
     if let Some(t) = &report.torn_tail {
         warn!(
             line = t.line,
@@ -48,8 +55,9 @@ fn log_report(dir: &Path, report: &OpenReport) {
 
 /// Opens the tool data in `data_dir`: creates and locks its tool folder,
 /// loads the files and replays the journal (`ignore_bad`: skipping bad
-/// lines, which then leave the files). The error names the file and the
-/// line of a bad tool file or journal record, and the way out.
+/// lines, which then leave the files, after a copy of each damaged file is
+/// kept beside it). The error names the file and the line of a bad tool
+/// file or journal record, and the way out.
 pub fn open_tools(data_dir: &Path, ignore_bad: bool) -> Result<OpenTools, String> {
     let dir = tools_dir(data_dir);
     std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
@@ -68,10 +76,58 @@ pub fn open_tools(data_dir: &Path, ignore_bad: bool) -> Result<OpenTools, String
     log_report(&dir, &report);
     if !(report.file_errors.is_empty() && report.journal_errors.is_empty()) {
         // The skipped lines leave the files and the journal now, so they
-        // are not reported again at every start.
+        // are not reported again at every start; the evidence is kept.
+        keep_damaged(&dir, &report)?;
         store
             .compact()
             .map_err(|e| format!("tool data in {}: {e}", dir.display()))?;
     }
+    // A journal left past its bound (by a full disk, or an older version)
+    // is compacted before the first write; a failure is logged.
+    store.maintain_at(Instant::now());
     Ok(OpenTools { store, lock })
+}
+
+/// Keeps a copy of every file whose bad lines were skipped, as
+/// `<name>.bad-<UTC time>` beside it, flushed to the disk, before the
+/// repair drops the lines. A copy that cannot be made refuses the start.
+fn keep_damaged(dir: &Path, report: &OpenReport) -> Result<(), String> {
+    let mut damaged: BTreeSet<&str> = report.file_errors.iter().map(|e| e.file.as_str()).collect();
+    if !report.journal_errors.is_empty() {
+        damaged.insert(JOURNAL_FILE);
+    }
+    let stamp = chrono::Utc::now().format("%Y%m%dT%H%M%SZ").to_string();
+    for name in damaged {
+        let copy = unused_name(dir, &format!("{name}.bad-{stamp}"));
+        copy_durably(&dir.join(name), &copy).map_err(|e| {
+            format!(
+                "cannot keep a copy of {} before dropping its bad lines: {e}",
+                dir.join(name).display()
+            )
+        })?;
+        warn!(
+            "kept {name} as it was, bad lines and all, in {}",
+            copy.display()
+        );
+    }
+    File::open(dir)
+        .and_then(|d| d.sync_all())
+        .map_err(|e| format!("cannot flush {}: {e}", dir.display()))
+}
+
+/// `dir/name`, or `dir/name-2`, `-3` ... if taken.
+fn unused_name(dir: &Path, name: &str) -> PathBuf {
+    let mut path = dir.join(name);
+    let mut n = 2;
+    while path.exists() {
+        path = dir.join(format!("{name}-{n}"));
+        n += 1;
+    }
+    path
+}
+
+/// Copies `from` to `to` and flushes the copy.
+fn copy_durably(from: &Path, to: &Path) -> std::io::Result<()> {
+    std::fs::copy(from, to)?;
+    File::open(to)?.sync_all()
 }

@@ -5,65 +5,12 @@
 //! [`MemStorage`] keeps everything in memory and [`FaultyStorage`] wraps
 //! another storage and makes chosen calls fail, for tests.
 
+mod contract;
 mod faulty;
 mod fs;
 mod memory;
 
+pub use contract::{Storage, JOURNAL_FILE};
 pub use faulty::{FaultKind, FaultyStorage, Op};
 pub use fs::FsStorage;
 pub use memory::MemStorage;
-
-use std::io;
-
-/// The journal's file name inside the store's directory.
-pub const JOURNAL_FILE: &str = "journal.wzj";
-
-/// Durable storage of tool files and the journal.
-///
-/// The store calls these in a fixed pattern: append, then sync, before a
-/// change counts; after a failed append or sync it truncates the journal
-/// back to its length before the call.
-pub trait Storage {
-    /// The whole content of the file `name`, `None` if it does not exist.
-    fn read_file(&mut self, name: &str) -> io::Result<Option<Vec<u8>>>;
-
-    /// Replaces the file `name` atomically and durably: a reader (after a
-    /// crash, too) sees either the old or the new content. On disk: write
-    /// a temporary file, fsync it, rename it over `name`, fsync the
-    /// directory.
-    fn write_file_atomic(&mut self, name: &str, bytes: &[u8]) -> io::Result<()>;
-
-    /// The journal's content, empty if there is none.
-    fn read_journal(&mut self) -> io::Result<Vec<u8>>;
-
-    /// Appends `bytes` at the journal's end (not yet durable).
-    fn append_journal(&mut self, bytes: &[u8]) -> io::Result<()>;
-
-    /// Makes every appended byte durable (fdatasync; the directory too if
-    /// the journal was just created).
-    fn sync_journal(&mut self) -> io::Result<()>;
-
-    /// Cuts the journal to `len` bytes and makes that durable.
-    fn truncate_journal(&mut self, len: u64) -> io::Result<()>;
-}
-
-impl<S: Storage + ?Sized> Storage for Box<S> {
-    fn read_file(&mut self, name: &str) -> io::Result<Option<Vec<u8>>> {
-        (**self).read_file(name)
-    }
-    fn write_file_atomic(&mut self, name: &str, bytes: &[u8]) -> io::Result<()> {
-        (**self).write_file_atomic(name, bytes)
-    }
-    fn read_journal(&mut self) -> io::Result<Vec<u8>> {
-        (**self).read_journal()
-    }
-    fn append_journal(&mut self, bytes: &[u8]) -> io::Result<()> {
-        (**self).append_journal(bytes)
-    }
-    fn sync_journal(&mut self) -> io::Result<()> {
-        (**self).sync_journal()
-    }
-    fn truncate_journal(&mut self, len: u64) -> io::Result<()> {
-        (**self).truncate_journal(len)
-    }
-}

@@ -1,14 +1,24 @@
 //! The tool store: the group files and the journal together, the current
 //! tool values in memory, never ahead of what is durable on disk.
+//!
+//! Compaction (folding the journal into the tool files) is in
+//! [`compaction`]; keeping a served store healthy (compaction when due,
+//! with a pause after failures, a full disk) in [`upkeep`].
 
 use crate::field::{FileField, ToolValue};
-use crate::file::{parse_group_file_lenient, write_group_file, ParseError};
+use crate::file::{parse_group_file_lenient, ParseError};
 use crate::journal::{self, encode_batch, JournalError, Record, RecordError, TornTail};
 use crate::storage::{FsStorage, Storage, JOURNAL_FILE};
 use crate::table::{GroupTable, ToolKey, GROUPS};
 use std::collections::{BTreeMap, BTreeSet};
 use std::io;
 use std::path::PathBuf;
+
+mod compaction;
+mod upkeep;
+
+pub use compaction::CompactionBound;
+pub use upkeep::{FIRST_PAUSE, LONGEST_PAUSE};
 
 /// The tool file name of a group: `group01.wz` .. `group32.wz`.
 pub fn group_file_name(group: u8) -> String {
@@ -25,25 +35,6 @@ pub enum Strictness {
     Lenient,
 }
 
-/// When [`ToolStore::needs_compaction`] says yes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct CompactionBound {
-    /// Journal size in bytes.
-    pub bytes: u64,
-    /// Journal records.
-    pub records: u64,
-}
-
-impl Default for CompactionBound {
-    /// 4 MiB or 100,000 records, whichever comes first.
-    fn default() -> Self {
-        Self {
-            bytes: 4 << 20,
-            records: 100_000,
-        }
-    }
-}
-
 /// What opening found besides the values.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct OpenReport {
@@ -53,6 +44,8 @@ pub struct OpenReport {
     pub replayed: usize,
     /// The torn last journal record, dropped (and cut off the journal).
     pub torn_tail: Option<TornTail>,
+    /// Temporary files of a replacement cut short, removed.
+    pub removed_temporaries: Vec<String>,
     /// Bad tool file lines skipped (lenient open only).
     pub file_errors: Vec<ParseError>,
     /// Bad journal lines skipped (lenient open only; they stay in the
@@ -74,7 +67,7 @@ pub enum StoreError {
     /// A tool file has a bad line (strict open).
     #[error(transparent)]
     File(#[from] ParseError),
-    /// The journal has a bad record before its last line (strict open).
+    /// The journal has a bad complete record (strict open).
     #[error("{file}:{}: {}", .error.line, .error.error)]
     Journal {
         /// The journal's file name.
@@ -94,6 +87,42 @@ pub enum StoreError {
     /// refused until a successful [`ToolStore::compact`] or a reopen.
     #[error("the journal could not be repaired after a failed write; compact or reopen")]
     Poisoned,
+    /// Compaction could not write a tool file; what the disk needs.
+    #[error(
+        "writing {file}: {source} (to compact, the disk needs {needs} bytes free for the \
+         tool files; compacting then frees the journal's {journal} bytes)"
+    )]
+    Compaction {
+        /// The tool file.
+        file: String,
+        /// Bytes free on the disk that compaction needs: the new tool
+        /// files, and the largest one once more (each is written beside
+        /// the old one, then renamed over it).
+        needs: u64,
+        /// The journal's size, freed once compaction is done.
+        journal: u64,
+        /// The system's error.
+        source: io::Error,
+    },
+    /// The journal was deleted or replaced while in use (the batch went
+    /// into a file that is gone) and could not be made anew from memory.
+    #[error("{JOURNAL_FILE} was deleted or replaced while in use: {0}")]
+    JournalLost(String),
+}
+
+impl StoreError {
+    /// Whether the disk refused for want of room (no space left, quota
+    /// exceeded): compaction may free it.
+    pub fn is_disk_full(&self) -> bool {
+        let source = match self {
+            Self::Io { source, .. } | Self::Compaction { source, .. } => source,
+            _ => return false,
+        };
+        matches!(
+            source.kind(),
+            io::ErrorKind::StorageFull | io::ErrorKind::QuotaExceeded
+        )
+    }
 }
 
 fn io_error(what: impl Into<String>) -> impl FnOnce(io::Error) -> StoreError {
@@ -106,12 +135,20 @@ fn io_error(what: impl Into<String>) -> impl FnOnce(io::Error) -> StoreError {
 pub struct ToolStore<S> {
     storage: S,
     groups: BTreeMap<u8, GroupTable>,
-    /// Groups that have a tool file on disk.
-    files: BTreeSet<u8>,
+    /// Groups that have a tool file on disk, and its size in bytes.
+    files: BTreeMap<u8, u64>,
+    /// Groups whose values changed since their file was written (or
+    /// whose file has lines to drop): what compaction rewrites.
+    dirty: BTreeSet<u8>,
     journal_len: u64,
     journal_records: u64,
     bound: CompactionBound,
     poisoned: bool,
+    /// The journal was deleted or replaced since the tool files were last
+    /// all written: the next compaction rewrites every file.
+    lost: bool,
+    /// Compaction attempts held back after failures; warnings limited.
+    upkeep: upkeep::Upkeep,
 }
 
 impl ToolStore<FsStorage> {
@@ -126,12 +163,18 @@ impl ToolStore<FsStorage> {
 }
 
 impl<S: Storage> ToolStore<S> {
-    /// Loads every group's tool file, replays the journal on top, drops a
-    /// torn last record (cutting it off the journal so later appends
-    /// follow good records).
+    /// Removes leftover temporary files, loads every group's tool file,
+    /// replays the journal on top, drops a torn last record (cutting it off
+    /// the journal so later appends follow good records).
     pub fn open(mut storage: S, strictness: Strictness) -> Result<(Self, OpenReport), StoreError> {
-        let mut report = OpenReport::default();
-        let mut groups = BTreeMap::new();
+        let mut report = OpenReport {
+            removed_temporaries: storage
+                .remove_temporaries()
+                .map_err(io_error("removing leftover temporary files"))?,
+            ..OpenReport::default()
+        };
+        let (mut groups, mut files, mut dirty) =
+            (BTreeMap::new(), BTreeMap::new(), BTreeSet::new());
         for group in GROUPS {
             let name = group_file_name(group);
             let read = storage.read_file(&name);
@@ -143,18 +186,26 @@ impl<S: Storage> ToolStore<S> {
             if strictness == Strictness::Strict && !errors.is_empty() {
                 return Err(errors.swap_remove(0).into());
             }
+            if !errors.is_empty() {
+                // Rewritten at the next compaction, without the bad lines.
+                dirty.insert(group);
+            }
             report.file_errors.append(&mut errors);
             report.files_loaded.push(group);
             groups.insert(group, table);
+            files.insert(group, bytes.len() as u64);
         }
         let mut store = Self {
-            files: report.files_loaded.iter().copied().collect(),
+            files,
+            dirty,
             storage,
             groups,
             journal_len: 0,
             journal_records: 0,
             bound: CompactionBound::default(),
             poisoned: false,
+            lost: false,
+            upkeep: upkeep::Upkeep::default(),
         };
         store.replay_journal(strictness, &mut report)?;
         Ok((store, report))
@@ -195,12 +246,6 @@ impl<S: Storage> ToolStore<S> {
         Ok(())
     }
 
-    /// Uses `bound` for [`needs_compaction`](Self::needs_compaction).
-    pub fn with_compaction_bound(mut self, bound: CompactionBound) -> Self {
-        self.bound = bound;
-        self
-    }
-
     /// The value of `key` in `group` (the field's default if never set).
     pub fn get(&self, group: u8, key: ToolKey) -> ToolValue {
         self.groups
@@ -225,6 +270,11 @@ impl<S: Storage> ToolStore<S> {
     /// fdatasync); only then are they applied in memory. On any error the
     /// values stay as before the call and the journal is cut back to its
     /// length before the call.
+    ///
+    /// If the journal was deleted or replaced meanwhile, the batch went
+    /// into a file that is gone: every tool file is rewritten from memory
+    /// (which holds only durable values), the journal made anew, and the
+    /// batch written into it; if that fails, the batch is refused.
     pub fn append(&mut self, records: &[Record]) -> Result<(), StoreError> {
         if self.poisoned {
             return Err(StoreError::Poisoned);
@@ -237,24 +287,64 @@ impl<S: Storage> ToolStore<S> {
         if records.is_empty() {
             return Ok(());
         }
+        if self.lost {
+            // An earlier loss not yet repaired.
+            self.recover()?;
+        }
         let bytes = encode_batch(records);
-        let written = self
-            .storage
-            .append_journal(&bytes)
-            .map_err(io_error(format!("appending to {JOURNAL_FILE}")))
-            .and_then(|()| {
-                self.storage
-                    .sync_journal()
-                    .map_err(io_error(format!("syncing {JOURNAL_FILE}")))
-            });
-        if let Err(e) = written {
-            self.roll_back();
-            return Err(e);
+        self.write_batch(&bytes)?;
+        if !self.journal_in_place() {
+            self.recover()?;
+            self.write_batch(&bytes)?;
+            if !self.journal_in_place() {
+                return Err(StoreError::JournalLost(
+                    "and again while it was made anew".into(),
+                ));
+            }
         }
         records.iter().for_each(|r| self.apply(r));
         self.journal_len += bytes.len() as u64;
         self.journal_records += records.len() as u64;
         Ok(())
+    }
+
+    /// After the journal was lost: every tool file rewritten from memory
+    /// (which holds only durable values) and the journal made anew.
+    fn recover(&mut self) -> Result<(), StoreError> {
+        self.compact_all().map_err(|e| {
+            StoreError::JournalLost(format!("rewriting the tool files from memory: {e}"))
+        })?;
+        self.upkeep.journal_made_anew();
+        Ok(())
+    }
+
+    /// Appends `bytes` and syncs them; on failure cuts the journal back.
+    fn write_batch(&mut self, bytes: &[u8]) -> Result<(), StoreError> {
+        let written = self
+            .storage
+            .append_journal(bytes)
+            .map_err(io_error(format!(
+                "appending {} bytes to {JOURNAL_FILE}",
+                bytes.len()
+            )))
+            .and_then(|()| {
+                self.storage
+                    .sync_journal()
+                    .map_err(io_error(format!("syncing {JOURNAL_FILE}")))
+            });
+        if written.is_err() {
+            self.roll_back();
+        }
+        written
+    }
+
+    /// Whether the journal is still the file under its name; a failed
+    /// look counts as no (the remedy, a rewrite from memory, is safe).
+    /// A no is remembered until every tool file is rewritten.
+    fn journal_in_place(&mut self) -> bool {
+        let in_place = self.storage.journal_in_place().unwrap_or(false);
+        self.lost |= !in_place;
+        in_place
     }
 
     /// Cuts the journal back after a failed append; if even that fails,
@@ -268,60 +358,29 @@ impl<S: Storage> ToolStore<S> {
     fn apply(&mut self, record: &Record) {
         match *record {
             Record::Set { group, key, value } => {
-                self.groups.entry(group).or_default().set(key, value)
+                self.groups.entry(group).or_default().set(key, value);
+                self.dirty.insert(group);
             }
             Record::ResetGroup { group } => {
                 self.groups.remove(&group);
+                self.dirty.insert(group);
             }
-            Record::Clean => self.groups.clear(),
+            Record::Clean => {
+                self.dirty
+                    .extend(self.groups.keys().chain(self.files.keys()));
+                self.groups.clear();
+            }
         }
-    }
-
-    /// True once the journal has grown past the compaction bound.
-    pub fn needs_compaction(&self) -> bool {
-        self.journal_len >= self.bound.bytes || self.journal_records >= self.bound.records
-    }
-
-    /// Journal size in bytes and records since the last compaction.
-    pub fn journal_size(&self) -> (u64, u64) {
-        (self.journal_len, self.journal_records)
-    }
-
-    /// Writes every group's tool file from the current values (each one
-    /// atomically) and then empties the journal. A group whose values are
-    /// all default gets a file with only the header if it had a file.
-    /// A crash in between is harmless: replaying the journal over the new
-    /// files gives the same values. Success also clears a poisoned store.
-    pub fn compact(&mut self) -> Result<(), StoreError> {
-        let wanted: BTreeSet<u8> = self
-            .groups
-            .iter()
-            .filter(|(_, t)| !t.is_empty())
-            .map(|(&g, _)| g)
-            .chain(self.files.iter().copied())
-            .collect();
-        let empty = GroupTable::new();
-        for group in wanted {
-            let name = group_file_name(group);
-            let text = write_group_file(group, self.groups.get(&group).unwrap_or(&empty));
-            self.storage
-                .write_file_atomic(&name, text.as_bytes())
-                .map_err(io_error(format!("writing {name}")))?;
-            self.files.insert(group);
-        }
-        if let Err(source) = self.storage.truncate_journal(0) {
-            self.poisoned = true;
-            return Err(io_error(format!("emptying {JOURNAL_FILE}"))(source));
-        }
-        self.journal_len = 0;
-        self.journal_records = 0;
-        self.poisoned = false;
-        Ok(())
     }
 
     /// The storage.
     pub fn storage(&self) -> &S {
         &self.storage
+    }
+
+    /// The storage, to act on the disk behind the store's back in a test.
+    pub fn storage_mut(&mut self) -> &mut S {
+        &mut self.storage
     }
 
     /// Gives the storage back (to reopen it in a test).

@@ -8,6 +8,7 @@ use std::thread::JoinHandle;
 use crate::journal::Record;
 use tokio::sync::oneshot;
 use tracing::warn;
+use uoi::LogLimit;
 
 /// Changes waiting for the writer at most; a submitter finding it full
 /// waits (back-pressure), its change is never dropped.
@@ -26,37 +27,6 @@ pub trait Journal: Send + 'static {
     fn maintain(&mut self) {}
     /// At shutdown, after the last batch (compaction).
     fn close(&mut self) {}
-}
-
-impl<S: crate::Storage + Send + std::fmt::Debug + 'static> Journal for crate::ToolStore<S> {
-    /// A journal left with a half record that could not be cut off
-    /// (poisoned) is compacted first: the tool files are rewritten from
-    /// the values in memory (all durable) and the journal emptied, so the
-    /// writes work again once the disk does.
-    fn append(&mut self, records: &[Record]) -> Result<(), String> {
-        match crate::ToolStore::append(self, records) {
-            Err(crate::StoreError::Poisoned) => {
-                self.compact().map_err(|e| e.to_string())?;
-                crate::ToolStore::append(self, records).map_err(|e| e.to_string())
-            }
-            other => other.map_err(|e| e.to_string()),
-        }
-    }
-
-    fn maintain(&mut self) {
-        if self.needs_compaction() {
-            if let Err(e) = self.compact() {
-                warn!(error = %e, "tool journal not compacted");
-            }
-        }
-    }
-
-    fn close(&mut self) {
-        match self.compact() {
-            Ok(()) => tracing::info!("tool data saved to the tool files"),
-            Err(e) => warn!(error = %e, "tool files not rewritten; the journal keeps every change"),
-        }
-    }
 }
 
 /// How a submitter hears of its batch: from async code, or by blocking.
@@ -141,10 +111,12 @@ impl<J: Journal> Writer<J> {
 }
 
 /// The writer loop: takes every job waiting (up to [`MAX_BATCH`]), writes
-/// them with one sync, tells each submitter.
+/// them with one sync, tells each submitter. A refused batch is logged at
+/// most once a second, with the count of refusals left out.
 fn run<J: Journal>(mut journal: J, rx: Receiver<Job>) -> J {
     let mut jobs = Vec::new();
     let mut records = Vec::new();
+    let refusals = LogLimit::per_second();
     while let Ok(first) = rx.recv() {
         jobs.push(first);
         while jobs.len() < MAX_BATCH {
@@ -158,7 +130,9 @@ fn run<J: Journal>(mut journal: J, rx: Receiver<Job>) -> J {
         let ok = match journal.append(&records) {
             Ok(()) => true,
             Err(e) => {
-                warn!(error = %e, changes = records.len(), "tool data not stored");
+                if let Some(suppressed) = refusals.allow() {
+                    warn!(error = %e, changes = records.len(), suppressed, "tool data not stored");
+                }
                 false
             }
         };

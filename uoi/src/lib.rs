@@ -45,6 +45,7 @@ mod address;
 mod bus;
 mod dictionary;
 mod error;
+pub mod log_limit;
 mod server;
 #[cfg(feature = "tcp")]
 pub mod tcp;
@@ -55,5 +56,6 @@ pub use address::{AddressParseError, ObjectAddress};
 pub use bus::{Bus, ObjectBus};
 pub use dictionary::{lookup, Access, Meaning, ObjectDesc, ValueRange};
 pub use error::AccessError;
+pub use log_limit::LogLimit;
 pub use server::{ObjectServer, RegisterError};
 pub use value::{Value, ValueType};

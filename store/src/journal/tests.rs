@@ -120,14 +120,48 @@ fn torn_tail_at_every_byte_of_the_last_record_is_dropped() {
     assert_eq!(replay(&full[..before.len()]).unwrap().torn_tail, None);
 }
 
+/// Issue 20, point 12: a bit flip in the last complete record is not a
+/// torn write (a write cut short leaves no newline after a wrong byte):
+/// it refuses the replay with its line, as anywhere else.
 #[test]
-fn complete_last_line_with_bad_checksum_is_a_torn_tail() {
+fn complete_last_line_with_bad_checksum_is_corruption() {
     let mut bytes = encode_batch(&sample());
     let at = bytes.len() - 4;
     bytes[at] ^= 0x01;
-    let r = replay(&bytes).unwrap();
-    assert_eq!(r.records.len(), 5);
-    assert_eq!(r.torn_tail.map(|t| t.reason), Some(RecordError::Checksum));
+    let e = replay(&bytes).unwrap_err();
+    assert_eq!(
+        e,
+        JournalError {
+            line: 6,
+            error: RecordError::Checksum
+        }
+    );
+    // A bit flip in its text rather than its checksum: the same.
+    let mut bytes = encode_batch(&sample());
+    let at = bytes.len() - 14;
+    bytes[at] ^= 0x01;
+    assert_eq!(replay(&bytes).unwrap_err().line, 6);
+    // Skipped when told to, and nothing is taken for a torn tail.
+    let lenient = replay_lenient(&bytes);
+    assert_eq!(lenient.records, sample()[..5]);
+    assert_eq!((lenient.skipped.len(), lenient.torn_tail), (1, None));
+    assert_eq!(lenient.valid_len, bytes.len() as u64);
+}
+
+#[test]
+fn a_torn_tail_is_only_ever_a_line_without_its_newline() {
+    let full = encode_batch(&sample());
+    for cut in 1..full.len() {
+        match replay(&full[..cut]) {
+            Ok(r) => {
+                let tail = r.torn_tail.map(|t| t.reason);
+                let whole = full[..cut].ends_with(b"\n");
+                assert_eq!(tail.is_none(), whole, "cut at {cut}");
+                assert!(tail.is_none_or(|t| t == RecordError::Incomplete));
+            }
+            Err(e) => panic!("cut at {cut}: {e}"),
+        }
+    }
 }
 
 #[test]

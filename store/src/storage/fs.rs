@@ -1,8 +1,8 @@
 //! The real storage: a directory on the local file system.
 
-use super::{Storage, JOURNAL_FILE};
+use super::contract::{is_temporary, temporary_name, Storage, JOURNAL_FILE};
 use std::fs::{self, File, OpenOptions};
-use std::io::{self, Write};
+use std::io::{self, Read, Write};
 use std::path::{Path, PathBuf};
 
 /// Tool files and journal in one directory, created on the first write.
@@ -62,6 +62,14 @@ fn sync_dir(dir: &Path) -> io::Result<()> {
     File::open(dir)?.sync_all()
 }
 
+/// The file may be read but not written.
+fn read_only(e: &io::Error) -> bool {
+    matches!(
+        e.kind(),
+        io::ErrorKind::PermissionDenied | io::ErrorKind::ReadOnlyFilesystem
+    )
+}
+
 fn read_optional(path: &Path) -> io::Result<Option<Vec<u8>>> {
     match fs::read(path) {
         Ok(bytes) => Ok(Some(bytes)),
@@ -77,17 +85,37 @@ impl Storage for FsStorage {
 
     fn write_file_atomic(&mut self, name: &str, bytes: &[u8]) -> io::Result<()> {
         self.ensure_dir()?;
-        let tmp = self.dir.join(format!("{name}.tmp"));
-        let mut file = File::create(&tmp)?;
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        drop(file);
-        fs::rename(&tmp, self.dir.join(name))?;
+        let tmp = self.dir.join(temporary_name(name));
+        let replaced = File::create(&tmp)
+            .and_then(|mut file| {
+                file.write_all(bytes)?;
+                file.sync_all()
+            })
+            .and_then(|()| fs::rename(&tmp, self.dir.join(name)));
+        if let Err(e) = replaced {
+            // A full disk must not keep the half file: it holds room.
+            let _ = fs::remove_file(&tmp);
+            return Err(e);
+        }
         sync_dir(&self.dir)
     }
 
+    /// Reads the journal through the file later appends go to, so that a
+    /// deletion from now on is seen ([`Storage::journal_in_place`]) even
+    /// before the first append. Where the journal may not be written
+    /// (a read-only folder), it is only read.
     fn read_journal(&mut self) -> io::Result<Vec<u8>> {
-        Ok(read_optional(&self.dir.join(JOURNAL_FILE))?.unwrap_or_default())
+        let path = self.dir.join(JOURNAL_FILE);
+        let mut file = match OpenOptions::new().read(true).append(true).open(&path) {
+            Ok(file) => file,
+            Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
+            Err(e) if read_only(&e) => return Ok(read_optional(&path)?.unwrap_or_default()),
+            Err(e) => return Err(e),
+        };
+        let mut bytes = Vec::new();
+        file.read_to_end(&mut bytes)?;
+        self.journal = Some(file);
+        Ok(bytes)
     }
 
     fn append_journal(&mut self, bytes: &[u8]) -> io::Result<()> {
@@ -111,6 +139,78 @@ impl Storage for FsStorage {
         file.set_len(len)?;
         self.sync_journal()
     }
+
+    fn journal_in_place(&mut self) -> io::Result<bool> {
+        let Some(file) = &self.journal else {
+            // Nothing open: the next append opens what the name leads to.
+            return Ok(true);
+        };
+        let open = file.metadata()?;
+        let named = match fs::metadata(self.dir.join(JOURNAL_FILE)) {
+            Ok(m) => Some(m),
+            Err(e) if e.kind() == io::ErrorKind::NotFound => None,
+            Err(e) => return Err(e),
+        };
+        let in_place = named.is_some_and(|named| same_file(&open, &named));
+        if !in_place {
+            self.journal = None;
+        }
+        Ok(in_place)
+    }
+
+    fn available_space(&mut self) -> io::Result<Option<u64>> {
+        free_space(&self.dir)
+    }
+
+    fn remove_temporaries(&mut self) -> io::Result<Vec<String>> {
+        let entries = match fs::read_dir(&self.dir) {
+            Ok(entries) => entries,
+            Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
+            Err(e) => return Err(e),
+        };
+        let mut removed = Vec::new();
+        for entry in entries {
+            let name = entry?.file_name().to_string_lossy().into_owned();
+            if is_temporary(&name) && fs::remove_file(self.dir.join(&name)).is_ok() {
+                removed.push(name);
+            }
+        }
+        removed.sort();
+        Ok(removed)
+    }
+}
+
+/// Bytes an unprivileged writer may still use on the volume of `dir`
+/// (statvfs: available blocks times the fragment size); `None` before the
+/// folder exists.
+#[cfg(unix)]
+fn free_space(dir: &Path) -> io::Result<Option<u64>> {
+    match rustix::fs::statvfs(dir) {
+        Ok(st) => Ok(Some(st.f_bavail.saturating_mul(st.f_frsize))),
+        Err(rustix::io::Errno::NOENT) => Ok(None),
+        Err(e) => Err(e.into()),
+    }
+}
+
+/// Unknown without statvfs.
+#[cfg(not(unix))]
+fn free_space(_dir: &Path) -> io::Result<Option<u64>> {
+    Ok(None)
+}
+
+/// Whether the open file `open` is the file `named` (the metadata of a
+/// path) and still has a name.
+#[cfg(unix)]
+fn same_file(open: &fs::Metadata, named: &fs::Metadata) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    open.nlink() > 0 && open.dev() == named.dev() && open.ino() == named.ino()
+}
+
+/// Without device and inode numbers, only a deletion is seen: the name
+/// leads to a file at all.
+#[cfg(not(unix))]
+fn same_file(_open: &fs::Metadata, _named: &fs::Metadata) -> bool {
+    true
 }
 
 #[cfg(test)]
@@ -149,5 +249,80 @@ mod tests {
             .map(|e| e.unwrap().file_name())
             .collect();
         assert_eq!(names, ["group01.wz"]);
+    }
+
+    #[test]
+    fn a_deleted_or_replaced_journal_is_not_in_place_and_is_created_anew() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = FsStorage::new(dir.path());
+        assert!(s.journal_in_place().unwrap(), "nothing open yet");
+        s.append_journal(b"one\n").unwrap();
+        s.sync_journal().unwrap();
+        assert!(s.journal_in_place().unwrap());
+        let path = dir.path().join(JOURNAL_FILE);
+        fs::remove_file(&path).unwrap();
+        assert!(!s.journal_in_place().unwrap(), "deleted");
+        s.append_journal(b"two\n").unwrap();
+        s.sync_journal().unwrap();
+        assert_eq!(fs::read(&path).unwrap(), b"two\n", "created anew");
+        // Replaced by another file under the same name.
+        fs::write(dir.path().join("other"), b"x\n").unwrap();
+        fs::rename(dir.path().join("other"), &path).unwrap();
+        assert!(!s.journal_in_place().unwrap(), "replaced");
+        s.append_journal(b"three\n").unwrap();
+        s.sync_journal().unwrap();
+        assert_eq!(fs::read(&path).unwrap(), b"x\nthree\n");
+        assert!(s.journal_in_place().unwrap());
+    }
+
+    /// Issue 20, point 11: a journal deleted after it was read but before
+    /// the first append held records; the storage must see it is gone.
+    #[test]
+    fn a_journal_deleted_after_reading_is_not_in_place() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(JOURNAL_FILE);
+        fs::write(&path, b"old\n").unwrap();
+        let mut s = FsStorage::new(dir.path());
+        assert_eq!(s.read_journal().unwrap(), b"old\n");
+        fs::remove_file(&path).unwrap();
+        s.append_journal(b"new\n").unwrap();
+        s.sync_journal().unwrap();
+        assert!(!s.journal_in_place().unwrap());
+    }
+
+    #[test]
+    fn free_space_is_known_once_the_folder_exists() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = FsStorage::new(dir.path().join("tools"));
+        assert_eq!(s.available_space().unwrap(), None);
+        fs::create_dir(s.dir()).unwrap();
+        let free = s.available_space().unwrap();
+        assert!(cfg!(not(unix)) || free.is_some_and(|f| f > 0), "{free:?}");
+    }
+
+    #[test]
+    fn leftover_temporaries_are_removed_and_nothing_else() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = FsStorage::new(dir.path().join("tools"));
+        assert_eq!(s.remove_temporaries().unwrap(), Vec::<String>::new());
+        fs::create_dir_all(s.dir()).unwrap();
+        for name in [
+            "group01.wz.tmp",
+            "group32.wz.tmp",
+            "notes.tmp",
+            "group01.wz",
+        ] {
+            fs::write(s.dir().join(name), b"").unwrap();
+        }
+        assert_eq!(
+            s.remove_temporaries().unwrap(),
+            ["group01.wz.tmp", "group32.wz.tmp"]
+        );
+        let mut left: Vec<_> = fs::read_dir(s.dir())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().into_string().unwrap())
+            .collect();
+        left.sort();
+        assert_eq!(left, ["group01.wz", "notes.tmp"]);
     }
 }

@@ -1,14 +1,21 @@
 //! Storage in memory, for tests and throw-away stores.
 
-use super::Storage;
+use super::contract::{is_temporary, Storage};
 use std::collections::BTreeMap;
 use std::io;
 
 /// Tool files and journal held in memory; every call succeeds.
+///
+/// The journal can be deleted or replaced under the store, as a user can
+/// do on disk: the store keeps appending to the file it has open (the
+/// `orphan`) until it notices ([`Storage::journal_in_place`]).
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct MemStorage {
     files: BTreeMap<String, Vec<u8>>,
+    /// The journal under its name: what a restart reads.
     journal: Vec<u8>,
+    /// The journal the store still appends to after its name went.
+    orphan: Option<Vec<u8>>,
 }
 
 impl MemStorage {
@@ -36,6 +43,24 @@ impl MemStorage {
     pub fn journal_mut(&mut self) -> &mut Vec<u8> {
         &mut self.journal
     }
+
+    /// Deletes the journal under the store (`rm journal.wzj`): its name
+    /// leads to nothing, the store's appends go to the deleted file.
+    pub fn delete_journal(&mut self) {
+        self.replace_journal(Vec::new());
+    }
+
+    /// Puts `bytes` under the journal's name as a new file (`mv other
+    /// journal.wzj`); the store's appends go to the file it replaced.
+    pub fn replace_journal(&mut self, bytes: impl Into<Vec<u8>>) {
+        let old = std::mem::replace(&mut self.journal, bytes.into());
+        self.orphan.get_or_insert(old);
+    }
+
+    /// The journal the store appends to.
+    fn open_journal(&mut self) -> &mut Vec<u8> {
+        self.orphan.as_mut().unwrap_or(&mut self.journal)
+    }
 }
 
 impl Storage for MemStorage {
@@ -53,7 +78,7 @@ impl Storage for MemStorage {
     }
 
     fn append_journal(&mut self, bytes: &[u8]) -> io::Result<()> {
-        self.journal.extend_from_slice(bytes);
+        self.open_journal().extend_from_slice(bytes);
         Ok(())
     }
 
@@ -62,9 +87,31 @@ impl Storage for MemStorage {
     }
 
     fn truncate_journal(&mut self, len: u64) -> io::Result<()> {
-        self.journal
+        self.open_journal()
             .truncate(usize::try_from(len).unwrap_or(usize::MAX));
         Ok(())
+    }
+
+    fn journal_in_place(&mut self) -> io::Result<bool> {
+        Ok(self.orphan.take().is_none())
+    }
+
+    /// Memory has no volume to run full.
+    fn available_space(&mut self) -> io::Result<Option<u64>> {
+        Ok(None)
+    }
+
+    fn remove_temporaries(&mut self) -> io::Result<Vec<String>> {
+        let names: Vec<String> = self
+            .files
+            .keys()
+            .filter(|n| is_temporary(n))
+            .cloned()
+            .collect();
+        names.iter().for_each(|n| {
+            self.files.remove(n);
+        });
+        Ok(names)
     }
 }
 
@@ -82,5 +129,22 @@ mod tests {
         s.append_journal(b"z").unwrap();
         s.truncate_journal(2).unwrap();
         assert_eq!(s.read_journal().unwrap(), b"xy");
+    }
+
+    #[test]
+    fn a_deleted_journal_keeps_taking_appends_until_noticed() {
+        let mut s = MemStorage::new();
+        s.append_journal(b"a\n").unwrap();
+        s.delete_journal();
+        s.append_journal(b"b\n").unwrap();
+        assert_eq!(s.read_journal().unwrap(), b"", "the name leads nowhere");
+        assert!(!s.journal_in_place().unwrap());
+        assert!(s.journal_in_place().unwrap(), "noticed once");
+        s.append_journal(b"c\n").unwrap();
+        assert_eq!(s.journal(), b"c\n");
+        s.replace_journal(&b"x\n"[..]);
+        s.append_journal(b"d\n").unwrap();
+        assert_eq!(s.journal(), b"x\n");
+        assert!(!s.journal_in_place().unwrap());
     }
 }

@@ -188,9 +188,11 @@ fn needs_compaction_past_the_bound() {
     let bound = CompactionBound {
         bytes: 1 << 20,
         records: 3,
+        ..CompactionBound::default()
     };
     let (store, _) = open(MemStorage::new());
     let mut store = store.with_compaction_bound(bound);
+    assert!(!store.needs_compaction(), "an empty journal is never due");
     store
         .append(&[radius(1, 1, 1.0), radius(1, 2, 2.0)])
         .unwrap();
@@ -202,6 +204,89 @@ fn needs_compaction_past_the_bound() {
     assert_eq!(store.journal_size(), (0, 0));
     let default = CompactionBound::default();
     assert_eq!((default.bytes, default.records), (4 << 20, 100_000));
+}
+
+/// Issue 20, point 13: a disk short of room calls for compaction once the
+/// journal holds enough to be worth it: when less is free than the tool
+/// files need (new files whole, the largest once more, in 4 KiB blocks,
+/// at most 64 bytes a value and 320 of header) plus 64 KiB.
+#[test]
+fn a_disk_short_of_room_calls_for_compaction() {
+    let (mut store, _) = open(MemStorage::new());
+    let mut n = 0;
+    while store.journal_size().0 < 16 << 10 {
+        assert!(!store.short_of_room(0), "a small journal frees too little");
+        store
+            .append(&[radius(1, n % 32, f64::from(n) + 0.5)])
+            .unwrap();
+        n += 1;
+    }
+    // Group 1: 32 values, no file yet: one block new, one beside.
+    assert_eq!(store.compaction_room(), 2 * 4096);
+    assert!(store.short_of_room(2 * 4096 + (64 << 10) - 1));
+    assert!(!store.short_of_room(2 * 4096 + (64 << 10)));
+    assert!(!store.needs_compaction(), "not by the size bound");
+    // A group of 1,024 values with a file: written beside the old one.
+    let many: Vec<Record> = (0..1024)
+        .map(|i| radius(2, i, (f64::from(i) + 0.5) / 7.0))
+        .collect();
+    store.append(&many).unwrap();
+    store.compact().unwrap();
+    assert_eq!(store.compaction_room(), 0, "nothing changed since");
+    while store.journal_size().0 < 16 << 10 {
+        store
+            .append(&[radius(2, n % 1024, f64::from(n) + 0.5)])
+            .unwrap();
+        n += 1;
+    }
+    let blocks = (320 + 64 * 1024u64).div_ceil(4096);
+    assert_eq!(store.compaction_room(), blocks * 4096);
+    assert!(store.short_of_room(blocks * 4096 + (64 << 10) - 1));
+    assert!(!store.short_of_room(blocks * 4096 + (64 << 10)));
+}
+
+/// Compaction rewrites only the groups changed since their file was
+/// written; a Clean touches every group with a file.
+#[test]
+fn compaction_rewrites_the_changed_groups_only() {
+    let (mut store, _) = open(FaultyStorage::new(MemStorage::new()));
+    store
+        .append(&[radius(1, 1, 1.0), radius(2, 2, 2.0), radius(3, 3, 3.0)])
+        .unwrap();
+    store.compact().unwrap();
+    assert_eq!(store.storage().calls(Op::WriteFile), 3);
+    store.append(&[radius(2, 2, 2.5)]).unwrap();
+    store.compact().unwrap();
+    assert_eq!(store.storage().calls(Op::WriteFile), 4, "group 2 only");
+    store.compact().unwrap();
+    assert_eq!(store.storage().calls(Op::WriteFile), 4, "nothing changed");
+    store.append(&[Record::Clean]).unwrap();
+    store.compact().unwrap();
+    assert_eq!(
+        store.storage().calls(Op::WriteFile),
+        7,
+        "every file emptied"
+    );
+    let (reopened, _) = open(store.into_storage().into_inner());
+    assert_eq!(reopened.values().count(), 0);
+}
+
+/// Issue 20, point 13: temporary files of a replacement cut short are
+/// removed when the store opens, and reported.
+#[test]
+fn leftover_temporary_files_are_removed_at_open() {
+    let mut mem = MemStorage::new();
+    mem.put_file("group01.wz", "wz[1].radius 300000\n");
+    mem.put_file("group01.wz.tmp", "");
+    mem.put_file("group07.wz.tmp", "wz[1].ra");
+    let (store, report) = open(mem);
+    assert_eq!(
+        report.removed_temporaries,
+        ["group01.wz.tmp", "group07.wz.tmp"]
+    );
+    assert_eq!(store.storage().file("group01.wz.tmp"), None);
+    assert_eq!(store.storage().file("group07.wz.tmp"), None);
+    assert_eq!(store.values().count(), 1);
 }
 
 /// The store on a real directory, wrapped in fault injection.
@@ -307,6 +392,134 @@ fn compaction_cut_short_loses_nothing() {
     store.compact().unwrap();
     let (reopened, report) = ToolStore::open_dir(dir.path(), Strictness::Strict).unwrap();
     assert_eq!((snapshot(&reopened), report.replayed), (expected, 0));
+}
+
+/// Issue 20, point 12: a bit flip in the last complete record refuses the
+/// open with the file and the line, and nothing is cut off the journal.
+#[test]
+fn corrupt_last_complete_record_refuses_open_and_cuts_nothing() {
+    let (mut store, _) = open(MemStorage::new());
+    store
+        .append(&[radius(1, 1, 1.0), radius(1, 2, 2.0), radius(1, 3, 3.0)])
+        .unwrap();
+    let mut mem = store.into_storage();
+    let at = mem.journal().len() - 12;
+    mem.journal_mut()[at] ^= 0x04;
+    let damaged = mem.journal().to_vec();
+    let e = ToolStore::open(mem.clone(), Strictness::Strict).unwrap_err();
+    assert_eq!(e.to_string(), "journal.wzj:3: checksum mismatch");
+    let (store, report) = ToolStore::open(mem, Strictness::Lenient).unwrap();
+    assert_eq!((report.torn_tail, report.journal_errors.len()), (None, 1));
+    assert_eq!(store.values().count(), 2);
+    assert_eq!(store.storage().journal(), damaged, "nothing cut");
+}
+
+/// Issue 20, point 11: a journal deleted under the store. The next batch
+/// goes into the deleted file; the store notices, rewrites the tool files
+/// from memory and writes the batch into a new journal before it counts:
+/// what the disk holds then has every value, the earlier ones too.
+#[test]
+fn a_deleted_journal_is_made_anew_before_the_batch_counts() {
+    let (mut store, _) = open(MemStorage::new());
+    store
+        .append(&[radius(1, 1, 1.0), radius(2, 1, 2.0)])
+        .unwrap();
+    store.storage_mut().delete_journal();
+    store.append(&[radius(1, 2, 3.0)]).unwrap();
+    let expected = snapshot(&store);
+    let (reopened, report) = open(store.storage().clone());
+    assert_eq!(snapshot(&reopened), expected, "a crash now loses nothing");
+    assert_eq!((report.files_loaded, report.replayed), (vec![1, 2], 1));
+    // Later batches go to the new journal as usual.
+    store.append(&[radius(1, 3, 4.0)]).unwrap();
+    let expected = snapshot(&store);
+    assert_eq!(snapshot(&open(store.into_storage()).0), expected);
+}
+
+/// A journal replaced by an older copy must not bring old values back.
+#[test]
+fn a_replaced_journal_is_emptied_and_made_anew() {
+    let (mut store, _) = open(MemStorage::new());
+    store.append(&[radius(1, 1, 1.0)]).unwrap();
+    let old = store.storage().journal().to_vec();
+    store
+        .append(&[radius(1, 1, 5.0), radius(1, 2, 6.0)])
+        .unwrap();
+    store.storage_mut().replace_journal(old);
+    store.append(&[radius(1, 3, 7.0)]).unwrap();
+    let expected = snapshot(&store);
+    assert_eq!(expected.len(), 3);
+    assert_eq!(snapshot(&open(store.into_storage()).0), expected);
+}
+
+/// The same on a real directory: `rm journal.wzj` while the store runs.
+#[test]
+fn a_journal_deleted_on_disk_is_made_anew() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut store, _) = ToolStore::open_dir(dir.path(), Strictness::Strict).unwrap();
+    store.append(&[radius(4, 1, 1.0)]).unwrap();
+    std::fs::remove_file(dir.path().join(JOURNAL_FILE)).unwrap();
+    store.append(&[radius(4, 2, 2.0)]).unwrap();
+    let expected = snapshot(&store);
+    let (reopened, _) = ToolStore::open_dir(dir.path(), Strictness::Strict).unwrap();
+    assert_eq!(snapshot(&reopened), expected);
+    assert_eq!(expected.len(), 2);
+}
+
+/// Deleted after the start read it, before the first append: the values
+/// it held (acknowledged before the start) must not be lost either.
+#[test]
+fn a_journal_deleted_before_the_first_append_is_made_anew() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut store, _) = ToolStore::open_dir(dir.path(), Strictness::Strict).unwrap();
+    store
+        .append(&[radius(4, 1, 1.0), radius(5, 1, 5.0)])
+        .unwrap();
+    drop(store);
+    let (mut store, report) = ToolStore::open_dir(dir.path(), Strictness::Strict).unwrap();
+    assert_eq!(report.replayed, 2);
+    std::fs::remove_file(dir.path().join(JOURNAL_FILE)).unwrap();
+    store.append(&[radius(4, 2, 2.0)]).unwrap();
+    let expected = snapshot(&store);
+    let (reopened, _) = ToolStore::open_dir(dir.path(), Strictness::Strict).unwrap();
+    assert_eq!(snapshot(&reopened), expected);
+    assert_eq!(expected.len(), 3);
+}
+
+/// If the tool files cannot be rewritten after the journal was lost, the
+/// batch is refused: memory stays, the disk never shows it.
+#[test]
+fn a_lost_journal_that_cannot_be_made_anew_refuses_the_batch() {
+    let storage = FaultyStorage::new(MemStorage::new()).fail_at(Op::WriteFile, 1, FaultKind::Fail);
+    let (mut store, _) = open(storage);
+    store.append(&[radius(1, 1, 1.0)]).unwrap();
+    let before = snapshot(&store);
+    store.storage_mut().inner_mut().delete_journal();
+    let e = store.append(&[radius(1, 1, 9.0)]).unwrap_err();
+    assert!(matches!(e, StoreError::JournalLost(_)), "{e}");
+    assert_eq!(snapshot(&store), before);
+    // The disk works again: the next batch makes the journal anew.
+    store.append(&[radius(1, 2, 2.0)]).unwrap();
+    let expected = snapshot(&store);
+    assert_eq!(
+        snapshot(&open(store.into_storage().into_inner()).0),
+        expected
+    );
+    assert_eq!(expected.len(), 2);
+}
+
+/// A look at the journal that fails counts as a lost journal: safe.
+#[test]
+fn a_failed_look_at_the_journal_rewrites_from_memory() {
+    let storage = FaultyStorage::new(MemStorage::new()).fail_at(Op::Check, 2, FaultKind::Fail);
+    let (mut store, _) = open(storage);
+    store.append(&[radius(1, 1, 1.0)]).unwrap();
+    store.append(&[radius(1, 2, 2.0)]).unwrap();
+    assert_eq!(store.storage().calls(Op::WriteFile), 1, "group 1 rewritten");
+    let expected = snapshot(&store);
+    let disk = store.into_storage().into_inner();
+    assert_eq!(disk.journal(), radius(1, 2, 2.0).encode().as_bytes());
+    assert_eq!(snapshot(&open(disk).0), expected);
 }
 
 fn any_record() -> impl Strategy<Value = Record> {
