@@ -232,7 +232,7 @@ fn default_header() -> crate::trace::Header {
         tol: crate::trace::DEFAULT_TOL,
         start: [0.0; tc_request::AXES],
         cycle: tc_module::CycleTime::DEFAULT,
-        spool_capacity: tc_module::spooler::DEFAULT_SPOOL_CAPACITY,
+        spool_capacity: tc_module::DEFAULT_SPOOL_CAPACITY,
     }
 }
 

@@ -9,8 +9,8 @@ use bitflags::Flags;
 use otc_ext::{OtcErrorBits, OtcExtension};
 use tc_module::limits::{DEFAULT_CYCLE_S, MAX_COORD, MAX_CYCLE_S, MIN_CYCLE_S, MIN_STEP};
 use tc_module::object_map::object_table;
-use tc_module::spooler::{DEFAULT_SPOOL_CAPACITY, MAX_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY};
 use tc_module::{ErrorBits, StatusBits, TC_BUS};
+use tc_module::{DEFAULT_SPOOL_CAPACITY, MAX_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY};
 use uoi::{AccessError, Meaning, ObjectDesc};
 
 /// The devices of bus 1300, with the heading and the meaning of their

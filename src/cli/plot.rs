@@ -48,7 +48,7 @@ fn nc_paths(args: &PlotArgs, name: &str) -> Result<(Paths, bool), String> {
         tol: addipos::trace::DEFAULT_TOL,
         start: [0.0; tc_request::AXES],
         cycle: tc_module::CycleTime::DEFAULT,
-        spool_capacity: tc_module::spooler::DEFAULT_SPOOL_CAPACITY,
+        spool_capacity: tc_module::DEFAULT_SPOOL_CAPACITY,
     };
     Ok((collect_paths(&header, &nc_steps(&run)), run.failed()))
 }

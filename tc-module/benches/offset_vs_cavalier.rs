@@ -37,8 +37,8 @@ use cavalier_contours_07::polyline::{
     PlineSourceMut as PlineSourceMut07, Polyline as Polyline07,
 };
 use criterion::{BenchmarkId, Criterion, SamplingMode, Throughput};
-use tc_module::correction::{Buffer, Profile, Sink};
-use tc_module::geometry::{Contour, V2};
+use tc_module::correction::{Buffer, Contour, Profile, Sink};
+use tc_module::V2;
 use tc_module::{ArcDir, Motion, PlaneAxes, Spooler, TcModule, TransitionMode, AXES};
 use uoi::{ObjectBus, Value};
 
@@ -216,7 +216,7 @@ fn run_buffer(profiles: &[Profile], spooler: &mut Spooler) {
             .push(p, RADIUS, TransitionMode::Circular, &mut sink)
             .expect("the saw-tooth corrects");
         if i % DRAIN == DRAIN - 1 {
-            drain(sink.spooler);
+            drain(sink.spooler());
         }
     }
     buffer.flush(&mut sink);

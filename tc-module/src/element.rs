@@ -1,31 +1,32 @@
-//! A spooled element: its path (line, or arc helical where other axes
-//! move), feed, origin tag and the contour normal a wear model needs
-//! (trc-geometry.md "Spooler and execution"; otc.md rules 2-4).
+//! A spooled element: the end of every axis, the plane geometry of an arc
+//! with what the executor needs derived once (start direction, sweep,
+//! radii, path length), feed, origin tag and the contour normal a wear
+//! model needs (docs/trc.md "Spooler and execution"; docs/otc.md rules 2
+//! to 4).
+//!
+//! An element does not keep its start: the spooler is a chain, each
+//! element starting where the one before it ended (or, the first, where
+//! the executor stands). Whoever runs or reports an element hands its
+//! start in. The axes outside the plane cost nothing where they do not
+//! move: a line's length and an arc's helix add only what they move.
 
 use std::f64::consts::TAU;
 
 use crate::geometry::tolerance::ZERO_SWEEP;
+use crate::geometry::V2;
 use crate::plane::{AxisPos, PlaneAxes, AXES};
 pub use tc_request::Origin;
 use tc_request::{ArcRecord, SpoolRecord};
 
-/// Geometry of an arc element in its plane.
+/// The arc of an element as it is reported: plane, centre, direction.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ArcPath {
     /// The plane axes.
     pub plane: PlaneAxes,
     /// Centre `(h, v)`.
-    pub centre: [f64; 2],
+    pub centre: V2,
     /// Counter-clockwise?
     pub ccw: bool,
-    /// Unit vector from the centre to the start point.
-    start_dir: [f64; 2],
-    /// Signed sweep (positive CCW); a full circle sweeps ±2π.
-    sweep: f64,
-    /// Radius at the start.
-    r0: f64,
-    /// Radius at the end (equal to `r0` up to rounding).
-    r1: f64,
 }
 
 /// Path of an element.
@@ -38,22 +39,22 @@ pub enum Path {
 }
 
 /// How the unit vector from the programmed contour to the tool centre is
-/// found along an element the correction spooled (otc.md rule 3).
+/// found along an element the correction spooled (docs/otc.md rule 3).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum NormalRule {
     /// One vector all along: the side normal of a corrected line, and the
     /// normal an approach leads onto or a departure leaves.
-    Fixed([f64; 2]),
+    Fixed(V2),
     /// Radial about the arc centre: outward when the tool runs outside the
     /// programmed arc, inward when inside.
     Radial {
         /// The arc centre.
-        centre: [f64; 2],
+        centre: V2,
         /// Whether the tool centre lies outside the programmed arc.
         outward: bool,
     },
     /// From the programmed corner K to the tool centre (a transition).
-    FromCorner([f64; 2]),
+    FromCorner(V2),
 }
 
 /// The contour normal of an element, in its group's plane.
@@ -65,35 +66,62 @@ pub struct ContourNormal {
     pub rule: NormalRule,
 }
 
-/// One element of the spooler.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SpoolElement {
-    /// Start position (all axes).
-    pub start: AxisPos,
-    /// End position (all axes).
-    pub end: AxisPos,
-    /// Line or arc.
-    pub path: Path,
-    /// Feed in units/min.
-    pub feed: f64,
-    /// A rapid move (`RAP`).
-    pub rapid: bool,
-    /// Who spooled it.
-    pub origin: Origin,
-    /// Path length (arc length, helical where other axes move).
-    pub length: f64,
-    /// The contour normal, for elements the correction spooled.
-    pub normal: Option<ContourNormal>,
+/// The kind of contour normal an element carries, its vector (or point)
+/// kept beside it in the element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum NormalKind {
+    None,
+    Fixed,
+    Outward,
+    Inward,
+    FromCorner,
 }
 
-impl ArcPath {
-    /// Unit vector from the centre at fraction `f` of the sweep: the start
-    /// direction turned by `sweep · f`.
-    fn dir_at(&self, f: f64) -> [f64; 2] {
-        let (sin, cos) = (self.sweep * f).sin_cos();
-        let [c0, s0] = self.start_dir;
-        [c0 * cos - s0 * sin, s0 * cos + c0 * sin]
-    }
+/// One element of the spooler (see the module documentation: its start
+/// is the end of the element before it).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpoolElement {
+    end: AxisPos,
+    /// Path length (arc length, helical where other axes move).
+    length: f64,
+    /// Feed, units/min.
+    feed: f64,
+    /// Arc centre `(h, v)`; unused on a line.
+    centre: V2,
+    /// Arc: unit vector from the centre to the start point.
+    start_dir: V2,
+    /// Arc: signed sweep (positive CCW); a full circle sweeps ±2π.
+    sweep: f64,
+    /// Arc: radius at the start.
+    r0: f64,
+    /// Arc: radius at the end (equal to `r0` up to rounding).
+    r1: f64,
+    /// The normal's vector, corner or centre (see [`NormalKind`]).
+    normal_at: V2,
+    /// Arc: its plane.
+    plane: PlaneAxes,
+    /// The normal's plane.
+    normal_plane: PlaneAxes,
+    normal: NormalKind,
+    is_arc: bool,
+    rapid: bool,
+    origin: Origin,
+}
+
+/// The plane fields of an element that has none.
+const NO_PLANE: PlaneAxes = PlaneAxes {
+    h: 0,
+    v: 1,
+    third: 2,
+};
+
+/// `Σ (end − start)²` over the axes outside `plane`: zero where none moves.
+fn off_plane_squared(start: &AxisPos, end: &AxisPos, plane: PlaneAxes) -> f64 {
+    let (h, v) = (usize::from(plane.h), usize::from(plane.v));
+    (0..AXES)
+        .filter(|&i| i != h && i != v)
+        .map(|i| (end[i] - start[i]) * (end[i] - start[i]))
+        .sum()
 }
 
 fn line_length(start: &AxisPos, end: &AxisPos) -> f64 {
@@ -105,89 +133,177 @@ fn line_length(start: &AxisPos, end: &AxisPos) -> f64 {
         .sqrt()
 }
 
+/// The signed sweep from `s` to `e` (vectors from the centre) in the
+/// direction given; start = end is a whole turn.
+fn sweep_of(s: V2, e: V2, ccw: bool) -> f64 {
+    let sweep = (s.x * e.y - s.y * e.x).atan2(s.x * e.x + s.y * e.y); // (-π, π]
+    if ccw {
+        if sweep <= ZERO_SWEEP {
+            return sweep + TAU;
+        }
+    } else if sweep >= -ZERO_SWEEP {
+        return sweep - TAU;
+    }
+    sweep
+}
+
 impl SpoolElement {
-    /// A straight element.
-    pub fn line(start: AxisPos, end: AxisPos, feed: f64, rapid: bool, origin: Origin) -> Self {
+    /// An element to `end` of `length` without plane geometry or normal.
+    #[inline]
+    fn bare(end: AxisPos, length: f64, feed: f64, rapid: bool, origin: Origin) -> Self {
         Self {
-            start,
             end,
-            path: Path::Line,
+            length,
             feed,
+            centre: V2::zeros(),
+            start_dir: V2::zeros(),
+            sweep: 0.0,
+            r0: 0.0,
+            r1: 0.0,
+            normal_at: V2::zeros(),
+            plane: NO_PLANE,
+            normal_plane: NO_PLANE,
+            normal: NormalKind::None,
+            is_arc: false,
             rapid,
             origin,
-            length: line_length(&start, &end),
-            normal: None,
         }
     }
 
-    /// An arc element about `centre` in `plane`; start = end in the plane
-    /// is a full circle.
+    /// A straight element from `start` to `end`.
+    #[inline]
+    pub fn line(start: &AxisPos, end: AxisPos, feed: f64, rapid: bool, origin: Origin) -> Self {
+        Self::bare(end, line_length(start, &end), feed, rapid, origin)
+    }
+
+    /// An arc element from `start` to `end` about `centre` in `plane`;
+    /// start = end in the plane is a full circle.
+    #[inline]
     pub fn arc(
-        start: AxisPos,
+        start: &AxisPos,
         end: AxisPos,
         plane: PlaneAxes,
-        centre: [f64; 2],
+        centre: V2,
         ccw: bool,
         feed: f64,
         origin: Origin,
     ) -> Self {
-        let s = plane.point(&start);
-        let e = plane.point(&end);
-        let (sh, sv) = (s[0] - centre[0], s[1] - centre[1]);
-        let (eh, ev) = (e[0] - centre[0], e[1] - centre[1]);
-        let mut sweep = (sh * ev - sv * eh).atan2(sh * eh + sv * ev); // (-π, π]
-        if ccw {
-            if sweep <= ZERO_SWEEP {
-                sweep += TAU;
-            }
-        } else if sweep >= -ZERO_SWEEP {
-            sweep -= TAU;
-        }
-        let r0 = sh.hypot(sv);
-        let r1 = eh.hypot(ev);
+        let s = plane.point(start) - centre;
+        let e = plane.point(&end) - centre;
+        let sweep = sweep_of(s, e, ccw);
+        let (r0, r1) = (s.x.hypot(s.y), e.x.hypot(e.y));
         // On the centre, the start direction is that of angle 0.
-        let start_dir = if r0 > 0.0 {
-            [sh / r0, sv / r0]
-        } else {
-            [1.0, 0.0]
-        };
+        let start_dir = if r0 > 0.0 { s / r0 } else { V2::x() };
         let plane_len = sweep.abs() * 0.5 * (r0 + r1);
-        let other: f64 = (0..AXES)
-            .filter(|&i| i != plane.h as usize && i != plane.v as usize)
-            .map(|i| (end[i] - start[i]) * (end[i] - start[i]))
-            .sum();
+        let other = off_plane_squared(start, &end, plane);
+        let length = (plane_len * plane_len + other).sqrt();
         Self {
-            start,
-            end,
-            path: Path::Arc(ArcPath {
-                plane,
-                centre,
-                ccw,
-                start_dir,
-                sweep,
-                r0,
-                r1,
-            }),
-            feed,
-            rapid: false,
-            origin,
-            length: (plane_len * plane_len + other).sqrt(),
-            normal: None,
+            centre,
+            start_dir,
+            sweep,
+            r0,
+            r1,
+            plane,
+            is_arc: true,
+            ..Self::bare(end, length, feed, false, origin)
         }
     }
 
-    /// The element as it is reported (spool log, wire).
-    pub fn record(&self) -> SpoolRecord {
-        SpoolRecord {
-            arc: match &self.path {
-                Path::Line => None,
-                Path::Arc(a) => Some(ArcRecord {
-                    plane: [a.plane.h, a.plane.v, a.plane.third],
-                    centre: a.centre,
-                    ccw: a.ccw,
-                }),
+    /// The same element with its contour normal.
+    #[inline]
+    pub fn with_normal(mut self, normal: Option<ContourNormal>) -> Self {
+        let Some(n) = normal else {
+            self.normal = NormalKind::None;
+            return self;
+        };
+        self.normal_plane = n.plane;
+        (self.normal, self.normal_at) = match n.rule {
+            NormalRule::Fixed(v) => (NormalKind::Fixed, v),
+            NormalRule::Radial { centre, outward } if outward => (NormalKind::Outward, centre),
+            NormalRule::Radial { centre, .. } => (NormalKind::Inward, centre),
+            NormalRule::FromCorner(k) => (NormalKind::FromCorner, k),
+        };
+        self
+    }
+
+    /// The end position, all axes.
+    #[inline]
+    pub fn end(&self) -> &AxisPos {
+        &self.end
+    }
+
+    /// Path length (arc length, helical where other axes move).
+    #[inline]
+    pub fn length(&self) -> f64 {
+        self.length
+    }
+
+    /// Feed in units/min.
+    #[inline]
+    pub fn feed(&self) -> f64 {
+        self.feed
+    }
+
+    /// A rapid move (`RAP`).
+    #[inline]
+    pub fn rapid(&self) -> bool {
+        self.rapid
+    }
+
+    /// Who spooled it.
+    #[inline]
+    pub fn origin(&self) -> Origin {
+        self.origin
+    }
+
+    /// The same element with another origin tag (the departure).
+    pub fn with_origin(self, origin: Origin) -> Self {
+        Self { origin, ..self }
+    }
+
+    /// Line or arc.
+    pub fn path(&self) -> Path {
+        if !self.is_arc {
+            return Path::Line;
+        }
+        Path::Arc(ArcPath {
+            plane: self.plane,
+            centre: self.centre,
+            ccw: self.sweep > 0.0,
+        })
+    }
+
+    /// The contour normal, for elements the correction spooled.
+    pub fn normal(&self) -> Option<ContourNormal> {
+        let v = self.normal_at;
+        let rule = match self.normal {
+            NormalKind::None => return None,
+            NormalKind::Fixed => NormalRule::Fixed(v),
+            NormalKind::Outward => NormalRule::Radial {
+                centre: v,
+                outward: true,
             },
-            start: self.start,
+            NormalKind::Inward => NormalRule::Radial {
+                centre: v,
+                outward: false,
+            },
+            NormalKind::FromCorner => NormalRule::FromCorner(v),
+        };
+        Some(ContourNormal {
+            plane: self.normal_plane,
+            rule,
+        })
+    }
+
+    /// The element from `start` as it is reported (spool log, wire).
+    pub fn record(&self, start: &AxisPos) -> SpoolRecord {
+        SpoolRecord {
+            arc: self.is_arc.then(|| ArcRecord {
+                plane: [self.plane.h, self.plane.v, self.plane.third],
+                centre: [self.centre.x, self.centre.y],
+                ccw: self.sweep > 0.0,
+            }),
+            start: *start,
             end: self.end,
             feed: self.feed,
             rapid: self.rapid,
@@ -195,13 +311,9 @@ impl SpoolElement {
         }
     }
 
-    /// The same element with its contour normal.
-    pub fn with_normal(mut self, normal: Option<ContourNormal>) -> Self {
-        self.normal = normal;
-        self
-    }
-
-    fn fraction(&self, s: f64) -> f64 {
+    /// The fraction of the element run at path distance `s`.
+    #[inline]
+    pub fn fraction(&self, s: f64) -> f64 {
         if self.length > 0.0 {
             (s / self.length).clamp(0.0, 1.0)
         } else {
@@ -209,40 +321,56 @@ impl SpoolElement {
         }
     }
 
-    /// The position at path distance `s` (0 ≤ s ≤ length).
-    pub fn point_at(&self, s: f64) -> AxisPos {
+    /// Arc: the unit vector from the centre at fraction `f` of the sweep,
+    /// the start direction turned by `sweep · f`.
+    fn dir_at(&self, f: f64) -> V2 {
+        let (sin, cos) = (self.sweep * f).sin_cos();
+        let [c0, s0] = [self.start_dir.x, self.start_dir.y];
+        V2::new(c0 * cos - s0 * sin, s0 * cos + c0 * sin)
+    }
+
+    /// The position at path distance `s` (0 ≤ s ≤ length) of the element
+    /// run from `start`.
+    pub fn point_at(&self, start: &AxisPos, s: f64) -> AxisPos {
         let f = self.fraction(s);
-        let mut p = self.start;
+        let mut p = *start;
         for (i, q) in p.iter_mut().enumerate() {
-            *q += (self.end[i] - self.start[i]) * f;
+            *q += (self.end[i] - start[i]) * f;
         }
-        if let Path::Arc(a) = &self.path {
-            let [cos, sin] = a.dir_at(f);
-            let r = a.r0 + (a.r1 - a.r0) * f;
-            a.plane
-                .set_point(&mut p, [a.centre[0] + r * cos, a.centre[1] + r * sin]);
+        if self.is_arc {
+            let r = self.r0 + (self.r1 - self.r0) * f;
+            self.plane
+                .set_point(&mut p, self.centre + self.dir_at(f) * r);
         }
         p
     }
 
-    /// The unit path tangent at distance `s`, on all axes (zero for an
-    /// element without length).
-    pub fn tangent_at(&self, s: f64) -> AxisPos {
-        let mut t = [0.0; AXES];
+    /// The chord direction per unit of path, all axes (a line's tangent).
+    fn chord(&self, start: &AxisPos) -> AxisPos {
+        std::array::from_fn(|i| (self.end[i] - start[i]) / self.length)
+    }
+
+    /// Arc: the tangent in its plane where the direction from the centre
+    /// is `(cos, sin)` at radius `r`: along the circle (r dθ/ds) plus the
+    /// radius' own drift (dr/ds).
+    fn arc_tangent(&self, cos: f64, sin: f64, r: f64) -> V2 {
+        let k = self.sweep * r / self.length;
+        let dr = (self.r1 - self.r0) / self.length;
+        V2::new(-k * sin + dr * cos, k * cos + dr * sin)
+    }
+
+    /// The unit path tangent at distance `s` of the element run from
+    /// `start`, on all axes (zero for an element without length).
+    pub fn tangent_at(&self, start: &AxisPos, s: f64) -> AxisPos {
         if self.length <= 0.0 {
-            return t;
+            return [0.0; AXES];
         }
-        for (i, q) in t.iter_mut().enumerate() {
-            *q = (self.end[i] - self.start[i]) / self.length;
-        }
-        if let Path::Arc(a) = &self.path {
+        let mut t = self.chord(start);
+        if self.is_arc {
             let f = self.fraction(s);
-            let [cos, sin] = a.dir_at(f);
-            // Along the circle (r dθ/ds) plus the radius' own drift (dr/ds).
-            let k = a.sweep * (a.r0 + (a.r1 - a.r0) * f) / self.length;
-            let dr = (a.r1 - a.r0) / self.length;
-            a.plane
-                .set_point(&mut t, [-k * sin + dr * cos, k * cos + dr * sin]);
+            let d = self.dir_at(f);
+            let r = self.r0 + (self.r1 - self.r0) * f;
+            self.plane.set_point(&mut t, self.arc_tangent(d.x, d.y, r));
         }
         t
     }
@@ -252,27 +380,20 @@ impl SpoolElement {
     /// [`SpoolElement::tangent_at`], but an arc takes its direction from
     /// `p` and the centre instead of turning the start direction again (no
     /// trigonometry; the per-cycle models ask this every cycle).
-    pub fn tangent_through(&self, s: f64, p: &AxisPos) -> AxisPos {
-        let Path::Arc(a) = &self.path else {
-            return self.tangent_at(s);
-        };
-        let q = a.plane.point(p);
-        let (ch, cv) = (q[0] - a.centre[0], q[1] - a.centre[1]);
-        // Coordinates stay within ±1e9: the squares cannot overflow, and
-        // a square root is several times cheaper than `hypot`.
-        let r = (ch * ch + cv * cv).sqrt();
+    pub fn tangent_through(&self, start: &AxisPos, s: f64, p: &AxisPos) -> AxisPos {
+        if !self.is_arc {
+            return self.tangent_at(start, s);
+        }
+        let c = self.plane.point(p) - self.centre;
+        // Within ±1e9: no overflow; a square root is several times
+        // cheaper than `hypot`.
+        let r = (c.x * c.x + c.y * c.y).sqrt();
         if r.is_nan() || r <= 0.0 || self.length <= 0.0 {
-            return self.tangent_at(s);
+            return self.tangent_at(start, s);
         }
-        let (cos, sin) = (ch / r, cv / r);
-        let mut t = [0.0; AXES];
-        for (i, x) in t.iter_mut().enumerate() {
-            *x = (self.end[i] - self.start[i]) / self.length;
-        }
-        let k = a.sweep * r / self.length;
-        let dr = (a.r1 - a.r0) / self.length;
-        a.plane
-            .set_point(&mut t, [-k * sin + dr * cos, k * cos + dr * sin]);
+        let mut t = self.chord(start);
+        self.plane
+            .set_point(&mut t, self.arc_tangent(c.x / r, c.y / r, r));
         t
     }
 
@@ -281,31 +402,30 @@ impl SpoolElement {
     /// line: end − start), without a division for the axes outside an
     /// arc's plane; zero for an element without length.
     #[inline]
-    pub fn direction_through(&self, s: f64, p: &AxisPos) -> AxisPos {
-        let mut d = [0.0; AXES];
+    pub fn direction_through(&self, start: &AxisPos, s: f64, p: &AxisPos) -> AxisPos {
         if self.length <= 0.0 {
+            return [0.0; AXES];
+        }
+        let d: AxisPos = std::array::from_fn(|i| self.end[i] - start[i]);
+        if !self.is_arc {
             return d;
         }
-        for (i, x) in d.iter_mut().enumerate() {
-            *x = self.end[i] - self.start[i];
-        }
-        let Path::Arc(a) = &self.path else {
-            return d;
-        };
-        let q = a.plane.point(p);
-        let (ch, cv) = (q[0] - a.centre[0], q[1] - a.centre[1]);
+        let c = self.plane.point(p) - self.centre;
         // Within ±1e9: no overflow.
-        let r = (ch * ch + cv * cv).sqrt();
+        let r = (c.x * c.x + c.y * c.y).sqrt();
         if r.is_nan() || r <= 0.0 {
-            return self.tangent_at(s).map(|x| x * self.length);
+            return self.tangent_at(start, s).map(|x| x * self.length);
         }
         // Along the circle (sweep · r per unit of fraction) plus the
         // radius' own drift (r1 − r0), in the direction of the point.
-        let drift = (a.r1 - a.r0) / r;
-        let (ph, pv) = (-a.sweep * cv + drift * ch, a.sweep * ch + drift * cv);
+        let drift = (self.r1 - self.r0) / r;
+        let (ph, pv) = (
+            -self.sweep * c.y + drift * c.x,
+            self.sweep * c.x + drift * c.y,
+        );
         // Chosen per axis rather than stored at the plane's indexes: the
         // array then stays in registers (a per-cycle path).
-        let (h, v) = (usize::from(a.plane.h), usize::from(a.plane.v));
+        let (h, v) = (usize::from(self.plane.h), usize::from(self.plane.v));
         std::array::from_fn(|i| match i {
             _ if i == h => ph,
             _ if i == v => pv,
@@ -319,28 +439,30 @@ impl SpoolElement {
     /// or the corner itself).
     #[inline]
     pub fn normal_at(&self, p: &AxisPos) -> Option<AxisPos> {
-        let n = self.normal?;
-        let q = n.plane.point(p);
-        let v = match n.rule {
-            NormalRule::Fixed(v) => v,
-            NormalRule::Radial { centre, outward } => {
-                let sign = if outward { 1.0 } else { -1.0 };
-                [sign * (q[0] - centre[0]), sign * (q[1] - centre[1])]
-            }
-            NormalRule::FromCorner(k) => [q[0] - k[0], q[1] - k[1]],
+        let q = self.normal_plane.point(p);
+        let a = self.normal_at;
+        let v = match self.normal {
+            NormalKind::None => return None,
+            NormalKind::Fixed => a,
+            NormalKind::Outward => q - a,
+            NormalKind::Inward => -(q - a),
+            NormalKind::FromCorner => q - a,
         };
         // Within ±1e9 (see `tangent_through`): no overflow.
-        let len = (v[0] * v[0] + v[1] * v[1]).sqrt();
+        let len = (v.x * v.x + v.y * v.y).sqrt();
         if !(len > 0.0 && len.is_finite()) {
             return None;
         }
         let inv = 1.0 / len;
-        let (h, v2) = (usize::from(n.plane.h), usize::from(n.plane.v));
+        let (h, v2) = (
+            usize::from(self.normal_plane.h),
+            usize::from(self.normal_plane.v),
+        );
         // Chosen per axis, not stored at the plane's indexes (see
         // `direction_through`).
         Some(std::array::from_fn(|i| match i {
-            _ if i == h => v[0] * inv,
-            _ if i == v2 => v[1] * inv,
+            _ if i == h => v.x * inv,
+            _ if i == v2 => v.y * inv,
             _ => 0.0,
         }))
     }

@@ -3,7 +3,7 @@
 //! the group (`ext`).
 
 use crate::bits::ErrorBits;
-use crate::correction::Buffer;
+use crate::correction::{Buffer, TransitionMode};
 use crate::plane::{PlaneAxes, TcPlane};
 use crate::tool_table::{ToolEntry, ToolTable, WkzIndex};
 
@@ -22,35 +22,6 @@ impl Side {
         match self {
             Side::Left => 1.0,
             Side::Right => -1.0,
-        }
-    }
-}
-
-/// Transition inserted at outside corners (device 2 sub 1; NC G26/G25).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub enum TransitionMode {
-    /// 0: one arc about the programmed corner (G26). Default.
-    #[default]
-    Circular,
-    /// 1: straight lines (G25).
-    Linear,
-}
-
-impl TransitionMode {
-    /// The register value.
-    pub const fn code(self) -> i32 {
-        match self {
-            TransitionMode::Circular => 0,
-            TransitionMode::Linear => 1,
-        }
-    }
-
-    /// The mode for a register value (the table allows 0 and 1).
-    pub const fn from_code(code: i32) -> Self {
-        if code == 1 {
-            TransitionMode::Linear
-        } else {
-            TransitionMode::Circular
         }
     }
 }

@@ -1,8 +1,11 @@
 //! The spooler: a FIFO of elements waiting for the executor, with a fixed
 //! capacity like a real controller's, plus the spool log that traces
-//! check (trc-geometry.md "Spooler and execution").
+//! check (docs/objects.md "Limits of motion commands"). The elements form
+//! a chain: each starts where the one before it ends.
 
 use std::collections::VecDeque;
+
+use tc_request::SpoolRecord;
 
 use crate::element::SpoolElement;
 use crate::plane::AxisPos;
@@ -39,9 +42,27 @@ pub fn check_capacity(n: u64) -> Result<usize, CapacityError> {
 
 /// Where the spooler stood before a tentative push ([`Spooler::mark`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Mark {
+pub(crate) struct Mark {
     queue: usize,
     log: usize,
+}
+
+/// An element as the spool log keeps it: with the position it starts
+/// from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Logged {
+    /// Where the element starts (the end of the one before it, or where
+    /// the executor stood).
+    pub start: AxisPos,
+    /// The element.
+    pub element: SpoolElement,
+}
+
+impl Logged {
+    /// The element as it is reported (spool log, wire).
+    pub fn record(&self) -> SpoolRecord {
+        self.element.record(&self.start)
+    }
 }
 
 /// The spooler queue and its log.
@@ -49,7 +70,7 @@ pub struct Mark {
 pub struct Spooler {
     queue: VecDeque<SpoolElement>,
     capacity: usize,
-    log: Vec<SpoolElement>,
+    log: Vec<Logged>,
     logging: bool,
 }
 
@@ -81,6 +102,12 @@ impl Spooler {
         self.capacity.saturating_sub(self.queue.len())
     }
 
+    /// The one capacity rule: whether `places` more elements fit.
+    #[inline]
+    pub fn has_room(&self, places: usize) -> bool {
+        places <= self.free()
+    }
+
     /// Elements the queue's storage could hold without growing (memory
     /// actually kept; it shrinks when the queue empties).
     pub fn allocated(&self) -> usize {
@@ -92,32 +119,33 @@ impl Spooler {
         self.logging = on;
     }
 
-    /// Appends an element. Callers check [`Spooler::free`] first (or push
-    /// tentatively and [`Spooler::rollback`]).
+    /// Appends an element that starts at `start`: the end of the last
+    /// waiting element, or where the executor stands when none waits.
+    /// Callers check [`Spooler::has_room`] first (the correction pushes
+    /// tentatively and takes back what it does not admit).
     #[inline]
-    pub fn push(&mut self, e: SpoolElement) {
+    pub fn push(&mut self, start: &AxisPos, element: SpoolElement) {
+        debug_assert!(self.last_end().is_none_or(|end| end == *start));
         if self.logging {
-            self.log.push(e);
+            self.log.push(Logged {
+                start: *start,
+                element,
+            });
         }
-        self.queue.push_back(e);
+        self.queue.push_back(element);
     }
 
     /// Where the spooler stands now, to undo pushes made after it.
-    pub fn mark(&self) -> Mark {
+    pub(crate) fn mark(&self) -> Mark {
         Mark {
             queue: self.queue.len(),
             log: self.log.len(),
         }
     }
 
-    /// The elements pushed since `mark`.
-    pub fn since(&self, mark: Mark) -> impl Iterator<Item = &SpoolElement> {
-        self.queue.range(mark.queue.min(self.queue.len())..)
-    }
-
     /// Drops the elements pushed since `mark` (nothing may have left the
     /// queue in between).
-    pub fn rollback(&mut self, mark: Mark) {
+    pub(crate) fn rollback(&mut self, mark: Mark) {
         self.queue.truncate(mark.queue);
         self.log.truncate(mark.log);
     }
@@ -137,7 +165,7 @@ impl Spooler {
     /// The end of the last waiting element.
     #[inline]
     pub fn last_end(&self) -> Option<AxisPos> {
-        self.queue.back().map(|e| e.end)
+        self.queue.back().map(|e| *e.end())
     }
 
     /// The element under way.
@@ -164,7 +192,7 @@ impl Spooler {
     }
 
     /// Takes the log collected so far.
-    pub fn take_log(&mut self) -> Vec<SpoolElement> {
+    pub fn take_log(&mut self) -> Vec<Logged> {
         std::mem::take(&mut self.log)
     }
 
@@ -182,23 +210,30 @@ mod tests {
     use crate::element::Origin;
     use crate::plane::AXES;
 
-    fn line(x: f64) -> SpoolElement {
-        let mut end = [0.0; AXES];
-        end[0] = x;
-        SpoolElement::line([0.0; AXES], end, 600.0, false, Origin::Uncorrected)
+    fn at(x: f64) -> AxisPos {
+        let mut p = [0.0; AXES];
+        p[0] = x;
+        p
+    }
+
+    /// Pushes a line along X to `x`, from the last end (or 0).
+    fn push_line(sp: &mut Spooler, x: f64) {
+        let start = sp.last_end().unwrap_or([0.0; AXES]);
+        let e = SpoolElement::line(&start, at(x), 600.0, false, Origin::Uncorrected);
+        sp.push(&start, e);
     }
 
     #[test]
     fn storage_comes_back_when_the_queue_empties() {
         let mut sp = Spooler::with_capacity(MAX_SPOOL_CAPACITY);
         for k in 0..50_000 {
-            sp.push(line(f64::from(k)));
+            push_line(&mut sp, f64::from(k));
         }
         assert!(sp.allocated() >= 50_000);
         while sp.pop_front().is_some() {}
         assert!(sp.allocated() <= KEEP_WHEN_EMPTY, "{}", sp.allocated());
         for k in 0..20_000 {
-            sp.push(line(f64::from(k)));
+            push_line(&mut sp, f64::from(k));
         }
         sp.discard();
         assert!(sp.allocated() <= KEEP_WHEN_EMPTY);
@@ -208,15 +243,18 @@ mod tests {
     fn rollback_undoes_tentative_pushes_and_their_log() {
         let mut sp = Spooler::with_capacity(8);
         sp.set_logging(true);
-        sp.push(line(1.0));
+        push_line(&mut sp, 1.0);
         let m = sp.mark();
-        sp.push(line(2.0));
-        sp.push(line(3.0));
-        assert_eq!(sp.since(m).count(), 2);
+        push_line(&mut sp, 2.0);
+        push_line(&mut sp, 3.0);
+        assert_eq!(sp.len(), 3);
         sp.rollback(m);
         assert_eq!(sp.len(), 1);
-        assert_eq!(sp.take_log().len(), 1);
+        let log = sp.take_log();
+        assert_eq!(log.len(), 1);
+        assert_eq!(log[0].record().end[0], 1.0);
         assert_eq!(sp.free(), 7);
+        assert!(sp.has_room(7) && !sp.has_room(8));
     }
 
     #[test]

@@ -14,18 +14,9 @@ pub const DEGENERATE_NORMAL: f64 = 1e-9;
 /// (the departure ends at 0), and 0 with no element before (a direct
 /// command).
 fn end_weight(e: Option<&SpoolElement>) -> f64 {
-    match e.map(|e| e.origin) {
+    match e.map(SpoolElement::origin) {
         Some(Origin::Corrected | Origin::Transition | Origin::Approach) => 1.0,
         _ => 0.0,
-    }
-}
-
-/// The fraction of element `e` run after distance `done`.
-fn fraction(e: &SpoolElement, done: f64) -> f64 {
-    if e.length > 0.0 {
-        (done / e.length).clamp(0.0, 1.0)
-    } else {
-        1.0
     }
 }
 
@@ -36,8 +27,8 @@ fn fraction(e: &SpoolElement, done: f64) -> f64 {
 pub fn radius_weight(c: &Cycle<'_>) -> f64 {
     let Some(e) = c.current else { return 0.0 };
     let start = end_weight(c.previous);
-    let f = fraction(e, c.done);
-    match e.origin {
+    let f = e.fraction(c.done);
+    match e.origin() {
         Origin::Corrected | Origin::Transition => 1.0,
         Origin::Approach => start + (1.0 - start) * f,
         Origin::Departure => start * (1.0 - f),
@@ -124,8 +115,11 @@ mod tests {
         p
     }
 
+    /// Where the test elements start.
+    const ZERO: AxisPos = [0.0; AXES];
+
     fn line(origin: Origin, to: AxisPos) -> SpoolElement {
-        SpoolElement::line([0.0; AXES], to, 1000.0, false, origin)
+        SpoolElement::line(&ZERO, to, 1000.0, false, origin)
     }
 
     fn cycle<'a>(
@@ -137,6 +131,7 @@ mod tests {
         Cycle {
             parts: &[],
             current,
+            start: &ZERO,
             done,
             previous,
             nominal,

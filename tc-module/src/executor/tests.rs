@@ -11,15 +11,21 @@ fn pos(x: f64) -> AxisPos {
 }
 
 fn line(a: f64, b: f64) -> SpoolElement {
-    SpoolElement::line(pos(a), pos(b), 600.0, false, Origin::Uncorrected)
+    SpoolElement::line(&pos(a), pos(b), 600.0, false, Origin::Uncorrected)
+}
+
+/// Pushes a line along X from `a` to `b` (`a` the end of the last one).
+fn push(sp: &mut Spooler, a: f64, b: f64, origin: Origin) {
+    let e = SpoolElement::line(&pos(a), pos(b), 600.0, false, origin);
+    sp.push(&pos(a), e);
 }
 
 #[test]
 fn steps_at_feed_and_carries_over() {
     let mut sp = Spooler::default();
     // 600 units/min = 0.01 per ms
-    sp.push(line(0.0, 0.015));
-    sp.push(line(0.015, 1.0));
+    sp.push(&pos(0.0), line(0.0, 0.015));
+    sp.push(&pos(0.015), line(0.015, 1.0));
     let mut ex = Executor::default();
     ex.step(&mut sp, &mut NoModel);
     assert!((ex.position()[0] - 0.01).abs() < 1e-12);
@@ -31,7 +37,7 @@ fn steps_at_feed_and_carries_over() {
     ex.run(&mut sp, u64::MAX / 2, &mut NoModel);
     assert_eq!(ex.position()[0], 1.0);
     assert!(sp.is_empty());
-    sp.push(line(1.0, 1e12));
+    sp.push(&pos(1.0), line(1.0, 1e12));
     ex.run(&mut sp, 1_000_000_000_000, &mut NoModel);
     assert!((ex.position()[0] - (1e10 + 1.0)).abs() < 1e-2);
     ex.run_until_empty(&mut sp, &mut NoModel);
@@ -48,7 +54,7 @@ impl CycleModel for Current {
         true
     }
     fn cycle(&mut self, c: &Cycle<'_>) -> AxisPos {
-        self.0 = c.current.map(|e| e.origin);
+        self.0 = c.current.map(|e| e.origin());
         self.1 = c.parts.iter().map(|p| p.length).sum();
         [0.0; AXES]
     }
@@ -60,15 +66,8 @@ fn a_cycle_that_ends_on_an_end_point_stands_on_the_element_that_ended() {
     // short of) their length; the cycle that reaches it ends exactly.
     for len in [0.3, 0.7, 1.1, 10.0] {
         let mut sp = Spooler::default();
-        let first = SpoolElement::line(pos(0.0), pos(len), 600.0, false, Origin::Corrected);
-        sp.push(first);
-        sp.push(SpoolElement::line(
-            pos(len),
-            pos(5.0 * len),
-            600.0,
-            false,
-            Origin::Transition,
-        ));
+        push(&mut sp, 0.0, len, Origin::Corrected);
+        push(&mut sp, len, 5.0 * len, Origin::Transition);
         let (mut ex, mut m) = (Executor::default(), Current::default());
         let cycles = (len / 0.01).round() as u64;
         ex.run(&mut sp, cycles, &mut m);
@@ -87,13 +86,8 @@ fn a_stuck_element_costs_nothing_per_cycle() {
     // that vanishes against the distance already run.
     for feed in [0.0, 5e-324] {
         let mut sp = Spooler::default();
-        sp.push(SpoolElement::line(
-            pos(0.0),
-            pos(1.0),
-            feed,
-            false,
-            Origin::Uncorrected,
-        ));
+        let e = SpoolElement::line(&pos(0.0), pos(1.0), feed, false, Origin::Uncorrected);
+        sp.push(&pos(0.0), e);
         let mut ex = Executor::default();
         ex.run(&mut sp, u64::MAX - 1, &mut NoModel);
         assert_eq!(ex.cycles(), u64::MAX - 1);

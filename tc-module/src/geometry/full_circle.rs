@@ -4,8 +4,9 @@
 //! spooled from its start to its end is read as a whole turn, never as a
 //! sliver.
 
-use super::offset::{cross, Offset, OffsetPath, V2};
+use super::offset::{Offset, OffsetPath};
 use super::tolerance::FULL_CIRCLE;
+use super::vector::{cross, V2};
 
 /// The angle (radians, in (-π, π]) from the offset start of the arc
 /// `off` to the point `x`, about its centre and positive in its

@@ -1,21 +1,7 @@
 //! Offsets of lines and arcs (trc-geometry.md "Offset geometry").
 
-use nalgebra::Vector2;
-
 use super::tolerance::{CENTER_TOL, MIN_RADIUS, PLANE_NULL};
-
-/// A plane point or vector `(h, v)`.
-pub type V2 = Vector2<f64>;
-
-/// Left normal of a unit tangent: `nL(t) = (-tv, th)`.
-pub fn left_normal(t: V2) -> V2 {
-    V2::new(-t.y, t.x)
-}
-
-/// 2-D cross product `a × b`.
-pub fn cross(a: V2, b: V2) -> f64 {
-    a.x * b.y - a.y * b.x
-}
+use super::vector::{left_normal, V2};
 
 /// A programmed plane contour element.
 #[derive(Debug, Clone, Copy, PartialEq)]

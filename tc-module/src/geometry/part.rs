@@ -3,8 +3,9 @@
 
 use super::angle::on_arc_part;
 use super::intersect::{circle_circle, line_circle, line_line, Intersections};
-use super::offset::{OffsetPath, V2};
+use super::offset::OffsetPath;
 use super::tolerance::ON_PART;
+use super::vector::V2;
 
 /// The part of an offset element on which an inside-corner point may lie.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -3,7 +3,7 @@
 
 use super::angle::turn_at_most_right_angle;
 use super::intersect::line_line;
-use super::offset::V2;
+use super::vector::V2;
 
 /// Elements inserted at an outside corner.
 #[derive(Debug, Clone, Copy, PartialEq)]

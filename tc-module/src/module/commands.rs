@@ -11,15 +11,11 @@ use crate::correction::{Profile, Refusal, Sink};
 use crate::element::{ContourNormal, NormalRule, Origin, SpoolElement};
 use crate::extension::{Groups, TcExtension};
 use crate::geometry::tolerance::MIN_RADIUS;
-use crate::geometry::{Contour, V2};
+use crate::geometry::Contour;
 use crate::motion::{ArcDir, Motion, SSF_FLUSH};
 use crate::plane::AxisWords;
 use crate::plane::AXES;
 use crate::rotation::Rotation;
-
-fn v2(p: [f64; 2]) -> V2 {
-    V2::new(p[0], p[1])
-}
 
 impl<E: TcExtension> TcModule<E> {
     /// Executes a motion command.
@@ -171,23 +167,23 @@ impl<E: TcExtension> TcModule<E> {
         let q = self.tool_position();
         let main = self.main_plane();
         let element = match cmd.arc {
-            None => SpoolElement::line(q, cmd.target, cmd.feed, cmd.rapid, Origin::Uncorrected),
+            None => SpoolElement::line(&q, cmd.target, cmd.feed, cmd.rapid, Origin::Uncorrected),
             Some((dir, c)) => {
-                let s = main.point(&cmd.start);
-                if (s[0] - c[0]).hypot(s[1] - c[1]) <= MIN_RADIUS {
+                let s = main.point(&cmd.start) - c;
+                if s.x.hypot(s.y) <= MIN_RADIUS {
                     // Refused: nothing changes, not even the modal feed.
                     return Err(AccessError::Range);
                 }
                 let ccw = dir == ArcDir::Ccw;
-                SpoolElement::arc(q, cmd.target, main, c, ccw, cmd.feed, Origin::Uncorrected)
+                SpoolElement::arc(&q, cmd.target, main, c, ccw, cmd.feed, Origin::Uncorrected)
             }
         };
-        if self.spooler.free() == 0 {
+        if !self.spooler.has_room(1) {
             return Err(AccessError::Full);
         }
         self.accept(cmd);
         let element = self.uncorrected(element);
-        self.spooler.push(element);
+        self.spooler.push(&q, element);
         Ok(())
     }
 
@@ -204,13 +200,13 @@ impl<E: TcExtension> TcModule<E> {
         if cmd.arc.is_some() && !gp.same_plane(main) {
             return Err(ErrorBits::PLANE_ERROR.into());
         }
-        let (from, to) = (v2(gp.point(&cmd.start)), v2(gp.point(&cmd.target)));
+        let (from, to) = (gp.point(&cmd.start), gp.point(&cmd.target));
         let contour = match cmd.arc {
             None => Contour::Line { from, to },
-            Some((dir, c)) => Contour::Arc {
+            Some((dir, centre)) => Contour::Arc {
                 from,
                 to,
-                centre: v2(c),
+                centre,
                 sigma: dir.sigma(),
             },
         };

@@ -17,16 +17,13 @@ use crate::cycle::{Cycle, CycleModel};
 use crate::element::{ContourNormal, Origin, SpoolElement};
 use crate::executor::Executor;
 use crate::extension::{Group, Groups, NoExtension, TcExtension};
-use crate::limits::CycleTime;
+use crate::limits::{CycleTime, DEFAULT_FEED};
 use crate::object_map::{object_table, TcKey, GROUP_COUNT};
 use crate::plane::{AxisPos, MainAxes, PlaneAxes, TcPlane, AXES};
 use crate::rotation::Rotation;
 use crate::spooler::{Spooler, MAX_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY};
 use crate::tool_table::ToolTable;
 use uoi::ObjectDesc;
-
-pub use crate::limits::MAX_COORD;
-pub use intake::{DEFAULT_FEED, RAPID_FEED};
 
 /// Stepped cycles one slice of an `EXEC` may run while an extension's
 /// per-cycle model is active ([`TcModule::exec_slice`]): a server runs a
@@ -255,11 +252,7 @@ impl<E: TcExtension> TcModule<E> {
     fn uncorrected(&mut self, e: SpoolElement) -> SpoolElement {
         match self.departure.take() {
             None => e,
-            Some(Departure(normal)) => SpoolElement {
-                origin: Origin::Departure,
-                ..e
-            }
-            .with_normal(normal),
+            Some(Departure(normal)) => e.with_origin(Origin::Departure).with_normal(normal),
         }
     }
 }
