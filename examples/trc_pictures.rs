@@ -103,7 +103,7 @@ fn polyline(l: &Logged) -> Vec<[f64; 2]> {
     };
     (0..=n)
         .map(|k| {
-            let p = e.point_at(&l.start, e.length() * k as f64 / n as f64);
+            let p = e.point_at(&l.start, &l.end, e.length() * k as f64 / n as f64);
             [p[0], p[1]]
         })
         .collect()

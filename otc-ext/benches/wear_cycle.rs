@@ -160,7 +160,7 @@ impl BareRig {
         }
         command_all(&mut self.source, &self.contour.next_profiles(CHUNK));
         for e in self.source.spooler_mut().take_log() {
-            self.spooler.push(&e.start, e.element);
+            self.spooler.push(&e.start, &e.end, e.element);
         }
         self.source.spooler_mut().discard();
     }

@@ -93,16 +93,19 @@ fn executor(c: &mut Criterion) {
     g.bench_function("step on a line", |b| {
         let mut sp = Spooler::default();
         let start = [0.0; AXES];
-        sp.push(
-            &start,
-            SpoolElement::line(&start, far, 1000.0, false, Origin::Uncorrected),
-        );
+        let xy = tc_module::TcPlane::Xy.pick([0, 1, 2]);
+        let e = SpoolElement::line(&start, &far, xy, 1000.0, false, Origin::Uncorrected);
+        sp.push(&start, &far, e);
         let mut ex = Executor::default();
         b.iter(|| ex.step(black_box(&mut sp), &mut NoModel));
     });
     g.bench_function("step on an arc", |b| {
         let mut sp = Spooler::default();
-        sp.push(&CIRCLE_START, big_circle(Origin::Uncorrected));
+        sp.push(
+            &CIRCLE_START,
+            &CIRCLE_START,
+            big_circle(Origin::Uncorrected),
+        );
         let mut ex = Executor::new(CIRCLE_START, CycleTime::DEFAULT);
         b.iter(|| ex.step(black_box(&mut sp), &mut NoModel));
     });
@@ -119,7 +122,7 @@ fn executor(c: &mut Criterion) {
                 outward: true,
             },
         };
-        sp.push(&CIRCLE_START, e.with_normal(Some(normal)));
+        sp.push(&CIRCLE_START, &CIRCLE_START, e.with_normal(Some(normal)));
         let mut ex = Executor::new(CIRCLE_START, CycleTime::DEFAULT);
         let mut model = AlongNormal;
         b.iter(|| ex.step(black_box(&mut sp), &mut model));
@@ -137,7 +140,7 @@ fn big_circle(origin: Origin) -> SpoolElement {
     let centre = tc_module::V2::zeros();
     SpoolElement::arc(
         &CIRCLE_START,
-        CIRCLE_START,
+        &CIRCLE_START,
         plane,
         centre,
         true,

@@ -398,6 +398,8 @@ fn print_table() {
 fn run_once(spec: &str) {
     let (row, n) = spec.split_once(':').expect("OFFSET_ONCE=row:segments");
     let n: usize = n.parse().expect("segments");
+    let bytes = std::mem::size_of::<tc_module::SpoolElement>();
+    eprintln!("a spool element takes {bytes} bytes");
     let steps = saw_tooth(n);
     match row {
         "buffer" => {

@@ -1,5 +1,6 @@
 //! The ERROR and STATUS registers of a compensation group
-//! (uoi-map.md, device 1 sub 1 and sub 3; legacy manual tables 4 and 5).
+//! (docs/objects.md "ERROR bits" and "STATUS bits": device 1 sub 1 and
+//! sub 3).
 
 use bitflags::bitflags;
 

@@ -101,6 +101,8 @@ pub struct Cycle<'a> {
     /// Where the current element starts (all axes; the nominal position
     /// when there is none).
     pub start: &'a AxisPos,
+    /// Where it ends (all axes; the nominal position when there is none).
+    pub end: &'a AxisPos,
     /// Path distance run on the current element.
     pub done: f64,
     /// The element that ended before the current one, while the executor
@@ -116,7 +118,7 @@ impl Cycle<'_> {
     #[inline]
     pub fn tangent(&self) -> Option<AxisPos> {
         self.current
-            .map(|e| e.tangent_through(self.start, self.done, self.nominal))
+            .map(|e| e.tangent_through(self.start, self.end, self.done, self.nominal))
     }
 
     /// The path direction of the current element at the cycle's end, not
@@ -126,7 +128,7 @@ impl Cycle<'_> {
     #[inline]
     pub fn direction(&self) -> Option<AxisPos> {
         self.current
-            .map(|e| e.direction_through(self.start, self.done, self.nominal))
+            .map(|e| e.direction_through(self.start, self.end, self.done, self.nominal))
     }
 
     /// The contour normal at the cycle's end (side normal of a corrected

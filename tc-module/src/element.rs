@@ -1,14 +1,15 @@
-//! A spooled element: the end of every axis, the plane geometry of an arc
+//! A spooled element: its end in its plane, the plane geometry of an arc
 //! with what the executor needs derived once (start direction, sweep,
 //! radii, path length), feed, origin tag and the contour normal a wear
-//! model needs (docs/trc.md "Spooler and execution"; docs/otc.md rules 2
-//! to 4).
+//! model needs (decisions 24, 26, 42 and 43; docs/otc.md "Processing
+//! types and their directions").
 //!
-//! An element does not keep its start: the spooler is a chain, each
-//! element starting where the one before it ended (or, the first, where
-//! the executor stands). Whoever runs or reports an element hands its
-//! start in. The axes outside the plane cost nothing where they do not
-//! move: a line's length and an arc's helix add only what they move.
+//! An element keeps neither its start nor its end on every axis: the
+//! spooler is a chain, each element starting where the one before it
+//! ended (or, the first, where the executor stands), and the axes outside
+//! its plane end where they start unless the element moves them; only
+//! then does the spooler keep its whole end. Whoever runs or reports an
+//! element hands its start and end in.
 
 use std::f64::consts::TAU;
 
@@ -39,7 +40,8 @@ pub enum Path {
 }
 
 /// How the unit vector from the programmed contour to the tool centre is
-/// found along an element the correction spooled (docs/otc.md rule 3).
+/// found along an element the correction spooled (decision 43; docs/otc.md
+/// "Processing types and their directions", RADIUS' n).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum NormalRule {
     /// One vector all along: the side normal of a corrected line, and the
@@ -77,51 +79,116 @@ enum NormalKind {
     FromCorner,
 }
 
+/// The plane geometry of an arc element and what the executor needs of
+/// it, derived once.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct ArcGeometry {
+    /// Centre `(h, v)`.
+    centre: V2,
+    /// Unit vector from the centre to the start point.
+    start_dir: V2,
+    /// Signed sweep (positive CCW); a full circle sweeps ±2π.
+    sweep: f64,
+    /// Radius at the start.
+    r0: f64,
+    /// Radius at the end (equal to `r0` up to rounding).
+    r1: f64,
+}
+
+impl ArcGeometry {
+    /// The arc from `from` to `to` about `centre` in the direction given
+    /// (start = end is a whole turn), and its length in the plane.
+    #[inline]
+    pub(crate) fn of(from: V2, to: V2, centre: V2, ccw: bool) -> (Self, f64) {
+        let (s, e) = (from - centre, to - centre);
+        let sweep = sweep_of(s, e, ccw);
+        // Coordinates stay within ±1e9: the squares cannot overflow, and a
+        // square root is several times cheaper than `hypot`.
+        let (r0, r1) = (s.norm(), e.norm());
+        // On the centre, the start direction is that of angle 0.
+        let start_dir = if r0 > 0.0 { s / r0 } else { V2::x() };
+        let plane_len = sweep.abs() * 0.5 * (r0 + r1);
+        let arc = Self {
+            centre,
+            start_dir,
+            sweep,
+            r0,
+            r1,
+        };
+        (arc, plane_len)
+    }
+
+    /// The unit vector from the centre at fraction `f` of the sweep, the
+    /// start direction turned by `sweep · f`.
+    fn dir_at(&self, f: f64) -> V2 {
+        let (sin, cos) = (self.sweep * f).sin_cos();
+        let [c0, s0] = [self.start_dir.x, self.start_dir.y];
+        V2::new(c0 * cos - s0 * sin, s0 * cos + c0 * sin)
+    }
+
+    /// The tangent in the plane, per unit of a path `length` long, where
+    /// the direction from the centre is `(cos, sin)` at radius `r`: along
+    /// the circle (r dθ/ds) plus the radius' own drift (dr/ds).
+    fn tangent(&self, cos: f64, sin: f64, r: f64, length: f64) -> V2 {
+        let k = self.sweep * r / length;
+        let dr = (self.r1 - self.r0) / length;
+        V2::new(-k * sin + dr * cos, k * cos + dr * sin)
+    }
+}
+
 /// One element of the spooler (see the module documentation: its start
-/// is the end of the element before it).
+/// is the end of the element before it, and its end outside its plane is
+/// its start there unless it moves those axes).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpoolElement {
-    end: AxisPos,
+    /// The end in the plane `(h, v)`.
+    to: V2,
     /// Path length (arc length, helical where other axes move).
     length: f64,
     /// Feed, units/min.
     feed: f64,
-    /// Arc centre `(h, v)`; unused on a line.
-    centre: V2,
-    /// Arc: unit vector from the centre to the start point.
-    start_dir: V2,
-    /// Arc: signed sweep (positive CCW); a full circle sweeps ±2π.
-    sweep: f64,
-    /// Arc: radius at the start.
-    r0: f64,
-    /// Arc: radius at the end (equal to `r0` up to rounding).
-    r1: f64,
+    /// The arc, or `None` for a line.
+    arc: Option<ArcGeometry>,
     /// The normal's vector, corner or centre (see [`NormalKind`]).
     normal_at: V2,
-    /// Arc: its plane.
+    /// The plane of `to` (an arc's plane).
     plane: PlaneAxes,
     /// The normal's plane.
     normal_plane: PlaneAxes,
     normal: NormalKind,
-    is_arc: bool,
+    /// Whether an axis outside the plane moves: then the spooler keeps
+    /// the end of every axis.
+    moves_off_plane: bool,
     rapid: bool,
     origin: Origin,
 }
 
-/// The plane fields of an element that has none.
-const NO_PLANE: PlaneAxes = PlaneAxes {
-    h: 0,
-    v: 1,
-    third: 2,
-};
+/// Whether `end` differs from `start` on an axis outside `plane`, to the
+/// bit (a −0 that was 0 is kept too).
+#[inline]
+fn moves_off_plane(start: &AxisPos, end: &AxisPos, plane: PlaneAxes) -> bool {
+    // The end with the start's plane coordinates, compared to the bit.
+    let mut e = *end;
+    e[usize::from(plane.h)] = start[usize::from(plane.h)];
+    e[usize::from(plane.v)] = start[usize::from(plane.v)];
+    (0..AXES).fold(0, |acc, i| acc | (e[i].to_bits() ^ start[i].to_bits())) != 0
+}
 
 /// `Σ (end − start)²` over the axes outside `plane`: zero where none moves.
+/// Straight-line code: the plane's axes add an exact zero.
+#[inline]
 fn off_plane_squared(start: &AxisPos, end: &AxisPos, plane: PlaneAxes) -> f64 {
     let (h, v) = (usize::from(plane.h), usize::from(plane.v));
-    (0..AXES)
-        .filter(|&i| i != h && i != v)
-        .map(|i| (end[i] - start[i]) * (end[i] - start[i]))
-        .sum()
+    let mut sum = 0.0;
+    for i in 0..AXES {
+        let d = if i == h || i == v {
+            0.0
+        } else {
+            end[i] - start[i]
+        };
+        sum += d * d;
+    }
+    sum
 }
 
 fn line_length(start: &AxisPos, end: &AxisPos) -> f64 {
@@ -148,32 +215,78 @@ fn sweep_of(s: V2, e: V2, ccw: bool) -> f64 {
 }
 
 impl SpoolElement {
-    /// An element to `end` of `length` without plane geometry or normal.
+    /// An element to `end` of `length` from `start`, plane point in
+    /// `plane`, without arc geometry or normal.
     #[inline]
-    fn bare(end: AxisPos, length: f64, feed: f64, rapid: bool, origin: Origin) -> Self {
+    fn bare(start: &AxisPos, end: &AxisPos, plane: PlaneAxes, length: f64) -> Self {
         Self {
-            end,
+            to: plane.point(end),
             length,
-            feed,
-            centre: V2::zeros(),
-            start_dir: V2::zeros(),
-            sweep: 0.0,
-            r0: 0.0,
-            r1: 0.0,
+            feed: 0.0,
+            arc: None,
             normal_at: V2::zeros(),
-            plane: NO_PLANE,
-            normal_plane: NO_PLANE,
+            plane,
+            normal_plane: plane,
             normal: NormalKind::None,
-            is_arc: false,
-            rapid,
-            origin,
+            moves_off_plane: moves_off_plane(start, end, plane),
+            rapid: false,
+            origin: Origin::Uncorrected,
         }
     }
 
-    /// A straight element from `start` to `end`.
+    /// An element in `plane` to `to`, `length` long, that moves no other
+    /// axis (the sink knows as much without comparing them).
     #[inline]
-    pub fn line(start: &AxisPos, end: AxisPos, feed: f64, rapid: bool, origin: Origin) -> Self {
-        Self::bare(end, line_length(start, &end), feed, rapid, origin)
+    pub(crate) fn in_plane(
+        plane: PlaneAxes,
+        to: V2,
+        length: f64,
+        arc: Option<ArcGeometry>,
+    ) -> Self {
+        Self {
+            to,
+            length,
+            feed: 0.0,
+            arc,
+            normal_at: V2::zeros(),
+            plane,
+            normal_plane: plane,
+            normal: NormalKind::None,
+            moves_off_plane: false,
+            rapid: false,
+            origin: Origin::Uncorrected,
+        }
+    }
+
+    /// The same element with its feed, rapid flag and origin.
+    #[inline]
+    pub(crate) fn moving(self, feed: f64, rapid: bool, origin: Origin) -> Self {
+        Self {
+            feed,
+            rapid,
+            origin,
+            ..self
+        }
+    }
+
+    /// A straight element from `start` to `end`; `plane` names the two
+    /// axes the element keeps the end of (any other axis that moves makes
+    /// the spooler keep its whole end).
+    #[inline]
+    pub fn line(
+        start: &AxisPos,
+        end: &AxisPos,
+        plane: PlaneAxes,
+        feed: f64,
+        rapid: bool,
+        origin: Origin,
+    ) -> Self {
+        Self {
+            feed,
+            rapid,
+            origin,
+            ..Self::bare(start, end, plane, line_length(start, end))
+        }
     }
 
     /// An arc element from `start` to `end` about `centre` in `plane`;
@@ -181,31 +294,21 @@ impl SpoolElement {
     #[inline]
     pub fn arc(
         start: &AxisPos,
-        end: AxisPos,
+        end: &AxisPos,
         plane: PlaneAxes,
         centre: V2,
         ccw: bool,
         feed: f64,
         origin: Origin,
     ) -> Self {
-        let s = plane.point(start) - centre;
-        let e = plane.point(&end) - centre;
-        let sweep = sweep_of(s, e, ccw);
-        let (r0, r1) = (s.x.hypot(s.y), e.x.hypot(e.y));
-        // On the centre, the start direction is that of angle 0.
-        let start_dir = if r0 > 0.0 { s / r0 } else { V2::x() };
-        let plane_len = sweep.abs() * 0.5 * (r0 + r1);
-        let other = off_plane_squared(start, &end, plane);
+        let (arc, plane_len) = ArcGeometry::of(plane.point(start), plane.point(end), centre, ccw);
+        let other = off_plane_squared(start, end, plane);
         let length = (plane_len * plane_len + other).sqrt();
         Self {
-            centre,
-            start_dir,
-            sweep,
-            r0,
-            r1,
-            plane,
-            is_arc: true,
-            ..Self::bare(end, length, feed, false, origin)
+            feed,
+            origin,
+            arc: Some(arc),
+            ..Self::bare(start, end, plane, length)
         }
     }
 
@@ -226,10 +329,23 @@ impl SpoolElement {
         self
     }
 
-    /// The end position, all axes.
+    /// The end in the plane `(h, v)` of [`SpoolElement::plane`].
     #[inline]
-    pub fn end(&self) -> &AxisPos {
-        &self.end
+    pub fn to(&self) -> V2 {
+        self.to
+    }
+
+    /// The two axes of [`SpoolElement::to`] (an arc's plane).
+    #[inline]
+    pub fn plane(&self) -> PlaneAxes {
+        self.plane
+    }
+
+    /// Whether an axis outside the plane moves (the spooler then keeps
+    /// the element's end on every axis).
+    #[inline]
+    pub fn moves_off_plane(&self) -> bool {
+        self.moves_off_plane
     }
 
     /// Path length (arc length, helical where other axes move).
@@ -263,14 +379,14 @@ impl SpoolElement {
 
     /// Line or arc.
     pub fn path(&self) -> Path {
-        if !self.is_arc {
-            return Path::Line;
+        match &self.arc {
+            None => Path::Line,
+            Some(a) => Path::Arc(ArcPath {
+                plane: self.plane,
+                centre: a.centre,
+                ccw: a.sweep > 0.0,
+            }),
         }
-        Path::Arc(ArcPath {
-            plane: self.plane,
-            centre: self.centre,
-            ccw: self.sweep > 0.0,
-        })
     }
 
     /// The contour normal, for elements the correction spooled.
@@ -295,16 +411,17 @@ impl SpoolElement {
         })
     }
 
-    /// The element from `start` as it is reported (spool log, wire).
-    pub fn record(&self, start: &AxisPos) -> SpoolRecord {
+    /// The element from `start` to `end` as it is reported (spool log,
+    /// wire).
+    pub fn record(&self, start: &AxisPos, end: &AxisPos) -> SpoolRecord {
         SpoolRecord {
-            arc: self.is_arc.then(|| ArcRecord {
+            arc: self.arc.map(|a| ArcRecord {
                 plane: [self.plane.h, self.plane.v, self.plane.third],
-                centre: [self.centre.x, self.centre.y],
-                ccw: self.sweep > 0.0,
+                centre: [a.centre.x, a.centre.y],
+                ccw: a.sweep > 0.0,
             }),
             start: *start,
-            end: self.end,
+            end: *end,
             feed: self.feed,
             rapid: self.rapid,
             origin: self.origin,
@@ -321,56 +438,39 @@ impl SpoolElement {
         }
     }
 
-    /// Arc: the unit vector from the centre at fraction `f` of the sweep,
-    /// the start direction turned by `sweep · f`.
-    fn dir_at(&self, f: f64) -> V2 {
-        let (sin, cos) = (self.sweep * f).sin_cos();
-        let [c0, s0] = [self.start_dir.x, self.start_dir.y];
-        V2::new(c0 * cos - s0 * sin, s0 * cos + c0 * sin)
-    }
-
     /// The position at path distance `s` (0 ≤ s ≤ length) of the element
-    /// run from `start`.
-    pub fn point_at(&self, start: &AxisPos, s: f64) -> AxisPos {
+    /// run from `start` to `end`.
+    pub fn point_at(&self, start: &AxisPos, end: &AxisPos, s: f64) -> AxisPos {
         let f = self.fraction(s);
         let mut p = *start;
         for (i, q) in p.iter_mut().enumerate() {
-            *q += (self.end[i] - start[i]) * f;
+            *q += (end[i] - start[i]) * f;
         }
-        if self.is_arc {
-            let r = self.r0 + (self.r1 - self.r0) * f;
-            self.plane
-                .set_point(&mut p, self.centre + self.dir_at(f) * r);
+        if let Some(a) = &self.arc {
+            let r = a.r0 + (a.r1 - a.r0) * f;
+            self.plane.set_point(&mut p, a.centre + a.dir_at(f) * r);
         }
         p
     }
 
     /// The chord direction per unit of path, all axes (a line's tangent).
-    fn chord(&self, start: &AxisPos) -> AxisPos {
-        std::array::from_fn(|i| (self.end[i] - start[i]) / self.length)
-    }
-
-    /// Arc: the tangent in its plane where the direction from the centre
-    /// is `(cos, sin)` at radius `r`: along the circle (r dθ/ds) plus the
-    /// radius' own drift (dr/ds).
-    fn arc_tangent(&self, cos: f64, sin: f64, r: f64) -> V2 {
-        let k = self.sweep * r / self.length;
-        let dr = (self.r1 - self.r0) / self.length;
-        V2::new(-k * sin + dr * cos, k * cos + dr * sin)
+    fn chord(&self, start: &AxisPos, end: &AxisPos) -> AxisPos {
+        std::array::from_fn(|i| (end[i] - start[i]) / self.length)
     }
 
     /// The unit path tangent at distance `s` of the element run from
-    /// `start`, on all axes (zero for an element without length).
-    pub fn tangent_at(&self, start: &AxisPos, s: f64) -> AxisPos {
+    /// `start` to `end`, on all axes (zero for an element without length).
+    pub fn tangent_at(&self, start: &AxisPos, end: &AxisPos, s: f64) -> AxisPos {
         if self.length <= 0.0 {
             return [0.0; AXES];
         }
-        let mut t = self.chord(start);
-        if self.is_arc {
+        let mut t = self.chord(start, end);
+        if let Some(a) = &self.arc {
             let f = self.fraction(s);
-            let d = self.dir_at(f);
-            let r = self.r0 + (self.r1 - self.r0) * f;
-            self.plane.set_point(&mut t, self.arc_tangent(d.x, d.y, r));
+            let d = a.dir_at(f);
+            let r = a.r0 + (a.r1 - a.r0) * f;
+            self.plane
+                .set_point(&mut t, a.tangent(d.x, d.y, r, self.length));
         }
         t
     }
@@ -380,20 +480,20 @@ impl SpoolElement {
     /// [`SpoolElement::tangent_at`], but an arc takes its direction from
     /// `p` and the centre instead of turning the start direction again (no
     /// trigonometry; the per-cycle models ask this every cycle).
-    pub fn tangent_through(&self, start: &AxisPos, s: f64, p: &AxisPos) -> AxisPos {
-        if !self.is_arc {
-            return self.tangent_at(start, s);
-        }
-        let c = self.plane.point(p) - self.centre;
+    pub fn tangent_through(&self, start: &AxisPos, end: &AxisPos, s: f64, p: &AxisPos) -> AxisPos {
+        let Some(a) = &self.arc else {
+            return self.tangent_at(start, end, s);
+        };
+        let c = self.plane.point(p) - a.centre;
         // Within ±1e9: no overflow; a square root is several times
         // cheaper than `hypot`.
         let r = (c.x * c.x + c.y * c.y).sqrt();
         if r.is_nan() || r <= 0.0 || self.length <= 0.0 {
-            return self.tangent_at(start, s);
+            return self.tangent_at(start, end, s);
         }
-        let mut t = self.chord(start);
+        let mut t = self.chord(start, end);
         self.plane
-            .set_point(&mut t, self.arc_tangent(c.x / r, c.y / r, r));
+            .set_point(&mut t, a.tangent(c.x / r, c.y / r, r, self.length));
         t
     }
 
@@ -402,27 +502,30 @@ impl SpoolElement {
     /// line: end − start), without a division for the axes outside an
     /// arc's plane; zero for an element without length.
     #[inline]
-    pub fn direction_through(&self, start: &AxisPos, s: f64, p: &AxisPos) -> AxisPos {
+    pub fn direction_through(
+        &self,
+        start: &AxisPos,
+        end: &AxisPos,
+        s: f64,
+        p: &AxisPos,
+    ) -> AxisPos {
         if self.length <= 0.0 {
             return [0.0; AXES];
         }
-        let d: AxisPos = std::array::from_fn(|i| self.end[i] - start[i]);
-        if !self.is_arc {
+        let d: AxisPos = std::array::from_fn(|i| end[i] - start[i]);
+        let Some(a) = &self.arc else {
             return d;
-        }
-        let c = self.plane.point(p) - self.centre;
+        };
+        let c = self.plane.point(p) - a.centre;
         // Within ±1e9: no overflow.
         let r = (c.x * c.x + c.y * c.y).sqrt();
         if r.is_nan() || r <= 0.0 {
-            return self.tangent_at(start, s).map(|x| x * self.length);
+            return self.tangent_at(start, end, s).map(|x| x * self.length);
         }
         // Along the circle (sweep · r per unit of fraction) plus the
         // radius' own drift (r1 − r0), in the direction of the point.
-        let drift = (self.r1 - self.r0) / r;
-        let (ph, pv) = (
-            -self.sweep * c.y + drift * c.x,
-            self.sweep * c.x + drift * c.y,
-        );
+        let drift = (a.r1 - a.r0) / r;
+        let (ph, pv) = (-a.sweep * c.y + drift * c.x, a.sweep * c.x + drift * c.y);
         // Chosen per axis rather than stored at the plane's indexes: the
         // array then stays in registers (a per-cycle path).
         let (h, v) = (usize::from(self.plane.h), usize::from(self.plane.v));

@@ -13,8 +13,9 @@ use crate::spooler::Spooler;
 /// fraction of the step ends exactly on it: the distance run is a sum of
 /// steps, and its rounding (a few ulps) must not carry the executor a hair
 /// past the end point into the next element, nor leave it a hair short
-/// for one more cycle (otc.md rule 2: a cycle that ends exactly on an end
-/// point stands on the element that just ended).
+/// for one more cycle (decision 112; docs/otc.md "Processing types and
+/// their directions": a cycle that ends exactly on an end point stands on
+/// the element that just ended).
 pub const END_POINT_SNAP: f64 = 1e-6;
 
 /// Where a cycle ended.
@@ -34,6 +35,8 @@ pub struct Executor {
     /// Where the front element starts: the end of the element that ended
     /// last, or where the executor was put (the spooler is a chain).
     entry: AxisPos,
+    /// Where the front element ends (kept for the cycle's view of it).
+    front_end: AxisPos,
     /// The offset of an active model, from its last cycle.
     offset: Option<AxisPos>,
     /// Path distance already run on the front element.
@@ -62,6 +65,7 @@ impl Executor {
         Self {
             nominal: pos,
             entry: pos,
+            front_end: pos,
             offset: None,
             done: 0.0,
             cycle_min: cycle.minutes(),
@@ -118,7 +122,7 @@ impl Executor {
     /// end of an element carries into the next; elements without length
     /// are passed; with nothing spooled the cycle runs idle. A cycle that
     /// ends exactly on an end point (to within [`END_POINT_SNAP`] of its
-    /// step) stands on the element that ended there (otc.md rule 2),
+    /// step) stands on the element that ended there (decisions 44, 112),
     /// though the next one is already entered.
     /// With `track`, the path per element is kept for a model.
     fn advance(&mut self, spooler: &mut Spooler, track: bool) -> Stand {
@@ -135,7 +139,8 @@ impl Executor {
             let left = e.length() - self.done;
             if budget < left - snap {
                 self.done += budget;
-                self.nominal = e.point_at(&self.entry, self.done);
+                let end = spooler.front_end(&self.entry).unwrap_or(self.entry);
+                self.nominal = e.point_at(&self.entry, &end, self.done);
                 if budget > 0.0 {
                     if track {
                         self.parts.push(part(e, budget));
@@ -161,12 +166,14 @@ impl Executor {
     /// The front element ends: the executor stands on its end point, where
     /// the next one starts.
     fn end_front(&mut self, spooler: &mut Spooler) {
-        self.ended = spooler.pop_front().map(|element| Ran {
-            start: self.entry,
-            element,
-        });
-        if let Some(e) = &self.ended {
-            self.nominal = *e.element.end();
+        let end = spooler.front_end(&self.entry);
+        if let (Some(end), Some(element)) = (end, spooler.pop_front()) {
+            self.ended = Some(Ran {
+                start: self.entry,
+                end,
+                element,
+            });
+            self.nominal = end;
         }
         self.entry = self.nominal;
         self.done = 0.0;
@@ -184,6 +191,7 @@ impl Executor {
             return;
         }
         let on_front = stand == Stand::OnFront;
+        self.see_front(spooler);
         let cycle = self.cycle_view(spooler, on_front, self.parts.as_slice());
         self.offset = Some(model.cycle(&cycle));
     }
@@ -192,6 +200,11 @@ impl Executor {
     /// front element), the front is current and the element that ended
     /// before it is the previous one; otherwise the element that ended is
     /// current, run to its end.
+    /// Keeps where the front element ends, for [`Executor::cycle_view`].
+    fn see_front(&mut self, spooler: &Spooler) {
+        self.front_end = spooler.front_end(&self.entry).unwrap_or(self.entry);
+    }
+
     fn cycle_view<'a>(
         &'a self,
         spooler: &'a Spooler,
@@ -199,16 +212,16 @@ impl Executor {
         parts: &'a [PathPart],
     ) -> Cycle<'a> {
         let ended = self.ended.as_ref();
-        let (current, start, done, previous) = match spooler.front() {
+        let (current, (start, end), done, previous) = match spooler.front() {
             Some(front) if on_front => (
                 Some(front),
-                &self.entry,
+                (&self.entry, &self.front_end),
                 self.done,
                 ended.map(|e| &e.element),
             ),
             _ => (
                 ended.map(|e| &e.element),
-                ended.map_or(&self.nominal, |e| &e.start),
+                ended.map_or((&self.nominal, &self.nominal), |e| (&e.start, &e.end)),
                 ended.map_or(0.0, |e| e.element.length()),
                 None,
             ),
@@ -217,6 +230,7 @@ impl Executor {
             parts,
             current,
             start,
+            end,
             done,
             previous,
             nominal: &self.nominal,
@@ -232,6 +246,7 @@ impl Executor {
             return;
         }
         let inside = self.done > 0.0;
+        self.see_front(spooler);
         let cycle = self.cycle_view(spooler, inside, &[]);
         self.offset = Some(model.offset_now(&cycle));
     }
@@ -290,7 +305,8 @@ impl Executor {
             let k = self.whole_cycles_inside(e).min(n).saturating_sub(1);
             if k > 0 {
                 self.done += self.step_at(e.feed()) * k as f64;
-                self.nominal = e.point_at(&self.entry, self.done);
+                let end = spooler.front_end(&self.entry).unwrap_or(self.entry);
+                self.nominal = e.point_at(&self.entry, &end, self.done);
                 self.cycles = self.cycles.saturating_add(k);
                 n -= k;
                 continue;
@@ -396,10 +412,11 @@ fn part(e: &SpoolElement, length: f64) -> PathPart {
     }
 }
 
-/// An element that ended, with where it started.
+/// An element that ended, with where it started and ended.
 #[derive(Debug, Clone, Copy)]
 struct Ran {
     start: AxisPos,
+    end: AxisPos,
     element: SpoolElement,
 }
 

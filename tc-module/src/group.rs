@@ -27,7 +27,7 @@ impl Side {
 }
 
 /// Default axis allocation of a group: XAxis 0, YAxis 1, ZAxis 2
-/// (uoi-map.md device 1 sub 4, 5, 11).
+/// (docs/objects.md device 1 sub 4, 5, 11; decision 9).
 pub const DEFAULT_AXES: [u8; 3] = [0, 1, 2];
 
 /// One compensation group (device 1 index = group number). `G` is an
@@ -104,9 +104,9 @@ impl<G, T: Copy + Default> CorrGroup<G, T> {
         self.tools.clear();
     }
 
-    /// A motion error while running (trc-geometry.md "Errors while
-    /// running"): the bit is set, the buffered profile is dropped and the
-    /// group is faulted until ERROR is written. The caller clears Run.
+    /// A motion error while running (docs/objects.md "ERROR bits"; decision
+    /// 5): the bit is set, the buffered profile is dropped and the group is
+    /// faulted until ERROR is written. The caller clears Run.
     pub fn fault(&mut self, bits: ErrorBits) {
         self.error |= bits;
         self.faulted = true;

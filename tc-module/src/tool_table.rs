@@ -1,9 +1,9 @@
-//! Tool tables: 1024 entries per compensation group (uoi-map.md device 1,
-//! RADIUS/WKZINDEX/WkzLen). An extension keeps its own fields of every
+//! Tool tables: 1024 entries per compensation group (docs/objects.md
+//! device 1, RADIUS/WKZINDEX/WkzLen). An extension keeps its own fields of every
 //! entry in the entry itself (`ext`).
 
-/// Number of entries in a tool table (uoi-map.md: "a tool table of 1024
-/// entries (WKZINDEX 0..1023)").
+/// Number of entries in a tool table (WKZINDEX 0..1023, docs/objects.md
+/// device 1).
 pub const TOOL_ENTRIES: usize = 1024;
 
 /// An index into a tool table (WKZINDEX, 0..=1023).

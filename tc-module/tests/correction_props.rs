@@ -128,9 +128,17 @@ fn check(
 
     let want_side = if left { 1.0 } else { -1.0 };
     let mut prev_end = pos;
-    for (i, Logged { start, element: e }) in log.iter().enumerate() {
+    for (
+        i,
+        Logged {
+            start,
+            end,
+            element: e,
+        },
+    ) in log.iter().enumerate()
+    {
         prop_assert!(
-            start.iter().chain(e.end()).all(|v| v.is_finite()),
+            start.iter().chain(end).all(|v| v.is_finite()),
             "non-finite element {i}"
         );
         prop_assert!(e.length().is_finite());
@@ -141,13 +149,10 @@ fn check(
                 i.saturating_sub(1)
             );
         }
-        prev_end = *e.end();
+        prev_end = *end;
         if let Path::Arc(a) = e.path() {
             let c = [a.centre.x, a.centre.y];
-            let (r0, r1) = (
-                dist([start[0], start[1]], c),
-                dist([e.end()[0], e.end()[1]], c),
-            );
+            let (r0, r1) = (dist([start[0], start[1]], c), dist([end[0], end[1]], c));
             prop_assert!(
                 (r0 - r1).abs() <= 1e-6,
                 "arc element {i} changes radius {r0} -> {r1}"
@@ -157,12 +162,12 @@ fn check(
             continue;
         }
         for j in 0..=16 {
-            let q = e.point_at(start, e.length() * f64::from(j) / 16.0);
+            let q = e.point_at(start, end, e.length() * f64::from(j) / 16.0);
             let p = [q[0], q[1]];
             // The element spooled at STATUS=0 ends with its own offset end
-            // (trc-geometry.md): on a closed contour that end lies next to
-            // the programmed start, so it is measured against its own
-            // programmed element only.
+            // (docs/trc.md "The one-profile buffer"): on a closed contour
+            // that end lies next to the programmed start, so it is
+            // measured against its own programmed element only.
             let against: &[Prog] = if i + 1 == log.len() {
                 &prog[prog.len() - 1..]
             } else {
@@ -443,8 +448,8 @@ proptest! {
                 }
                 Cmd::Exec(n) => tc.exec(Some(n)),
             }
-            for Logged { start, element: e } in tc.spooler_mut().take_log() {
-                prop_assert!(start.iter().chain(e.end()).all(|v| v.is_finite()), "{:?}", e);
+            for Logged { start, end, element: e } in tc.spooler_mut().take_log() {
+                prop_assert!(start.iter().chain(&end).all(|v| v.is_finite()), "{:?}", e);
                 prop_assert!(e.length().is_finite() && e.length() >= 0.0, "{:?}", e);
                 prop_assert!(e.feed().is_finite() && e.feed() > 0.0);
                 if let Path::Arc(a) = e.path() {

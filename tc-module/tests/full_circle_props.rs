@@ -1,6 +1,6 @@
 //! Property tests of programmed full circles (issue 8, point 18;
-//! trc-geometry.md "Inside corner", "A programmed full circle keeps its
-//! whole turn"): a full circle entered at a tangent, or nearly so, is
+//! decisions 48, 76 and 77: a programmed full circle keeps its whole
+//! turn): a full circle entered at a tangent, or nearly so, is
 //! corrected as a whole turn, on either side and in either direction,
 //! whether it is left by a flush, at a tangent or at an inside corner.
 //! The expected sweep is computed here from the exact geometry of the
@@ -290,7 +290,7 @@ fn run(c: &Case) -> (i32, Vec<Logged>) {
 /// The sweep of an arc element as the executor runs it: its plane length
 /// over its mean radius.
 fn sweep_of(l: &Logged, centre: P2) -> f64 {
-    let (start, end) = (l.start, l.element.end());
+    let (start, end) = (l.start, l.end);
     let r0 = norm(sub([start[0], start[1]], centre));
     let r1 = norm(sub([end[0], end[1]], centre));
     l.element.length() / (0.5 * (r0 + r1))

@@ -3,7 +3,7 @@
 //! held profile spools itself once its corner is known.
 
 use super::profile::Profile;
-use super::sink::Sink;
+use super::sink::{Axes, Sink};
 use crate::element::{NormalRule, Origin};
 use crate::geometry::full_circle::{keeps_whole_turn, start_shift, whole_turn_end};
 use crate::geometry::tolerance::ZERO_ARC;
@@ -30,19 +30,71 @@ pub(super) enum Entry {
     },
 }
 
-/// The held profile with its offset.
+/// What follows for a profile from how it entered the buffer.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct Held {
-    /// The programmed profile.
-    pub prof: Profile,
-    /// Its offset.
-    pub off: Offset,
+pub(super) struct Hold {
     /// An approach (see [`Entry::Approach`]).
     approach: bool,
     /// Where its corrected element starts; `None` for an approach line.
     from: Option<V2>,
     /// A programmed full circle that keeps its whole turn.
     whole_turn: bool,
+}
+
+impl Hold {
+    /// How `prof` (offset `off`) is held after entering as `entry`.
+    #[inline]
+    pub fn of(prof: &Profile, off: &Offset, entry: Entry) -> Self {
+        let full = prof.contour.is_full_circle();
+        match entry {
+            Entry::Approach => Self {
+                approach: true,
+                from: matches!(prof.contour, Contour::Arc { .. }).then_some(off.start),
+                whole_turn: full,
+            },
+            Entry::Corner { from, continued } => Self {
+                approach: false,
+                from: Some(from),
+                whole_turn: full && keeps_whole_turn(start_shift(off, from), continued),
+            },
+        }
+    }
+
+    /// Whether it spools an approach line before its arc.
+    fn arc_approach(&self) -> bool {
+        self.approach && self.from.is_some()
+    }
+
+    /// Places its elements take at most: an approach arc spools a line
+    /// and the arc.
+    pub fn reserve(&self) -> usize {
+        if self.arc_approach() {
+            MAX_HELD
+        } else {
+            1
+        }
+    }
+
+    /// Checks against the limit the points the profile will spool at
+    /// least: its corrected end, and an approach arc's corrected start,
+    /// tool length included.
+    pub fn check_points(&self, prof: &Profile, off: &Offset, sink: &mut Sink) {
+        sink.check_end(off.end, &prof.end);
+        if self.arc_approach() {
+            sink.check_end(off.start, &prof.start);
+        }
+    }
+}
+
+/// The held profile with its offset and how it is held.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Held {
+    /// The programmed profile.
+    pub prof: Profile,
+    /// Its offset.
+    pub off: Offset,
+    /// How it entered.
+    pub hold: Hold,
 }
 
 /// A plane-null profile waiting with the held one.
@@ -66,59 +118,21 @@ impl NullMove {
     /// Spools it at the current tool position; it keeps the normal the
     /// tool has there.
     pub fn spool(&self, normal: Option<V2>, sink: &mut Sink) {
-        let end = sink.end_point(sink.here(), &self.end);
-        let rule = normal.map(NormalRule::Fixed);
-        sink.line(end, self.feed, self.rapid, Origin::Corrected, rule);
+        let (axes, rule) = (Axes::Programmed(&self.end), normal.map(NormalRule::Fixed));
+        let here = sink.here();
+        sink.line(here, axes, (self.feed, self.rapid), Origin::Corrected, rule);
     }
 }
 
 impl Held {
-    /// `prof` with offset `off`, entered as `entry`.
-    #[inline]
-    pub fn new(prof: &Profile, off: Offset, entry: Entry) -> Self {
-        let full = prof.contour.is_full_circle();
-        let (approach, from, whole_turn) = match entry {
-            Entry::Approach => {
-                let from = matches!(prof.contour, Contour::Arc { .. }).then_some(off.start);
-                (true, from, full)
-            }
-            Entry::Corner { from, continued } => {
-                let whole = full && keeps_whole_turn(start_shift(&off, from), continued);
-                (false, Some(from), whole)
-            }
-        };
-        Self {
-            prof: *prof,
-            off,
-            approach,
-            from,
-            whole_turn,
-        }
-    }
-
-    /// Whether it spools an approach line before its arc.
-    fn arc_approach(&self) -> bool {
-        self.approach && self.from.is_some()
-    }
-
-    /// Places its elements take at most: an approach arc spools a line
-    /// and the arc.
+    /// Places its elements take at most (see [`Hold::reserve`]).
     pub fn reserve(&self) -> usize {
-        if self.arc_approach() {
-            MAX_HELD
-        } else {
-            1
-        }
+        self.hold.reserve()
     }
 
-    /// Builds (and so checks against the limit) the points it will spool
-    /// at least: its corrected end, and an approach arc's corrected
-    /// start, tool length included.
-    pub fn check_points(&self, sink: &mut Sink) {
-        sink.end_point(self.off.end, &self.prof.end);
-        if self.arc_approach() {
-            sink.end_point(self.off.start, &self.prof.start);
-        }
+    /// Its feed and whether it is a rapid move.
+    fn motion(&self) -> (f64, bool) {
+        (self.prof.feed, self.prof.rapid)
     }
 
     /// The programmed corner at its end.
@@ -132,9 +146,9 @@ impl Held {
     pub fn part(&self) -> Part {
         Part {
             path: self.off.path,
-            from: self.from,
+            from: self.hold.from,
             to: self.off.end,
-            full: self.whole_turn,
+            full: self.hold.whole_turn,
         }
     }
 
@@ -143,15 +157,14 @@ impl Held {
     pub fn spool(&self, x: V2, nulls: &[NullMove], sink: &mut Sink) -> V2 {
         let n_end = match self.prof.contour {
             Contour::Line { .. } => {
-                let origin = if self.approach {
+                let origin = if self.hold.approach {
                     Origin::Approach
                 } else {
                     Origin::Corrected
                 };
-                let end = sink.end_point(x, &self.prof.end);
                 let n_end = self.off.normal_at(x);
-                let (feed, rapid) = (self.prof.feed, self.prof.rapid);
-                sink.line(end, feed, rapid, origin, Some(NormalRule::Fixed(n_end)));
+                let (axes, motion) = (Axes::Programmed(&self.prof.end), self.motion());
+                sink.line(x, axes, motion, origin, Some(NormalRule::Fixed(n_end)));
                 n_end
             }
             Contour::Arc { centre, sigma, .. } => {
@@ -168,22 +181,28 @@ impl Held {
     /// to `x`, or where its whole turn ends; an arc cut to zero length is
     /// not spooled, a full circle always is. Returns where it ends.
     fn spool_arc(&self, centre: V2, sigma: f64, x: V2, sink: &mut Sink) -> V2 {
-        let (feed, rapid) = (self.prof.feed, self.prof.rapid);
-        if self.approach {
-            let end = sink.end_point(self.off.start, &self.prof.start);
-            let n = NormalRule::Fixed(self.off.normal_at(self.off.start));
-            sink.line(end, feed, rapid, Origin::Approach, Some(n));
+        if self.hold.approach {
+            let (s, axes) = (self.off.start, Axes::Programmed(&self.prof.start));
+            let n = NormalRule::Fixed(self.off.normal_at(s));
+            sink.line(s, axes, self.motion(), Origin::Approach, Some(n));
         }
         let here = sink.here();
         let x = self.end_at(here, x);
         let zero = (here - x).norm() <= ZERO_ARC;
         if !zero || self.prof.contour.is_full_circle() {
-            let end = sink.end_point(x, &self.prof.end);
             let rule = NormalRule::Radial {
                 centre,
                 outward: self.off.tool_outside_arc(sigma),
             };
-            sink.arc(end, centre, sigma > 0.0, feed, Origin::Corrected, rule);
+            let (axes, feed) = (Axes::Programmed(&self.prof.end), self.prof.feed);
+            sink.arc(
+                x,
+                axes,
+                (centre, sigma > 0.0),
+                feed,
+                Origin::Corrected,
+                rule,
+            );
         }
         x
     }
@@ -191,7 +210,7 @@ impl Held {
     /// Where its corrected element ends when its corner asks for `x`: a
     /// whole turn that would end just past its start (`here`) ends on it.
     fn end_at(&self, here: V2, x: V2) -> V2 {
-        if !self.whole_turn {
+        if !self.hold.whole_turn {
             return x;
         }
         let shift = start_shift(&self.off, here);

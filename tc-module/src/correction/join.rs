@@ -4,7 +4,7 @@
 
 use super::held::Held;
 use super::profile::{Profile, TransitionMode};
-use super::sink::Sink;
+use super::sink::{Axes, Sink};
 use crate::bits::ErrorBits;
 use crate::element::{NormalRule, Origin};
 use crate::geometry::V2;
@@ -66,13 +66,13 @@ pub(super) fn spool_transition(t: Transition, k: V2, next: &Profile, sink: &mut 
     let rule = NormalRule::FromCorner(k);
     match t {
         Transition::Arc { centre, ccw, to } => {
-            let end = sink.in_plane(to);
-            sink.arc(end, centre, ccw, next.feed, Origin::Transition, rule);
+            let (feed, origin) = (next.feed, Origin::Transition);
+            sink.arc(to, Axes::Stay, (centre, ccw), feed, origin, rule);
         }
         Transition::Lines(lines) => {
+            let motion = (next.feed, next.rapid);
             for p in lines.points() {
-                let end = sink.in_plane(*p);
-                sink.line(end, next.feed, next.rapid, Origin::Transition, Some(rule));
+                sink.line(*p, Axes::Stay, motion, Origin::Transition, Some(rule));
             }
         }
     }

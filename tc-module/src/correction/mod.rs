@@ -32,7 +32,7 @@ mod profile;
 mod sink;
 
 pub use crate::geometry::Contour;
-use held::{Entry, Held, NullMove, MAX_HELD};
+use held::{Entry, Held, Hold, NullMove, MAX_HELD};
 use join::{corner, spool_transition};
 pub use profile::{Profile, TransitionMode};
 pub use sink::Sink;
@@ -174,14 +174,21 @@ impl Buffer {
             _ => Finish::Approach,
         };
         let normal = self.spool_finished(&finish, prof, sink);
-        let next = Held::new(prof, off, finish.entry());
-        next.check_points(sink);
-        sink.admit(next.reserve())?;
+        let hold = Hold::of(prof, &off, finish.entry());
+        hold.check_points(prof, &off, sink);
+        sink.admit(hold.reserve())?;
         if normal.is_some() {
-            self.clear_nulls();
+            if !self.nulls.is_empty() {
+                self.clear_nulls();
+            }
             self.last_normal = normal;
         }
-        self.held = Some(next);
+        // Built in place: the profile is copied once, into the buffer.
+        self.held = Some(Held {
+            prof: *prof,
+            off,
+            hold,
+        });
         Ok(())
     }
 
@@ -212,7 +219,7 @@ impl Buffer {
             null.spool(self.last_normal, sink);
             return Ok(sink.admit(0)?);
         }
-        sink.end_point(sink.here(), &prof.end);
+        sink.check_end(sink.here(), &prof.end);
         let pending = self.pending() + 1;
         sink.admit(pending)?;
         if pending + CORNER_ROOM > sink.capacity() {

@@ -1,4 +1,5 @@
-//! Corner classification (trc-geometry.md "Corner", cases 1-4).
+//! Corner classification (docs/trc.md "How a corner is decided", cases
+//! 1-4).
 
 use super::angle::{turn_at_least_reversal, turn_at_most};
 use super::offset::OffsetPath;

@@ -1,5 +1,5 @@
-//! Programmed full circles (trc-geometry.md "Inside corner": a programmed
-//! full circle keeps its whole turn). Which corrected full circles keep
+//! Programmed full circles (decisions 48, 76 and 77: a programmed full
+//! circle keeps its whole turn). Which corrected full circles keep
 //! their whole turn, and where such a turn ends so that the element
 //! spooled from its start to its end is read as a whole turn, never as a
 //! sliver.

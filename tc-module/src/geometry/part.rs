@@ -1,4 +1,5 @@
-//! Inside corners (trc-geometry.md "Inside corner"): the part of each
+//! Inside corners (docs/trc.md "Inside corner of two lines", "... of a
+//! line and an arc"): the part of each
 //! offset element a cut point may lie on, and the cut point itself.
 
 use super::angle::on_arc_part;

@@ -1,5 +1,6 @@
 //! Every tolerance of the correction geometry, named once with the rule it
-//! comes from (trc-geometry.md unless said otherwise).
+//! comes from (docs/trc.md and the decisions named; the numerical ones say
+//! so).
 
 use std::f64::consts::FRAC_PI_2;
 

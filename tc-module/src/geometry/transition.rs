@@ -1,5 +1,6 @@
-//! Transitions inserted at outside corners (trc-geometry.md "Outside
-//! corner": TransitionMode 0 circular, 1 linear).
+//! Transitions inserted at outside corners (docs/trc.md "Outside corner,
+//! circular transition" and the two linear ones: TransitionMode 0
+//! circular, 1 linear).
 
 use super::angle::turn_at_most_right_angle;
 use super::intersect::line_line;

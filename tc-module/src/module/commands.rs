@@ -1,6 +1,7 @@
 //! Motion commands: interpolation (spooled as it is, or corrected by the
 //! running group), special functions, direct commands and `rs()`
-//! (trc-geometry.md "The one-profile buffer", "Errors while running").
+//! (docs/trc.md "The one-profile buffer"; docs/objects.md "ERROR bits" for
+//! the errors while running).
 
 use uoi::AccessError;
 
@@ -166,8 +167,9 @@ impl<E: TcExtension> TcModule<E> {
     fn spool_uncorrected(&mut self, cmd: &Intake) -> Result<(), AccessError> {
         let q = self.tool_position();
         let main = self.main_plane();
+        let (end, uncorrected) = (&cmd.target, Origin::Uncorrected);
         let element = match cmd.arc {
-            None => SpoolElement::line(&q, cmd.target, cmd.feed, cmd.rapid, Origin::Uncorrected),
+            None => SpoolElement::line(&q, end, main, cmd.feed, cmd.rapid, uncorrected),
             Some((dir, c)) => {
                 let s = main.point(&cmd.start) - c;
                 if s.x.hypot(s.y) <= MIN_RADIUS {
@@ -175,7 +177,7 @@ impl<E: TcExtension> TcModule<E> {
                     return Err(AccessError::Range);
                 }
                 let ccw = dir == ArcDir::Ccw;
-                SpoolElement::arc(&q, cmd.target, main, c, ccw, cmd.feed, Origin::Uncorrected)
+                SpoolElement::arc(&q, end, main, c, ccw, cmd.feed, uncorrected)
             }
         };
         if !self.spooler.has_room(1) {
@@ -183,7 +185,7 @@ impl<E: TcExtension> TcModule<E> {
         }
         self.accept(cmd);
         let element = self.uncorrected(element);
-        self.spooler.push(&q, element);
+        self.spooler.push(&q, end, element);
         Ok(())
     }
 

@@ -1,6 +1,7 @@
 //! The programmed frame: how a command's words become a machine target
 //! (limits, modal feed, unnamed axes, coordinate rotation of end point and
-//! arc centre: trc-geometry.md "Coordinates", "Coordinate rotation").
+//! arc centre: docs/objects.md device 0 and "Limits of motion commands";
+//! decisions 12, 13, 14 and 78).
 
 use uoi::AccessError;
 

@@ -40,7 +40,8 @@ pub enum ExecLeft {
     Rest(Option<u64>),
 }
 
-/// Default AxisNr X/Y/Z (uoi-map.md device 0 index 2: "default 0,1,2").
+/// Default AxisNr X/Y/Z (docs/objects.md device 0 index 2: defaults 0,
+/// 1, 2).
 pub const DEFAULT_AXIS_NR: [u8; 3] = [0, 1, 2];
 
 /// The TC module with extension `E`.
@@ -258,7 +259,7 @@ impl<E: TcExtension> TcModule<E> {
 }
 
 /// A pending departure: the contour normal the last corrected element
-/// ended with (otc.md rule 4), if it had one.
+/// ended with (decisions 42 and 43), if it had one.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Departure(Option<ContourNormal>);
 

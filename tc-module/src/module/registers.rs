@@ -1,4 +1,4 @@
-//! The registers of devices 0..2 and their rules (uoi-map.md): STATUS
+//! The registers of devices 0..2 and their rules (docs/objects.md): STATUS
 //! start/stop with its InitError conditions, RESET, Clean, ReInit, and
 //! the registers that may not change while the correction runs.
 
