@@ -122,7 +122,7 @@ impl ArcGeometry {
     /// start direction turned by `sweep · f`.
     fn dir_at(&self, f: f64) -> V2 {
         let (sin, cos) = (self.sweep * f).sin_cos();
-        let [c0, s0] = [self.start_dir.x, self.start_dir.y];
+        let (c0, s0) = (self.start_dir.x, self.start_dir.y);
         V2::new(c0 * cos - s0 * sin, s0 * cos + c0 * sin)
     }
 

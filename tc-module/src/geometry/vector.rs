@@ -1,7 +1,8 @@
 //! The one point type of the correction engine: a plane point or vector
 //! `(h, v)` in the group's plane, and the two products every rule is
-//! written with. Arrays `[f64; 2]` appear only where the engine meets
-//! positions of every axis (`PlaneAxes::point`) and the spool records.
+//! written with. Positions of every axis meet it in `PlaneAxes::point` and
+//! `set_point`; an array `[f64; 2]` appears only in the reported spool
+//! record (its arc centre).
 
 use nalgebra::Vector2;
 
