@@ -9,7 +9,7 @@
 use std::fmt::Write as _;
 
 use emulator::Emulator;
-use tc_module::{Origin, SpoolElement};
+use tc_module::{Logged, Origin, SpoolElement};
 use tc_request::Reply;
 use trace::parse_trace;
 
@@ -66,7 +66,7 @@ const PICTURES: &[Picture] = &[
     },
 ];
 
-fn run(program: &str, correction: Option<(&str, bool)>) -> Vec<SpoolElement> {
+fn run(program: &str, correction: Option<(&str, bool)>) -> Vec<Logged> {
     let mut text = String::new();
     if let Some((side, linear)) = correction {
         let sub = if side == "Left" { 9 } else { 10 };
@@ -94,15 +94,16 @@ fn run(program: &str, correction: Option<(&str, bool)>) -> Vec<SpoolElement> {
     emu.tc_mut().spooler_mut().take_log()
 }
 
-fn polyline(e: &SpoolElement) -> Vec<[f64; 2]> {
-    let n = if matches!(e.path, tc_module::Path::Arc(_)) {
+fn polyline(l: &Logged) -> Vec<[f64; 2]> {
+    let e = &l.element;
+    let n = if matches!(e.path(), tc_module::Path::Arc(_)) {
         48
     } else {
         1
     };
     (0..=n)
         .map(|k| {
-            let p = e.point_at(e.length * k as f64 / n as f64);
+            let p = e.point_at(&l.start, &l.end, e.length() * k as f64 / n as f64);
             [p[0], p[1]]
         })
         .collect()
@@ -137,27 +138,26 @@ fn svg(p: &Picture) -> String {
         p.title,
         p.side
     );
-    let mut draw =
-        |els: &[SpoolElement], colour: &dyn Fn(&SpoolElement) -> &'static str, width: f64| {
-            for e in els {
-                let pts: Vec<String> = polyline(e)
-                    .into_iter()
-                    .map(|q| {
-                        let (x, y) = tx(q);
-                        format!("{x:.2},{y:.2}")
-                    })
-                    .collect();
-                let _ = writeln!(
-                    out,
-                    r#"<polyline fill="none" stroke="{}" stroke-width="{width}" points="{}"/>"#,
-                    colour(e),
-                    pts.join(" ")
-                );
-            }
-        };
+    let mut draw = |els: &[Logged], colour: &dyn Fn(&SpoolElement) -> &'static str, width: f64| {
+        for e in els {
+            let pts: Vec<String> = polyline(e)
+                .into_iter()
+                .map(|q| {
+                    let (x, y) = tx(q);
+                    format!("{x:.2},{y:.2}")
+                })
+                .collect();
+            let _ = writeln!(
+                out,
+                r#"<polyline fill="none" stroke="{}" stroke-width="{width}" points="{}"/>"#,
+                colour(&e.element),
+                pts.join(" ")
+            );
+        }
+    };
     draw(&plain, &|_| "#bbb", 4.0);
     let colour = |e: &SpoolElement| -> &'static str {
-        match e.origin {
+        match e.origin() {
             Origin::Approach => "#2a2",
             Origin::Transition => "#d22",
             _ => "#24c",

@@ -13,7 +13,7 @@ use std::time::Duration;
 
 use emulator::Emulator;
 use emulator::EmulatorService;
-use tc_module::extension::NoKey;
+use tc_module::NoKey;
 use tc_module::{AxisPos, Cycle, CycleTime, Groups, TcExtension, AXES};
 use tc_request::{Reply, Request};
 use uoi::tcp::BlockingClient;

@@ -8,7 +8,7 @@ use std::time::Duration;
 use opcua_face::FaceConfig;
 use serde::Deserialize;
 use tc_module::limits::{check_point, MAX_COORD};
-use tc_module::spooler::{check_capacity, DEFAULT_SPOOL_CAPACITY};
+use tc_module::{check_capacity, DEFAULT_SPOOL_CAPACITY};
 use tc_module::{CycleTime, AXES};
 use uoi::tcp::{AccessPolicy, ServerConfig};
 

@@ -9,7 +9,7 @@ use bitflags::Flags;
 use otc_ext::OtcExtension;
 use tc_module::limits::{DEFAULT_CYCLE_S, MAX_COORD, MAX_CYCLE_S, MIN_CYCLE_S, MIN_STEP};
 use tc_module::object_map::object_table;
-use tc_module::spooler::{DEFAULT_SPOOL_CAPACITY, MAX_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY};
+use tc_module::{DEFAULT_SPOOL_CAPACITY, MAX_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY};
 use tc_objects::{
     bit_meaning, camel_name as camel, ErrorBits, OtcErrorBits, StatusBits, TcObject, DEVICES,
     TC_BUS,

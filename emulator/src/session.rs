@@ -10,8 +10,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
 use tc_module::limits::check_point;
-use tc_module::spooler::{DEFAULT_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY};
 use tc_module::{AxisPos, CycleTime};
+use tc_module::{DEFAULT_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY};
 use tc_request::wire::{TcOp, SPOOL_BATCH};
 use tc_request::{Reply, Request, SpoolRecord};
 use uoi::tcp::{Session, Slice};

@@ -91,7 +91,7 @@ impl Recorder {
         if header.cycle_ms != 1.0 {
             let _ = writeln!(h, "@cycle {}ms", header.cycle_ms);
         }
-        if header.spool_capacity != tc_module::spooler::DEFAULT_SPOOL_CAPACITY {
+        if header.spool_capacity != tc_module::DEFAULT_SPOOL_CAPACITY {
             let _ = writeln!(h, "@spool {}", header.spool_capacity);
         }
         if !header.note.is_empty() {

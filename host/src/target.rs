@@ -18,7 +18,7 @@ use std::path::PathBuf;
 
 use emulator::{Config, RealTimeFactor, DEFAULT_CONFIG};
 use tc_module::limits::check_point;
-use tc_module::spooler::check_capacity;
+use tc_module::check_capacity;
 use tc_module::{AxisPos, CycleTime};
 
 use crate::error::{Error, ErrorCode, Result};
@@ -51,7 +51,7 @@ impl Default for EmbeddedOptions {
             start: c.start,
             cycle: CycleTime::DEFAULT,
             cycle_ms: c.cycle_ms,
-            spool_capacity: tc_module::spooler::DEFAULT_SPOOL_CAPACITY,
+            spool_capacity: tc_module::DEFAULT_SPOOL_CAPACITY,
         }
     }
 }

@@ -34,8 +34,8 @@ use std::time::{Duration, Instant};
 
 use common::{command_all, otc_auto_on, otc_module, run, set_units, Contour, CORRECTION_ON, TYPES};
 use criterion::{criterion_group, Criterion, Throughput};
-use tc_module::executor::Executor;
-use tc_module::extension::NoKey;
+use tc_module::Executor;
+use tc_module::NoKey;
 use tc_module::{
     AxisPos, Cycle, CycleModel, CycleTime, Groups, NoExtension, Spooler, TcExtension, TcModule,
     AXES,
@@ -160,7 +160,7 @@ impl BareRig {
         }
         command_all(&mut self.source, &self.contour.next_profiles(CHUNK));
         for e in self.source.spooler_mut().take_log() {
-            self.spooler.push(e);
+            self.spooler.push(&e.start, &e.end, e.element);
         }
         self.source.spooler_mut().discard();
     }

@@ -36,7 +36,7 @@ use std::f64::consts::{PI, TAU};
 use common::{otc_module, read_d, read_i, run};
 use otc_ext::OtcExtension;
 use proptest::prelude::*;
-use tc_module::{Origin, Path, SpoolElement, TcModule, AXES};
+use tc_module::{Logged, Origin, Path, TcModule, AXES};
 
 type P2 = [f64; 2];
 
@@ -303,7 +303,7 @@ fn cases() -> impl Strategy<Value = Case> {
 /// The module with the case spooled (OTC RADIUS CONT on, correction run
 /// from the lead-in to STATUS=0, then a departure to the origin) and the
 /// spool log; `None` when the correction refused the contour.
-fn spooled(case: &Case) -> Option<(TcModule<OtcExtension>, Vec<SpoolElement>)> {
+fn spooled(case: &Case) -> Option<(TcModule<OtcExtension>, Vec<Logged>)> {
     let mut tc = otc_module();
     tc.spooler_mut().set_logging(true);
     let side = if case.left { 9 } else { 10 };
@@ -341,17 +341,18 @@ fn spooled(case: &Case) -> Option<(TcModule<OtcExtension>, Vec<SpoolElement>)> {
     Some((tc, log))
 }
 
-/// Path run on element `e` from its start to `p` (on it).
-fn along(e: &SpoolElement, p: &[f64; AXES]) -> f64 {
-    match e.path {
+/// Path run on the logged element `l` from its start to `p` (on it).
+fn along(l: &Logged, p: &[f64; AXES]) -> f64 {
+    let (start, e) = (&l.start, &l.element);
+    match e.path() {
         Path::Line => (0..AXES)
-            .map(|i| (p[i] - e.start[i]).powi(2))
+            .map(|i| (p[i] - start[i]).powi(2))
             .sum::<f64>()
             .sqrt(),
         Path::Arc(a) => {
             let (h, v) = (usize::from(a.plane.h), usize::from(a.plane.v));
-            let c = a.centre;
-            let s = [e.start[h] - c[0], e.start[v] - c[1]];
+            let c = [a.centre.x, a.centre.y];
+            let s = [start[h] - c[0], start[v] - c[1]];
             let q = [p[h] - c[0], p[v] - c[1]];
             let mut angle = cross(s, q).atan2(dot(s, q));
             if !a.ccw {
@@ -360,7 +361,7 @@ fn along(e: &SpoolElement, p: &[f64; AXES]) -> f64 {
             let angle = angle.rem_euclid(TAU);
             let run = norm(s) * angle;
             // Just short of the start, numerically: the start itself.
-            if run > e.length + 1e-6 {
+            if run > e.length() + 1e-6 {
                 0.0
             } else {
                 run
@@ -410,31 +411,31 @@ const TOL: f64 = 1e-9;
 fn check_cycle(
     tc: &TcModule<OtcExtension>,
     case: &Case,
-    log: &[SpoolElement],
+    log: &[Logged],
     before: &[f64],
 ) -> Result<(), TestCaseError> {
     let Some(front) = tc.spooler().front() else {
         return Ok(());
     };
     let idx = log.len() - tc.spooler().len();
-    prop_assert_eq!(front, &log[idx]);
+    prop_assert_eq!(front, &log[idx].element);
     let nominal = *tc.executor().nominal();
-    let done = along(front, &nominal);
+    let done = along(&log[idx], &nominal);
     if done <= 1e-9 {
         return Ok(());
     }
     let k = case.wear_const * 1e-7;
-    let w = k * (before[idx] + if wears(front.origin) { done } else { 0.0 });
+    let w = k * (before[idx] + if wears(front.origin()) { done } else { 0.0 });
     let (nom, pos) = (xy(&nominal), xy(&tc.position()));
     let s = if case.left { 1.0 } else { -1.0 };
     // The profile of the element: Approach is profile 0, the n-th
     // Corrected element profile n.
     let profile = log[..=idx]
         .iter()
-        .filter(|e| matches!(e.origin, Origin::Approach | Origin::Corrected))
+        .filter(|e| matches!(e.element.origin(), Origin::Approach | Origin::Corrected))
         .count()
         - 1;
-    match front.origin {
+    match front.origin() {
         Origin::Corrected => {
             let seg = case.profiles[profile];
             let dn = seg.side_distance(nom, s);
@@ -477,14 +478,14 @@ proptest! {
             return Err(TestCaseError::reject("the correction refused the contour"));
         };
         // One Approach, then one Corrected element per profile.
-        let count = |o| log.iter().filter(|e| e.origin == o).count();
+        let count = |o| log.iter().filter(|e| e.element.origin() == o).count();
         prop_assert_eq!(count(Origin::Approach), 1);
         prop_assert_eq!(count(Origin::Corrected), case.profiles.len() - 1);
         // Wearing path before each element.
         let mut before = vec![0.0];
-        for e in &log {
+        for e in log.iter().map(|l| l.element) {
             let last = *before.last().unwrap();
-            before.push(last + if wears(e.origin) { e.length } else { 0.0 });
+            before.push(last + if wears(e.origin()) { e.length() } else { 0.0 });
         }
         let total = *before.last().unwrap();
 

@@ -10,7 +10,7 @@ mod faulty;
 mod fs;
 mod memory;
 
-pub use contract::{Storage, JOURNAL_FILE};
+pub use contract::{group_file_name, Storage, JOURNAL_FILE};
 pub use faulty::{FaultKind, FaultyStorage, Op};
 pub use fs::FsStorage;
 pub use memory::MemStorage;

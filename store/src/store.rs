@@ -7,23 +7,25 @@
 
 use crate::field::{FileField, ToolValue};
 use crate::file::{parse_group_file_lenient, ParseError};
-use crate::journal::{self, encode_batch, JournalError, Record, RecordError, TornTail};
+use crate::journal::{self, encode_batch, JournalError, Record, TornTail};
 use crate::storage::{FsStorage, Storage, JOURNAL_FILE};
 use crate::table::{GroupTable, ToolKey, GROUPS};
 use std::collections::{BTreeMap, BTreeSet};
-use std::io;
 use std::path::PathBuf;
 
+mod bound;
 mod compaction;
+mod error;
+mod pause;
+mod state;
 mod upkeep;
 
-pub use compaction::CompactionBound;
-pub use upkeep::{FIRST_PAUSE, LONGEST_PAUSE};
-
-/// The tool file name of a group: `group01.wz` .. `group32.wz`.
-pub fn group_file_name(group: u8) -> String {
-    format!("group{group:02}.wz")
-}
+pub use crate::storage::group_file_name;
+pub use bound::CompactionBound;
+use error::io_error;
+pub use error::StoreError;
+pub use pause::{FIRST_PAUSE, LONGEST_PAUSE};
+pub use state::ToolStore;
 
 /// How to treat bad lines when opening.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -51,104 +53,6 @@ pub struct OpenReport {
     /// Bad journal lines skipped (lenient open only; they stay in the
     /// journal until the next [`ToolStore::compact`]).
     pub journal_errors: Vec<JournalError>,
-}
-
-/// Why a store operation failed.
-#[derive(Debug, thiserror::Error)]
-pub enum StoreError {
-    /// The disk refused: what was being done and the system's error.
-    #[error("{what}: {source}")]
-    Io {
-        /// What was being done ("appending to the journal", ...).
-        what: String,
-        /// The system's error.
-        source: io::Error,
-    },
-    /// A tool file has a bad line (strict open).
-    #[error(transparent)]
-    File(#[from] ParseError),
-    /// The journal has a bad complete record (strict open).
-    #[error("{file}:{}: {}", .error.line, .error.error)]
-    Journal {
-        /// The journal's file name.
-        file: &'static str,
-        /// The bad line.
-        error: JournalError,
-    },
-    /// A record given to `append` is invalid (nothing was written).
-    #[error("record {index} of the batch: {error}")]
-    Invalid {
-        /// Its position in the batch, from 0.
-        index: usize,
-        /// What is wrong.
-        error: RecordError,
-    },
-    /// An earlier failed append could not be undone on disk: appends are
-    /// refused until a successful [`ToolStore::compact`] or a reopen.
-    #[error("the journal could not be repaired after a failed write; compact or reopen")]
-    Poisoned,
-    /// Compaction could not write a tool file; what the disk needs.
-    #[error(
-        "writing {file}: {source} (to compact, the disk needs {needs} bytes free for the \
-         tool files; compacting then frees the journal's {journal} bytes)"
-    )]
-    Compaction {
-        /// The tool file.
-        file: String,
-        /// Bytes free on the disk that compaction needs: the new tool
-        /// files, and the largest one once more (each is written beside
-        /// the old one, then renamed over it).
-        needs: u64,
-        /// The journal's size, freed once compaction is done.
-        journal: u64,
-        /// The system's error.
-        source: io::Error,
-    },
-    /// The journal was deleted or replaced while in use (the batch went
-    /// into a file that is gone) and could not be made anew from memory.
-    #[error("{JOURNAL_FILE} was deleted or replaced while in use: {0}")]
-    JournalLost(String),
-}
-
-impl StoreError {
-    /// Whether the disk refused for want of room (no space left, quota
-    /// exceeded): compaction may free it.
-    pub fn is_disk_full(&self) -> bool {
-        let source = match self {
-            Self::Io { source, .. } | Self::Compaction { source, .. } => source,
-            _ => return false,
-        };
-        matches!(
-            source.kind(),
-            io::ErrorKind::StorageFull | io::ErrorKind::QuotaExceeded
-        )
-    }
-}
-
-fn io_error(what: impl Into<String>) -> impl FnOnce(io::Error) -> StoreError {
-    let what = what.into();
-    move |source| StoreError::Io { what, source }
-}
-
-/// The durable tool values of every compensation group.
-#[derive(Debug)]
-pub struct ToolStore<S> {
-    storage: S,
-    groups: BTreeMap<u8, GroupTable>,
-    /// Groups that have a tool file on disk, and its size in bytes.
-    files: BTreeMap<u8, u64>,
-    /// Groups whose values changed since their file was written (or
-    /// whose file has lines to drop): what compaction rewrites.
-    dirty: BTreeSet<u8>,
-    journal_len: u64,
-    journal_records: u64,
-    bound: CompactionBound,
-    poisoned: bool,
-    /// The journal was deleted or replaced since the tool files were last
-    /// all written: the next compaction rewrites every file.
-    lost: bool,
-    /// Compaction attempts held back after failures; warnings limited.
-    upkeep: upkeep::Upkeep,
 }
 
 impl ToolStore<FsStorage> {
@@ -205,7 +109,7 @@ impl<S: Storage> ToolStore<S> {
             bound: CompactionBound::default(),
             poisoned: false,
             lost: false,
-            upkeep: upkeep::Upkeep::default(),
+            upkeep: pause::Upkeep::default(),
         };
         store.replay_journal(strictness, &mut report)?;
         Ok((store, report))

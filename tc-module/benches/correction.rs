@@ -6,9 +6,9 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
-use tc_module::executor::Executor;
+use tc_module::Executor;
 use tc_module::{ArcDir, Motion, Origin, SpoolElement, Spooler, TcModule, AXES};
-use tc_module::{Cycle, CycleModel, NoModel, Path};
+use tc_module::{Cycle, CycleModel, CycleTime, NoModel, Path};
 use uoi::{ObjectBus, Value};
 
 /// A contour of `n` mixed profiles advancing along X: line, half circle
@@ -92,26 +92,29 @@ fn executor(c: &mut Criterion) {
     g.throughput(Throughput::Elements(1));
     g.bench_function("step on a line", |b| {
         let mut sp = Spooler::default();
-        sp.push(SpoolElement::line(
-            [0.0; AXES],
-            far,
-            1000.0,
-            false,
-            Origin::Uncorrected,
-        ));
+        let start = [0.0; AXES];
+        let xy = tc_module::TcPlane::Xy.pick([0, 1, 2]);
+        let e = SpoolElement::line(&start, &far, xy, 1000.0, false, Origin::Uncorrected);
+        sp.push(&start, &far, e);
         let mut ex = Executor::default();
         b.iter(|| ex.step(black_box(&mut sp), &mut NoModel));
     });
     g.bench_function("step on an arc", |b| {
         let mut sp = Spooler::default();
-        sp.push(big_circle(Origin::Uncorrected));
-        let mut ex = Executor::default();
+        sp.push(
+            &CIRCLE_START,
+            &CIRCLE_START,
+            big_circle(Origin::Uncorrected),
+        );
+        let mut ex = Executor::new(CIRCLE_START, CycleTime::DEFAULT);
         b.iter(|| ex.step(black_box(&mut sp), &mut NoModel));
     });
     g.bench_function("step on a corrected arc, with a model", |b| {
         let mut sp = Spooler::default();
         let e = big_circle(Origin::Corrected);
-        let Path::Arc(a) = e.path else { unreachable!() };
+        let Path::Arc(a) = e.path() else {
+            unreachable!()
+        };
         let normal = tc_module::ContourNormal {
             plane: a.plane,
             rule: tc_module::NormalRule::Radial {
@@ -119,21 +122,31 @@ fn executor(c: &mut Criterion) {
                 outward: true,
             },
         };
-        sp.push(e.with_normal(Some(normal)));
-        let mut ex = Executor::default();
+        sp.push(&CIRCLE_START, &CIRCLE_START, e.with_normal(Some(normal)));
+        let mut ex = Executor::new(CIRCLE_START, CycleTime::DEFAULT);
         let mut model = AlongNormal;
         b.iter(|| ex.step(black_box(&mut sp), &mut model));
     });
     g.finish();
 }
 
+/// Where [`big_circle`] starts and ends.
+const CIRCLE_START: [f64; AXES] = [1e6, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+
 /// A full circle of radius 1e6 at 1000 units/min: never finishes within a
 /// run.
 fn big_circle(origin: Origin) -> SpoolElement {
     let plane = tc_module::TcPlane::Xy.pick([0, 1, 2]);
-    let mut start = [0.0; AXES];
-    start[0] = 1e6;
-    SpoolElement::arc(start, start, plane, [0.0, 0.0], true, 1000.0, origin)
+    let centre = tc_module::V2::zeros();
+    SpoolElement::arc(
+        &CIRCLE_START,
+        &CIRCLE_START,
+        plane,
+        centre,
+        true,
+        1000.0,
+        origin,
+    )
 }
 
 /// A model that offsets by the path travelled along the contour normal:

@@ -37,8 +37,8 @@ use cavalier_contours_07::polyline::{
     PlineSourceMut as PlineSourceMut07, Polyline as Polyline07,
 };
 use criterion::{BenchmarkId, Criterion, SamplingMode, Throughput};
-use tc_module::correction::{Buffer, Profile, Sink};
-use tc_module::geometry::{Contour, V2};
+use tc_module::correction::{Buffer, Contour, Profile, Sink};
+use tc_module::V2;
 use tc_module::{ArcDir, Motion, PlaneAxes, Spooler, TcModule, TransitionMode, AXES};
 use uoi::{ObjectBus, Value};
 
@@ -216,7 +216,7 @@ fn run_buffer(profiles: &[Profile], spooler: &mut Spooler) {
             .push(p, RADIUS, TransitionMode::Circular, &mut sink)
             .expect("the saw-tooth corrects");
         if i % DRAIN == DRAIN - 1 {
-            drain(sink.spooler);
+            drain(sink.spooler());
         }
     }
     buffer.flush(&mut sink);
@@ -389,7 +389,70 @@ fn print_table() {
     }
 }
 
+/// One pass of one row for an instruction count, not a timing:
+/// `OFFSET_ONCE=buffer:100000` (or `command:`, `raw09:`, `raw07:`) runs
+/// it once and exits. Under `valgrind --tool=callgrind
+/// --toggle-collect=*once_*` only the pass itself is counted; the
+/// difference of two sizes divided by their difference is the count per
+/// segment.
+fn run_once(spec: &str) {
+    let (row, n) = spec.split_once(':').expect("OFFSET_ONCE=row:segments");
+    let n: usize = n.parse().expect("segments");
+    let bytes = std::mem::size_of::<tc_module::SpoolElement>();
+    eprintln!("a spool element takes {bytes} bytes");
+    let steps = saw_tooth(n);
+    match row {
+        "buffer" => {
+            let profiles = profiles(&steps);
+            let mut sp = Spooler::default();
+            once_buffer(&profiles, &mut sp);
+            println!("{:?}", sp.last_end().map(|p| [p[0], p[1]]));
+        }
+        "command" => {
+            let motions = motions(&steps);
+            let mut tc = running_module();
+            once_command(&mut tc, &motions);
+            println!("{:?}", tc.tool_position()[..2].to_vec());
+        }
+        "raw09" => {
+            let pl = polyline(&vertices(&steps));
+            println!("{}", once_raw09(&pl));
+        }
+        "raw07" => {
+            let pl = polyline_07(&vertices(&steps));
+            println!("{}", once_raw07(&pl));
+        }
+        _ => panic!("row {row}: buffer, command, raw09 or raw07"),
+    }
+}
+
+#[inline(never)]
+fn once_buffer(profiles: &[Profile], sp: &mut Spooler) {
+    run_buffer(profiles, sp);
+}
+
+#[inline(never)]
+fn once_command(tc: &mut TcModule, motions: &[Motion]) {
+    run_command(tc, motions);
+}
+
+#[inline(never)]
+fn once_raw09(pl: &Polyline<f64>) -> usize {
+    create_raw_offset::<_, _, Polyline<f64>>(pl, RADIUS, 1e-5)
+        .polyline
+        .vertex_count()
+}
+
+#[inline(never)]
+fn once_raw07(pl: &Polyline07<f64>) -> usize {
+    create_raw_offset_polyline::<_, _, Polyline07<f64>>(pl, RADIUS, 1e-5).vertex_count()
+}
+
 fn main() {
+    if let Ok(spec) = std::env::var("OFFSET_ONCE") {
+        run_once(&spec);
+        return;
+    }
     let mut c = Criterion::default().configure_from_args();
     for n in SIZES {
         bench_size(&mut c, n);

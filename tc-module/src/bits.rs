@@ -1,4 +1,5 @@
-//! The ERROR and STATUS registers of a compensation group (docs/objects.md,
-//! device 1 sub 1 and sub 3): their bits are part of the object vocabulary.
+//! The ERROR and STATUS registers of a compensation group
+//! (docs/objects.md "ERROR bits" and "STATUS bits": device 1 sub 1 and
+//! sub 3).
 
 pub use tc_objects::{ErrorBits, StatusBits};

@@ -93,11 +93,16 @@ pub struct Cycle<'a> {
     /// The path travelled in this cycle, per element, in order (empty when
     /// nothing moved).
     pub parts: &'a [PathPart],
-    /// The current element at the cycle's end (otc.md rule 2): the one the
-    /// executor stands on, or the one that just ended when the cycle ended
-    /// exactly on its end point (or nothing follows it). `None` before the
-    /// first element.
+    /// The current element at the cycle's end (docs/otc.md "What happens
+    /// in each interpolation cycle"): the one the executor stands on, or
+    /// the one that just ended when the cycle ended exactly on its end
+    /// point (or nothing follows it). `None` before the first element.
     pub current: Option<&'a SpoolElement>,
+    /// Where the current element starts (all axes; the nominal position
+    /// when there is none).
+    pub start: &'a AxisPos,
+    /// Where it ends (all axes; the nominal position when there is none).
+    pub end: &'a AxisPos,
     /// Path distance run on the current element.
     pub done: f64,
     /// The element that ended before the current one, while the executor
@@ -113,7 +118,7 @@ impl Cycle<'_> {
     #[inline]
     pub fn tangent(&self) -> Option<AxisPos> {
         self.current
-            .map(|e| e.tangent_through(self.done, self.nominal))
+            .map(|e| e.tangent_through(self.start, self.end, self.done, self.nominal))
     }
 
     /// The path direction of the current element at the cycle's end, not
@@ -123,7 +128,7 @@ impl Cycle<'_> {
     #[inline]
     pub fn direction(&self) -> Option<AxisPos> {
         self.current
-            .map(|e| e.direction_through(self.done, self.nominal))
+            .map(|e| e.direction_through(self.start, self.end, self.done, self.nominal))
     }
 
     /// The contour normal at the cycle's end (side normal of a corrected

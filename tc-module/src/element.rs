@@ -1,31 +1,33 @@
-//! A spooled element: its path (line, or arc helical where other axes
-//! move), feed, origin tag and the contour normal a wear model needs
-//! (trc-geometry.md "Spooler and execution"; otc.md rules 2-4).
+//! A spooled element: its end in its plane, the plane geometry of an arc
+//! with what the executor needs derived once (start direction, sweep,
+//! radii, path length), feed, origin tag and the contour normal a wear
+//! model needs (decisions 24, 26, 42 and 43; docs/otc.md "Processing
+//! types and their directions").
+//!
+//! An element keeps neither its start nor its end on every axis: the
+//! spooler is a chain, each element starting where the one before it
+//! ended (or, the first, where the executor stands), and the axes outside
+//! its plane end where they start unless the element moves them; only
+//! then does the spooler keep its whole end. Whoever runs or reports an
+//! element hands its start and end in.
 
 use std::f64::consts::TAU;
 
 use crate::geometry::tolerance::ZERO_SWEEP;
+use crate::geometry::V2;
 use crate::plane::{AxisPos, PlaneAxes, AXES};
 pub use tc_request::Origin;
 use tc_request::{ArcRecord, SpoolRecord};
 
-/// Geometry of an arc element in its plane.
+/// The arc of an element as it is reported: plane, centre, direction.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ArcPath {
     /// The plane axes.
     pub plane: PlaneAxes,
     /// Centre `(h, v)`.
-    pub centre: [f64; 2],
+    pub centre: V2,
     /// Counter-clockwise?
     pub ccw: bool,
-    /// Unit vector from the centre to the start point.
-    start_dir: [f64; 2],
-    /// Signed sweep (positive CCW); a full circle sweeps ±2π.
-    sweep: f64,
-    /// Radius at the start.
-    r0: f64,
-    /// Radius at the end (equal to `r0` up to rounding).
-    r1: f64,
 }
 
 /// Path of an element.
@@ -38,22 +40,23 @@ pub enum Path {
 }
 
 /// How the unit vector from the programmed contour to the tool centre is
-/// found along an element the correction spooled (otc.md rule 3).
+/// found along an element the correction spooled (decision 43; docs/otc.md
+/// "Processing types and their directions", RADIUS' n).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum NormalRule {
     /// One vector all along: the side normal of a corrected line, and the
     /// normal an approach leads onto or a departure leaves.
-    Fixed([f64; 2]),
+    Fixed(V2),
     /// Radial about the arc centre: outward when the tool runs outside the
     /// programmed arc, inward when inside.
     Radial {
         /// The arc centre.
-        centre: [f64; 2],
+        centre: V2,
         /// Whether the tool centre lies outside the programmed arc.
         outward: bool,
     },
     /// From the programmed corner K to the tool centre (a transition).
-    FromCorner([f64; 2]),
+    FromCorner(V2),
 }
 
 /// The contour normal of an element, in its group's plane.
@@ -65,35 +68,127 @@ pub struct ContourNormal {
     pub rule: NormalRule,
 }
 
-/// One element of the spooler.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SpoolElement {
-    /// Start position (all axes).
-    pub start: AxisPos,
-    /// End position (all axes).
-    pub end: AxisPos,
-    /// Line or arc.
-    pub path: Path,
-    /// Feed in units/min.
-    pub feed: f64,
-    /// A rapid move (`RAP`).
-    pub rapid: bool,
-    /// Who spooled it.
-    pub origin: Origin,
-    /// Path length (arc length, helical where other axes move).
-    pub length: f64,
-    /// The contour normal, for elements the correction spooled.
-    pub normal: Option<ContourNormal>,
+/// The kind of contour normal an element carries, its vector (or point)
+/// kept beside it in the element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum NormalKind {
+    None,
+    Fixed,
+    Outward,
+    Inward,
+    FromCorner,
 }
 
-impl ArcPath {
-    /// Unit vector from the centre at fraction `f` of the sweep: the start
-    /// direction turned by `sweep · f`.
-    fn dir_at(&self, f: f64) -> [f64; 2] {
-        let (sin, cos) = (self.sweep * f).sin_cos();
-        let [c0, s0] = self.start_dir;
-        [c0 * cos - s0 * sin, s0 * cos + c0 * sin]
+/// The plane geometry of an arc element and what the executor needs of
+/// it, derived once.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct ArcGeometry {
+    /// Centre `(h, v)`.
+    centre: V2,
+    /// Unit vector from the centre to the start point.
+    start_dir: V2,
+    /// Signed sweep (positive CCW); a full circle sweeps ±2π.
+    sweep: f64,
+    /// Radius at the start.
+    r0: f64,
+    /// Radius at the end (equal to `r0` up to rounding).
+    r1: f64,
+}
+
+impl ArcGeometry {
+    /// The arc from `from` to `to` about `centre` in the direction given
+    /// (start = end is a whole turn), and its length in the plane.
+    #[inline]
+    pub(crate) fn of(from: V2, to: V2, centre: V2, ccw: bool) -> (Self, f64) {
+        let (s, e) = (from - centre, to - centre);
+        let sweep = sweep_of(s, e, ccw);
+        // Coordinates stay within ±1e9: the squares cannot overflow, and a
+        // square root is several times cheaper than `hypot`.
+        let (r0, r1) = (s.norm(), e.norm());
+        // On the centre, the start direction is that of angle 0.
+        let start_dir = if r0 > 0.0 { s / r0 } else { V2::x() };
+        let plane_len = sweep.abs() * 0.5 * (r0 + r1);
+        let arc = Self {
+            centre,
+            start_dir,
+            sweep,
+            r0,
+            r1,
+        };
+        (arc, plane_len)
     }
+
+    /// The unit vector from the centre at fraction `f` of the sweep, the
+    /// start direction turned by `sweep · f`.
+    fn dir_at(&self, f: f64) -> V2 {
+        let (sin, cos) = (self.sweep * f).sin_cos();
+        let (c0, s0) = (self.start_dir.x, self.start_dir.y);
+        V2::new(c0 * cos - s0 * sin, s0 * cos + c0 * sin)
+    }
+
+    /// The tangent in the plane, per unit of a path `length` long, where
+    /// the direction from the centre is `(cos, sin)` at radius `r`: along
+    /// the circle (r dθ/ds) plus the radius' own drift (dr/ds).
+    fn tangent(&self, cos: f64, sin: f64, r: f64, length: f64) -> V2 {
+        let k = self.sweep * r / length;
+        let dr = (self.r1 - self.r0) / length;
+        V2::new(-k * sin + dr * cos, k * cos + dr * sin)
+    }
+}
+
+/// One element of the spooler (see the module documentation: its start
+/// is the end of the element before it, and its end outside its plane is
+/// its start there unless it moves those axes).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpoolElement {
+    /// The end in the plane `(h, v)`.
+    to: V2,
+    /// Path length (arc length, helical where other axes move).
+    length: f64,
+    /// Feed, units/min.
+    feed: f64,
+    /// The arc, or `None` for a line.
+    arc: Option<ArcGeometry>,
+    /// The normal's vector, corner or centre (see [`NormalKind`]).
+    normal_at: V2,
+    /// The plane of `to` (an arc's plane).
+    plane: PlaneAxes,
+    /// The normal's plane.
+    normal_plane: PlaneAxes,
+    normal: NormalKind,
+    /// Whether an axis outside the plane moves: then the spooler keeps
+    /// the end of every axis.
+    moves_off_plane: bool,
+    rapid: bool,
+    origin: Origin,
+}
+
+/// Whether `end` differs from `start` on an axis outside `plane`, to the
+/// bit (a −0 that was 0 is kept too).
+#[inline]
+fn moves_off_plane(start: &AxisPos, end: &AxisPos, plane: PlaneAxes) -> bool {
+    // The end with the start's plane coordinates, compared to the bit.
+    let mut e = *end;
+    e[usize::from(plane.h)] = start[usize::from(plane.h)];
+    e[usize::from(plane.v)] = start[usize::from(plane.v)];
+    (0..AXES).fold(0, |acc, i| acc | (e[i].to_bits() ^ start[i].to_bits())) != 0
+}
+
+/// `Σ (end − start)²` over the axes outside `plane`: zero where none moves.
+/// Straight-line code: the plane's axes add an exact zero.
+#[inline]
+fn off_plane_squared(start: &AxisPos, end: &AxisPos, plane: PlaneAxes) -> f64 {
+    let (h, v) = (usize::from(plane.h), usize::from(plane.v));
+    let mut sum = 0.0;
+    for i in 0..AXES {
+        let d = if i == h || i == v {
+            0.0
+        } else {
+            end[i] - start[i]
+        };
+        sum += d * d;
+    }
+    sum
 }
 
 fn line_length(start: &AxisPos, end: &AxisPos) -> f64 {
@@ -105,246 +200,236 @@ fn line_length(start: &AxisPos, end: &AxisPos) -> f64 {
         .sqrt()
 }
 
+/// The signed sweep from `s` to `e` (vectors from the centre) in the
+/// direction given; start = end is a whole turn.
+fn sweep_of(s: V2, e: V2, ccw: bool) -> f64 {
+    let sweep = (s.x * e.y - s.y * e.x).atan2(s.x * e.x + s.y * e.y); // (-π, π]
+    if ccw {
+        if sweep <= ZERO_SWEEP {
+            return sweep + TAU;
+        }
+    } else if sweep >= -ZERO_SWEEP {
+        return sweep - TAU;
+    }
+    sweep
+}
+
 impl SpoolElement {
-    /// A straight element.
-    pub fn line(start: AxisPos, end: AxisPos, feed: f64, rapid: bool, origin: Origin) -> Self {
+    /// An element to `end` of `length` from `start`, plane point in
+    /// `plane`, without arc geometry or normal.
+    #[inline]
+    fn bare(start: &AxisPos, end: &AxisPos, plane: PlaneAxes, length: f64) -> Self {
         Self {
-            start,
-            end,
-            path: Path::Line,
-            feed,
-            rapid,
-            origin,
-            length: line_length(&start, &end),
-            normal: None,
+            to: plane.point(end),
+            length,
+            feed: 0.0,
+            arc: None,
+            normal_at: V2::zeros(),
+            plane,
+            normal_plane: plane,
+            normal: NormalKind::None,
+            moves_off_plane: moves_off_plane(start, end, plane),
+            rapid: false,
+            origin: Origin::Uncorrected,
         }
     }
 
-    /// An arc element about `centre` in `plane`; start = end in the plane
-    /// is a full circle.
-    pub fn arc(
-        start: AxisPos,
-        end: AxisPos,
+    /// An element in `plane` to `to`, `length` long, that moves no other
+    /// axis (the sink knows as much without comparing them).
+    #[inline]
+    pub(crate) fn in_plane(
         plane: PlaneAxes,
-        centre: [f64; 2],
+        to: V2,
+        length: f64,
+        arc: Option<ArcGeometry>,
+    ) -> Self {
+        Self {
+            to,
+            length,
+            feed: 0.0,
+            arc,
+            normal_at: V2::zeros(),
+            plane,
+            normal_plane: plane,
+            normal: NormalKind::None,
+            moves_off_plane: false,
+            rapid: false,
+            origin: Origin::Uncorrected,
+        }
+    }
+
+    /// The same element with its feed, rapid flag and origin.
+    #[inline]
+    pub(crate) fn moving(self, feed: f64, rapid: bool, origin: Origin) -> Self {
+        Self {
+            feed,
+            rapid,
+            origin,
+            ..self
+        }
+    }
+
+    /// A straight element from `start` to `end`; `plane` names the two
+    /// axes the element keeps the end of (any other axis that moves makes
+    /// the spooler keep its whole end).
+    #[inline]
+    pub fn line(
+        start: &AxisPos,
+        end: &AxisPos,
+        plane: PlaneAxes,
+        feed: f64,
+        rapid: bool,
+        origin: Origin,
+    ) -> Self {
+        Self {
+            feed,
+            rapid,
+            origin,
+            ..Self::bare(start, end, plane, line_length(start, end))
+        }
+    }
+
+    /// An arc element from `start` to `end` about `centre` in `plane`;
+    /// start = end in the plane is a full circle.
+    #[inline]
+    pub fn arc(
+        start: &AxisPos,
+        end: &AxisPos,
+        plane: PlaneAxes,
+        centre: V2,
         ccw: bool,
         feed: f64,
         origin: Origin,
     ) -> Self {
-        let s = plane.point(&start);
-        let e = plane.point(&end);
-        let (sh, sv) = (s[0] - centre[0], s[1] - centre[1]);
-        let (eh, ev) = (e[0] - centre[0], e[1] - centre[1]);
-        let mut sweep = (sh * ev - sv * eh).atan2(sh * eh + sv * ev); // (-π, π]
-        if ccw {
-            if sweep <= ZERO_SWEEP {
-                sweep += TAU;
-            }
-        } else if sweep >= -ZERO_SWEEP {
-            sweep -= TAU;
-        }
-        let r0 = sh.hypot(sv);
-        let r1 = eh.hypot(ev);
-        // On the centre, the start direction is that of angle 0.
-        let start_dir = if r0 > 0.0 {
-            [sh / r0, sv / r0]
-        } else {
-            [1.0, 0.0]
-        };
-        let plane_len = sweep.abs() * 0.5 * (r0 + r1);
-        let other: f64 = (0..AXES)
-            .filter(|&i| i != plane.h as usize && i != plane.v as usize)
-            .map(|i| (end[i] - start[i]) * (end[i] - start[i]))
-            .sum();
+        let (arc, plane_len) = ArcGeometry::of(plane.point(start), plane.point(end), centre, ccw);
+        let other = off_plane_squared(start, end, plane);
+        let length = (plane_len * plane_len + other).sqrt();
         Self {
-            start,
-            end,
-            path: Path::Arc(ArcPath {
-                plane,
-                centre,
-                ccw,
-                start_dir,
-                sweep,
-                r0,
-                r1,
-            }),
             feed,
-            rapid: false,
             origin,
-            length: (plane_len * plane_len + other).sqrt(),
-            normal: None,
+            arc: Some(arc),
+            ..Self::bare(start, end, plane, length)
         }
     }
 
-    /// The element as it is reported (spool log, wire).
-    pub fn record(&self) -> SpoolRecord {
-        SpoolRecord {
-            arc: match &self.path {
-                Path::Line => None,
-                Path::Arc(a) => Some(ArcRecord {
-                    plane: [a.plane.h, a.plane.v, a.plane.third],
-                    centre: a.centre,
-                    ccw: a.ccw,
-                }),
+    /// The same element with its contour normal.
+    #[inline]
+    pub fn with_normal(mut self, normal: Option<ContourNormal>) -> Self {
+        let Some(n) = normal else {
+            self.normal = NormalKind::None;
+            return self;
+        };
+        self.normal_plane = n.plane;
+        (self.normal, self.normal_at) = match n.rule {
+            NormalRule::Fixed(v) => (NormalKind::Fixed, v),
+            NormalRule::Radial { centre, outward } if outward => (NormalKind::Outward, centre),
+            NormalRule::Radial { centre, .. } => (NormalKind::Inward, centre),
+            NormalRule::FromCorner(k) => (NormalKind::FromCorner, k),
+        };
+        self
+    }
+
+    /// The end in the plane `(h, v)` of [`SpoolElement::plane`].
+    #[inline]
+    pub fn to(&self) -> V2 {
+        self.to
+    }
+
+    /// The two axes of [`SpoolElement::to`] (an arc's plane).
+    #[inline]
+    pub fn plane(&self) -> PlaneAxes {
+        self.plane
+    }
+
+    /// Whether an axis outside the plane moves (the spooler then keeps
+    /// the element's end on every axis).
+    #[inline]
+    pub fn moves_off_plane(&self) -> bool {
+        self.moves_off_plane
+    }
+
+    /// Path length (arc length, helical where other axes move).
+    #[inline]
+    pub fn length(&self) -> f64 {
+        self.length
+    }
+
+    /// Feed in units/min.
+    #[inline]
+    pub fn feed(&self) -> f64 {
+        self.feed
+    }
+
+    /// A rapid move (`RAP`).
+    #[inline]
+    pub fn rapid(&self) -> bool {
+        self.rapid
+    }
+
+    /// Who spooled it.
+    #[inline]
+    pub fn origin(&self) -> Origin {
+        self.origin
+    }
+
+    /// The same element with another origin tag (the departure).
+    pub fn with_origin(self, origin: Origin) -> Self {
+        Self { origin, ..self }
+    }
+
+    /// Line or arc.
+    pub fn path(&self) -> Path {
+        match &self.arc {
+            None => Path::Line,
+            Some(a) => Path::Arc(ArcPath {
+                plane: self.plane,
+                centre: a.centre,
+                ccw: a.sweep > 0.0,
+            }),
+        }
+    }
+
+    /// The contour normal, for elements the correction spooled.
+    pub fn normal(&self) -> Option<ContourNormal> {
+        let v = self.normal_at;
+        let rule = match self.normal {
+            NormalKind::None => return None,
+            NormalKind::Fixed => NormalRule::Fixed(v),
+            NormalKind::Outward => NormalRule::Radial {
+                centre: v,
+                outward: true,
             },
-            start: self.start,
-            end: self.end,
+            NormalKind::Inward => NormalRule::Radial {
+                centre: v,
+                outward: false,
+            },
+            NormalKind::FromCorner => NormalRule::FromCorner(v),
+        };
+        Some(ContourNormal {
+            plane: self.normal_plane,
+            rule,
+        })
+    }
+
+    /// The element from `start` to `end` as it is reported (spool log,
+    /// wire).
+    pub fn record(&self, start: &AxisPos, end: &AxisPos) -> SpoolRecord {
+        SpoolRecord {
+            arc: self.arc.map(|a| ArcRecord {
+                plane: [self.plane.h, self.plane.v, self.plane.third],
+                centre: [a.centre.x, a.centre.y],
+                ccw: a.sweep > 0.0,
+            }),
+            start: *start,
+            end: *end,
             feed: self.feed,
             rapid: self.rapid,
             origin: self.origin,
         }
     }
-
-    /// The same element with its contour normal.
-    pub fn with_normal(mut self, normal: Option<ContourNormal>) -> Self {
-        self.normal = normal;
-        self
-    }
-
-    fn fraction(&self, s: f64) -> f64 {
-        if self.length > 0.0 {
-            (s / self.length).clamp(0.0, 1.0)
-        } else {
-            1.0
-        }
-    }
-
-    /// The position at path distance `s` (0 ≤ s ≤ length).
-    pub fn point_at(&self, s: f64) -> AxisPos {
-        let f = self.fraction(s);
-        let mut p = self.start;
-        for (i, q) in p.iter_mut().enumerate() {
-            *q += (self.end[i] - self.start[i]) * f;
-        }
-        if let Path::Arc(a) = &self.path {
-            let [cos, sin] = a.dir_at(f);
-            let r = a.r0 + (a.r1 - a.r0) * f;
-            a.plane
-                .set_point(&mut p, [a.centre[0] + r * cos, a.centre[1] + r * sin]);
-        }
-        p
-    }
-
-    /// The unit path tangent at distance `s`, on all axes (zero for an
-    /// element without length).
-    pub fn tangent_at(&self, s: f64) -> AxisPos {
-        let mut t = [0.0; AXES];
-        if self.length <= 0.0 {
-            return t;
-        }
-        for (i, q) in t.iter_mut().enumerate() {
-            *q = (self.end[i] - self.start[i]) / self.length;
-        }
-        if let Path::Arc(a) = &self.path {
-            let f = self.fraction(s);
-            let [cos, sin] = a.dir_at(f);
-            // Along the circle (r dθ/ds) plus the radius' own drift (dr/ds).
-            let k = a.sweep * (a.r0 + (a.r1 - a.r0) * f) / self.length;
-            let dr = (a.r1 - a.r0) / self.length;
-            a.plane
-                .set_point(&mut t, [-k * sin + dr * cos, k * cos + dr * sin]);
-        }
-        t
-    }
-
-    /// The unit path tangent at distance `s`, where the element passes
-    /// through `p` (its [`SpoolElement::point_at`] of `s`): as
-    /// [`SpoolElement::tangent_at`], but an arc takes its direction from
-    /// `p` and the centre instead of turning the start direction again (no
-    /// trigonometry; the per-cycle models ask this every cycle).
-    pub fn tangent_through(&self, s: f64, p: &AxisPos) -> AxisPos {
-        let Path::Arc(a) = &self.path else {
-            return self.tangent_at(s);
-        };
-        let q = a.plane.point(p);
-        let (ch, cv) = (q[0] - a.centre[0], q[1] - a.centre[1]);
-        // Coordinates stay within ±1e9: the squares cannot overflow, and
-        // a square root is several times cheaper than `hypot`.
-        let r = (ch * ch + cv * cv).sqrt();
-        if r.is_nan() || r <= 0.0 || self.length <= 0.0 {
-            return self.tangent_at(s);
-        }
-        let (cos, sin) = (ch / r, cv / r);
-        let mut t = [0.0; AXES];
-        for (i, x) in t.iter_mut().enumerate() {
-            *x = (self.end[i] - self.start[i]) / self.length;
-        }
-        let k = a.sweep * r / self.length;
-        let dr = (a.r1 - a.r0) / self.length;
-        a.plane
-            .set_point(&mut t, [-k * sin + dr * cos, k * cos + dr * sin]);
-        t
-    }
-
-    /// The path direction at distance `s` through `p`, not normalised:
-    /// [`SpoolElement::tangent_through`] times the element's length (a
-    /// line: end − start), without a division for the axes outside an
-    /// arc's plane; zero for an element without length.
-    #[inline]
-    pub fn direction_through(&self, s: f64, p: &AxisPos) -> AxisPos {
-        let mut d = [0.0; AXES];
-        if self.length <= 0.0 {
-            return d;
-        }
-        for (i, x) in d.iter_mut().enumerate() {
-            *x = self.end[i] - self.start[i];
-        }
-        let Path::Arc(a) = &self.path else {
-            return d;
-        };
-        let q = a.plane.point(p);
-        let (ch, cv) = (q[0] - a.centre[0], q[1] - a.centre[1]);
-        // Within ±1e9: no overflow.
-        let r = (ch * ch + cv * cv).sqrt();
-        if r.is_nan() || r <= 0.0 {
-            return self.tangent_at(s).map(|x| x * self.length);
-        }
-        // Along the circle (sweep · r per unit of fraction) plus the
-        // radius' own drift (r1 − r0), in the direction of the point.
-        let drift = (a.r1 - a.r0) / r;
-        let (ph, pv) = (-a.sweep * cv + drift * ch, a.sweep * ch + drift * cv);
-        // Chosen per axis rather than stored at the plane's indexes: the
-        // array then stays in registers (a per-cycle path).
-        let (h, v) = (usize::from(a.plane.h), usize::from(a.plane.v));
-        std::array::from_fn(|i| match i {
-            _ if i == h => ph,
-            _ if i == v => pv,
-            _ => d[i],
-        })
-    }
-
-    /// The unit vector from the programmed contour to the tool centre at
-    /// position `p` of this element, on all axes; `None` for elements the
-    /// correction did not spool, or where it is undefined (on the centre
-    /// or the corner itself).
-    #[inline]
-    pub fn normal_at(&self, p: &AxisPos) -> Option<AxisPos> {
-        let n = self.normal?;
-        let q = n.plane.point(p);
-        let v = match n.rule {
-            NormalRule::Fixed(v) => v,
-            NormalRule::Radial { centre, outward } => {
-                let sign = if outward { 1.0 } else { -1.0 };
-                [sign * (q[0] - centre[0]), sign * (q[1] - centre[1])]
-            }
-            NormalRule::FromCorner(k) => [q[0] - k[0], q[1] - k[1]],
-        };
-        // Within ±1e9 (see `tangent_through`): no overflow.
-        let len = (v[0] * v[0] + v[1] * v[1]).sqrt();
-        if !(len > 0.0 && len.is_finite()) {
-            return None;
-        }
-        let inv = 1.0 / len;
-        let (h, v2) = (usize::from(n.plane.h), usize::from(n.plane.v));
-        // Chosen per axis, not stored at the plane's indexes (see
-        // `direction_through`).
-        Some(std::array::from_fn(|i| match i {
-            _ if i == h => v[0] * inv,
-            _ if i == v2 => v[1] * inv,
-            _ => 0.0,
-        }))
-    }
 }
+
+mod run;
 
 #[cfg(test)]
 mod tests;

@@ -1,5 +1,5 @@
 //! The executor: runs spooled elements at their feed, one interpolation
-//! cycle at a time (trc-geometry.md "Spooler and execution"). It keeps the
+//! cycle at a time. It keeps the
 //! nominal path position apart from the executed one: executed = nominal
 //! + the offset a per-cycle model (OTC) adds.
 
@@ -9,14 +9,13 @@ use crate::limits::CycleTime;
 use crate::plane::{AxisPos, AXES};
 use crate::spooler::Spooler;
 
-pub use crate::limits::DEFAULT_CYCLE_S;
-
 /// A cycle whose step reaches an element's end point to within this
 /// fraction of the step ends exactly on it: the distance run is a sum of
 /// steps, and its rounding (a few ulps) must not carry the executor a hair
 /// past the end point into the next element, nor leave it a hair short
-/// for one more cycle (otc.md rule 2: a cycle that ends exactly on an end
-/// point stands on the element that just ended).
+/// for one more cycle (decision 112; docs/otc.md "Processing types and
+/// their directions": a cycle that ends exactly on an end point stands on
+/// the element that just ended).
 pub const END_POINT_SNAP: f64 = 1e-6;
 
 /// Where a cycle ended.
@@ -33,6 +32,11 @@ enum Stand {
 #[derive(Debug, Clone)]
 pub struct Executor {
     nominal: AxisPos,
+    /// Where the front element starts: the end of the element that ended
+    /// last, or where the executor was put (the spooler is a chain).
+    entry: AxisPos,
+    /// Where the front element ends (kept for the cycle's view of it).
+    front_end: AxisPos,
     /// The offset of an active model, from its last cycle.
     offset: Option<AxisPos>,
     /// Path distance already run on the front element.
@@ -40,9 +44,10 @@ pub struct Executor {
     /// Cycle time in minutes (feeds are units/min).
     cycle_min: f64,
     cycles: u64,
-    /// The element that ended last (otc.md rule 2); `None` before the
-    /// first and after a direct command.
-    ended: Option<SpoolElement>,
+    /// The element that ended last (docs/otc.md "What happens in each
+    /// interpolation cycle"), with its start; `None` before the first and
+    /// after a direct command.
+    ended: Option<Ran>,
     /// The path of the current cycle, per element (kept between cycles
     /// only to reuse its storage).
     parts: PathParts,
@@ -59,6 +64,8 @@ impl Executor {
     pub fn new(pos: AxisPos, cycle: CycleTime) -> Self {
         Self {
             nominal: pos,
+            entry: pos,
+            front_end: pos,
             offset: None,
             done: 0.0,
             cycle_min: cycle.minutes(),
@@ -96,23 +103,26 @@ impl Executor {
         self.offset = None;
     }
 
-    /// Moves an axis at once (a direct command).
+    /// Moves an axis at once (a direct command; nothing is spooled).
     pub fn set_axis(&mut self, axis: usize, value: f64) {
         self.nominal[axis] = value;
+        self.entry[axis] = value;
     }
 
     /// Forgets the element under way and the one that ended (the spooler
-    /// was discarded by a direct command: the executor stands on none).
+    /// was discarded by a direct command: the executor stands on none, and
+    /// the next element starts where it stands).
     pub fn abandon_element(&mut self) {
         self.done = 0.0;
         self.ended = None;
+        self.entry = self.nominal;
     }
 
     /// Moves along the spooler for one cycle: distance left over at the
     /// end of an element carries into the next; elements without length
     /// are passed; with nothing spooled the cycle runs idle. A cycle that
     /// ends exactly on an end point (to within [`END_POINT_SNAP`] of its
-    /// step) stands on the element that ended there (otc.md rule 2),
+    /// step) stands on the element that ended there (decisions 44, 112),
     /// though the next one is already entered.
     /// With `track`, the path per element is kept for a model.
     fn advance(&mut self, spooler: &mut Spooler, track: bool) -> Stand {
@@ -122,14 +132,15 @@ impl Executor {
         let Some(front) = spooler.front() else {
             return Stand::OnEnded;
         };
-        let step = self.step_at(front.feed);
+        let step = self.step_at(front.feed());
         let snap = step * END_POINT_SNAP;
         let mut budget = step;
         while let Some(e) = spooler.front() {
-            let left = e.length - self.done;
+            let left = e.length() - self.done;
             if budget < left - snap {
                 self.done += budget;
-                self.nominal = e.point_at(self.done);
+                let end = spooler.front_end(&self.entry).unwrap_or(self.entry);
+                self.nominal = e.point_at(&self.entry, &end, self.done);
                 if budget > 0.0 {
                     if track {
                         self.parts.push(part(e, budget));
@@ -147,11 +158,25 @@ impl Executor {
             if track {
                 self.parts.push(part(e, left));
             }
-            self.nominal = e.end;
-            self.done = 0.0;
-            self.ended = spooler.pop_front();
+            self.end_front(spooler);
         }
         Stand::OnEnded
+    }
+
+    /// The front element ends: the executor stands on its end point, where
+    /// the next one starts.
+    fn end_front(&mut self, spooler: &mut Spooler) {
+        let end = spooler.front_end(&self.entry);
+        if let (Some(end), Some(element)) = (end, spooler.pop_front()) {
+            self.ended = Some(Ran {
+                start: self.entry,
+                end,
+                element,
+            });
+            self.nominal = end;
+        }
+        self.entry = self.nominal;
+        self.done = 0.0;
     }
 
     /// Runs one interpolation cycle; an active model is told of it and its
@@ -165,21 +190,51 @@ impl Executor {
             self.offset = None;
             return;
         }
-        let (current, done, previous) = match stand {
-            Stand::OnFront => (spooler.front(), self.done, self.ended.as_ref()),
-            Stand::OnEnded => (
-                self.ended.as_ref(),
-                self.ended.map_or(0.0, |e| e.length),
+        let on_front = stand == Stand::OnFront;
+        self.see_front(spooler);
+        let cycle = self.cycle_view(spooler, on_front, self.parts.as_slice());
+        self.offset = Some(model.cycle(&cycle));
+    }
+
+    /// What a model is told: standing `on_front` (inside the spooler's
+    /// front element), the front is current and the element that ended
+    /// before it is the previous one; otherwise the element that ended is
+    /// current, run to its end.
+    /// Keeps where the front element ends, for [`Executor::cycle_view`].
+    fn see_front(&mut self, spooler: &Spooler) {
+        self.front_end = spooler.front_end(&self.entry).unwrap_or(self.entry);
+    }
+
+    fn cycle_view<'a>(
+        &'a self,
+        spooler: &'a Spooler,
+        on_front: bool,
+        parts: &'a [PathPart],
+    ) -> Cycle<'a> {
+        let ended = self.ended.as_ref();
+        let (current, (start, end), done, previous) = match spooler.front() {
+            Some(front) if on_front => (
+                Some(front),
+                (&self.entry, &self.front_end),
+                self.done,
+                ended.map(|e| &e.element),
+            ),
+            _ => (
+                ended.map(|e| &e.element),
+                ended.map_or((&self.nominal, &self.nominal), |e| (&e.start, &e.end)),
+                ended.map_or(0.0, |e| e.element.length()),
                 None,
             ),
         };
-        self.offset = Some(model.cycle(&Cycle {
-            parts: self.parts.as_slice(),
+        Cycle {
+            parts,
             current,
+            start,
+            end,
             done,
             previous,
             nominal: &self.nominal,
-        }));
+        }
     }
 
     /// Re-evaluates an active model's offset where the executor stands,
@@ -190,20 +245,10 @@ impl Executor {
             self.offset = None;
             return;
         }
-        let inside = self.done > 0.0 && spooler.front().is_some();
-        let (current, done, previous) = if inside {
-            (spooler.front(), self.done, self.ended.as_ref())
-        } else {
-            let ended = self.ended.as_ref();
-            (ended, ended.map_or(0.0, |e| e.length), None)
-        };
-        self.offset = Some(model.offset_now(&Cycle {
-            parts: &[],
-            current,
-            done,
-            previous,
-            nominal: &self.nominal,
-        }));
+        let inside = self.done > 0.0;
+        self.see_front(spooler);
+        let cycle = self.cycle_view(spooler, inside, &[]);
+        self.offset = Some(model.offset_now(&cycle));
     }
 
     /// The path step per cycle at `feed` (units/min).
@@ -215,8 +260,8 @@ impl Executor {
     /// cycle is zero or too small to change the distance run (a feed the
     /// module refuses; elements built by hand may have one).
     fn stuck_on(&self, e: &SpoolElement) -> bool {
-        let step = self.step_at(e.feed);
-        e.length > self.done && self.done + step <= self.done
+        let step = self.step_at(e.feed());
+        e.length() > self.done && self.done + step <= self.done
     }
 
     /// Whether a cycle would move nothing: the spooler is empty or the
@@ -259,8 +304,9 @@ impl Executor {
             // last is stepped.
             let k = self.whole_cycles_inside(e).min(n).saturating_sub(1);
             if k > 0 {
-                self.done += self.step_at(e.feed) * k as f64;
-                self.nominal = e.point_at(self.done);
+                self.done += self.step_at(e.feed()) * k as f64;
+                let end = spooler.front_end(&self.entry).unwrap_or(self.entry);
+                self.nominal = e.point_at(&self.entry, &end, self.done);
                 self.cycles = self.cycles.saturating_add(k);
                 n -= k;
                 continue;
@@ -300,8 +346,8 @@ impl Executor {
     /// Whole cycles that stay strictly inside element `e` from where the
     /// executor stands (0 when fewer than two).
     fn whole_cycles_inside(&self, e: &SpoolElement) -> u64 {
-        let budget = self.step_at(e.feed);
-        let left = e.length - self.done;
+        let budget = self.step_at(e.feed());
+        let left = e.length() - self.done;
         let inside = if budget > 0.0 {
             (left / budget).ceil() - 1.0
         } else {
@@ -345,13 +391,11 @@ impl Executor {
         }
         self.offset = None;
         let mut time = 0.0;
-        while let Some(e) = spooler.pop_front() {
-            if e.feed > 0.0 {
-                time += (e.length - self.done).max(0.0) / self.step_at(e.feed);
+        while let Some(e) = spooler.front() {
+            if e.feed() > 0.0 {
+                time += (e.length() - self.done).max(0.0) / self.step_at(e.feed());
             }
-            self.nominal = e.end;
-            self.done = 0.0;
-            self.ended = Some(e);
+            self.end_front(spooler);
         }
         if time.is_finite() {
             self.cycles = self.cycles.saturating_add(time.ceil() as u64);
@@ -362,10 +406,18 @@ impl Executor {
 
 fn part(e: &SpoolElement, length: f64) -> PathPart {
     PathPart {
-        origin: e.origin,
-        rapid: e.rapid,
+        origin: e.origin(),
+        rapid: e.rapid(),
         length,
     }
+}
+
+/// An element that ended, with where it started and ended.
+#[derive(Debug, Clone, Copy)]
+struct Ran {
+    start: AxisPos,
+    end: AxisPos,
+    element: SpoolElement,
 }
 
 #[cfg(test)]

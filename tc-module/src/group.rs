@@ -3,7 +3,7 @@
 //! the group (`ext`).
 
 use crate::bits::ErrorBits;
-use crate::correction::Buffer;
+use crate::correction::{Buffer, TransitionMode};
 use crate::plane::{PlaneAxes, TcPlane};
 use crate::tool_table::{ToolEntry, ToolTable, WkzIndex};
 
@@ -26,37 +26,8 @@ impl Side {
     }
 }
 
-/// Transition inserted at outside corners (device 2 sub 1; NC G26/G25).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub enum TransitionMode {
-    /// 0: one arc about the programmed corner (G26). Default.
-    #[default]
-    Circular,
-    /// 1: straight lines (G25).
-    Linear,
-}
-
-impl TransitionMode {
-    /// The register value.
-    pub const fn code(self) -> i32 {
-        match self {
-            TransitionMode::Circular => 0,
-            TransitionMode::Linear => 1,
-        }
-    }
-
-    /// The mode for a register value (the table allows 0 and 1).
-    pub const fn from_code(code: i32) -> Self {
-        if code == 1 {
-            TransitionMode::Linear
-        } else {
-            TransitionMode::Circular
-        }
-    }
-}
-
 /// Default axis allocation of a group: XAxis 0, YAxis 1, ZAxis 2
-/// (uoi-map.md device 1 sub 4, 5, 11).
+/// (docs/objects.md device 1 sub 4, 5, 11; decision 9).
 pub const DEFAULT_AXES: [u8; 3] = [0, 1, 2];
 
 /// One compensation group (device 1 index = group number). `G` is an
@@ -133,9 +104,9 @@ impl<G, T: Copy + Default> CorrGroup<G, T> {
         self.tools.clear();
     }
 
-    /// A motion error while running (trc-geometry.md "Errors while
-    /// running"): the bit is set, the buffered profile is dropped and the
-    /// group is faulted until ERROR is written. The caller clears Run.
+    /// A motion error while running (docs/objects.md "ERROR bits"; decision
+    /// 5): the bit is set, the buffered profile is dropped and the group is
+    /// faulted until ERROR is written. The caller clears Run.
     pub fn fault(&mut self, bits: ErrorBits) {
         self.error |= bits;
         self.faulted = true;

@@ -5,7 +5,13 @@
 //! rotation, the spooler and the executor; an extension (OTC) plugs in
 //! through [`TcExtension`]: its objects are appended to the one map, its
 //! state lives in the groups and tool entries, and it may act on every
-//! interpolation cycle ([`cycle`]).
+//! interpolation cycle ([`CycleModel`], [`Cycle`]).
+//!
+//! The modules are private; what a user of the crate needs is named here.
+//! Three are public as namespaces of their own: [`limits`] (the engine's
+//! numeric limits and defaults), [`correction`] (the one-profile buffer on
+//! its own, for a caller with profiles in machine axes) and the object
+//! table ([`object_map`]; the object names and meanings are `tc_objects`').
 //!
 //! ```
 //! use tc_module::TcModule;
@@ -20,34 +26,40 @@
 //! assert_eq!(server.write(wkz, Value::I32(1024)), Err(uoi::AccessError::Range));
 //! ```
 
-pub mod bits;
+mod bits;
 pub mod correction;
-pub mod cycle;
-pub mod element;
-pub mod executor;
-pub mod extension;
-pub mod geometry;
-pub mod group;
+mod cycle;
+mod element;
+mod executor;
+mod extension;
+mod geometry;
+mod group;
 pub mod limits;
-pub mod module;
+mod module;
 pub mod object_map;
-pub mod plane;
-pub mod rotation;
-pub mod spooler;
-pub mod tool_table;
+mod plane;
+mod rotation;
+mod spooler;
+mod tool_table;
 
 pub use tc_request::motion;
 
 pub use bits::{ErrorBits, StatusBits};
-pub use cycle::{Cycle, CycleModel, NoModel, PathPart};
-pub use element::{ContourNormal, NormalRule, Origin, Path, SpoolElement};
-pub use extension::{Group, GroupAccess, Groups, NoExtension, TcExtension};
-pub use group::{CorrGroup, Side, TransitionMode};
+pub use correction::TransitionMode;
+pub use cycle::{Cycle, CycleModel, NoModel, PathPart, MAX_PARTS};
+pub use element::{ArcPath, ContourNormal, NormalRule, Origin, Path, SpoolElement};
+pub use executor::Executor;
+pub use extension::{Group, GroupAccess, Groups, NoExtension, NoKey, TcExtension};
+pub use geometry::V2;
+pub use group::{CorrGroup, Side};
 pub use limits::{CycleTime, MAX_COORD};
 pub use module::{ExecLeft, TcModule, EXEC_SLICE_CYCLES};
 pub use motion::{ArcDir, Motion};
 pub use object_map::{TcKey, TcObject, GROUPS, GROUP_COUNT, TC_BUS, TC_OBJECTS};
 pub use plane::{AxisPos, MainAxes, PlaneAxes, TcPlane, AXES, AXIS_NAMES};
-pub use spooler::Spooler;
+pub use spooler::{
+    check_capacity, CapacityError, Logged, Spooler, DEFAULT_SPOOL_CAPACITY, KEEP_WHEN_EMPTY,
+    MAX_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY,
+};
 pub use tc_request::AxisWords;
-pub use tool_table::{ToolEntry, ToolTable, WkzIndex};
+pub use tool_table::{ToolEntry, ToolTable, WkzIndex, TOOL_ENTRIES};

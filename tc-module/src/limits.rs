@@ -39,14 +39,22 @@ pub const DEFAULT_CYCLE_S: f64 = 1e-3;
 /// Longest interpolation cycle, seconds.
 pub const MAX_CYCLE_S: f64 = 1.0;
 
+/// Default feed in units/min, until a program gives an `F` word.
+pub const DEFAULT_FEED: f64 = 1000.0;
+
+/// The feed of a rapid move (`RAP`), units/min (decision 49).
+pub const RAPID_FEED: f64 = 10000.0;
+
 // A coordinate at the limit resolves the step in many ulps.
 const _: () = assert!((MAX_COORD + MIN_STEP) - MAX_COORD > 0.5 * MIN_STEP);
 // The default feed is valid at the shortest cycle.
-const _: () = assert!(crate::module::DEFAULT_FEED * MIN_CYCLE_S / 60.0 >= MIN_STEP);
+const _: () = assert!(DEFAULT_FEED * MIN_CYCLE_S / 60.0 >= MIN_STEP);
 
-/// Whether `v` is finite and within ±[`MAX_COORD`].
+/// Whether `v` is finite and within ±[`MAX_COORD`] (NaN and the
+/// infinities compare false).
+#[inline]
 pub fn within_limit(v: f64) -> bool {
-    v.is_finite() && v.abs() <= MAX_COORD
+    v.abs() <= MAX_COORD
 }
 
 /// `Range` unless every coordinate is within ±[`MAX_COORD`].

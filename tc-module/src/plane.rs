@@ -1,8 +1,11 @@
-//! Main planes and axis allocation (uoi-map.md device 0 index 2 and 3;
-//! trc-geometry.md "Coordinates").
+//! Main planes and axis allocation (docs/objects.md device 0 index 2 and
+//! 3; docs/trc.md "Coordinates"): where positions of every axis meet the
+//! plane points of the correction.
 
 use tc_objects::{PLANE_XY, PLANE_YZ, PLANE_ZX};
-pub use tc_request::axes::{axis_index, AxisPos, AxisWords, AXES, AXIS_NAMES};
+pub use tc_request::axes::{AxisPos, AxisWords, AXES, AXIS_NAMES};
+
+use crate::geometry::V2;
 
 /// The main plane for circles and correction: 17 X-Y, 18 Z-X, 19 Y-Z
 /// (NC G17/G18/G19).
@@ -94,20 +97,23 @@ impl PlaneAxes {
     }
 
     /// The plane point `(h, v)` of a position.
-    pub fn point(self, p: &AxisPos) -> [f64; 2] {
-        [p[self.h as usize], p[self.v as usize]]
+    #[inline]
+    pub fn point(self, p: &AxisPos) -> V2 {
+        V2::new(p[usize::from(self.h)], p[usize::from(self.v)])
     }
 
-    /// Writes a plane point into a position.
-    pub fn set_point(self, p: &mut AxisPos, q: [f64; 2]) {
-        p[self.h as usize] = q[0];
-        p[self.v as usize] = q[1];
+    /// Writes a plane point into a position (`v` last).
+    #[inline]
+    pub fn set_point(self, p: &mut AxisPos, q: V2) {
+        p[usize::from(self.h)] = q.x;
+        p[usize::from(self.v)] = q.y;
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use tc_request::axes::axis_index;
 
     #[test]
     fn planes_pick_axes() {

@@ -1,7 +1,10 @@
-//! Coordinate rotation of interpolation commands (uoi-map.md device 0
-//! index 20..22; trc-geometry.md "Coordinate rotation").
+//! Coordinate rotation of interpolation commands (docs/objects.md device
+//! 0 index 20..22: RotAngle, RotCenterX, RotCenterY): the programmed end
+//! point and arc centre turn about the centre in the main plane.
 
-use nalgebra::{Point2, Rotation2, Vector2};
+use nalgebra::{Point2, Rotation2};
+
+use crate::geometry::V2;
 
 /// Rotation angle (degrees, CCW in the main plane) and centre.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -9,7 +12,7 @@ pub struct Rotation {
     /// RotAngle, degrees.
     pub angle_deg: f64,
     /// RotCenterX / RotCenterY, main plane coordinates.
-    pub center: [f64; 2],
+    pub center: V2,
 }
 
 impl Rotation {
@@ -19,25 +22,23 @@ impl Rotation {
     }
 
     /// Turns a plane point about the centre.
-    pub fn apply(&self, p: [f64; 2]) -> [f64; 2] {
+    pub fn apply(&self, p: V2) -> V2 {
         if self.is_identity() {
             return p;
         }
-        let c = Point2::new(self.center[0], self.center[1]);
+        let c = Point2::from(self.center);
         let r = Rotation2::new(self.angle_deg.to_radians());
-        let q = c + r * (Point2::new(p[0], p[1]) - c);
-        [q.x, q.y]
+        (c + r * (Point2::from(p) - c)).coords
     }
 
     /// Undoes [`Rotation::apply`].
-    pub fn invert(&self, p: [f64; 2]) -> [f64; 2] {
+    pub fn invert(&self, p: V2) -> V2 {
         if self.is_identity() {
             return p;
         }
-        let c = Point2::new(self.center[0], self.center[1]);
+        let c = Point2::from(self.center);
         let r = Rotation2::new(-self.angle_deg.to_radians());
-        let q = c + r * Vector2::new(p[0] - c.x, p[1] - c.y);
-        [q.x, q.y]
+        (c + r * (p - c.coords)).coords
     }
 }
 
@@ -49,11 +50,11 @@ mod tests {
     fn quarter_turn_about_centre() {
         let r = Rotation {
             angle_deg: 90.0,
-            center: [1.0, 1.0],
+            center: V2::new(1.0, 1.0),
         };
-        let q = r.apply([2.0, 1.0]);
-        assert!((q[0] - 1.0).abs() < 1e-12 && (q[1] - 2.0).abs() < 1e-12);
+        let q = r.apply(V2::new(2.0, 1.0));
+        assert!((q - V2::new(1.0, 2.0)).norm() < 1e-12);
         let back = r.invert(q);
-        assert!((back[0] - 2.0).abs() < 1e-12 && (back[1] - 1.0).abs() < 1e-12);
+        assert!((back - V2::new(2.0, 1.0)).norm() < 1e-12);
     }
 }

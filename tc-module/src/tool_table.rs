@@ -1,8 +1,9 @@
-//! Tool tables: 1024 entries per compensation group (docs/objects.md,
-//! device 1: RADIUS/WKZINDEX/WkzLen). An extension keeps its own fields of
-//! every entry in the entry itself (`ext`).
+//! Tool tables: 1024 entries per compensation group (docs/objects.md
+//! device 1, RADIUS/WKZINDEX/WkzLen). An extension keeps its own fields of every
+//! entry in the entry itself (`ext`).
 
-/// Number of entries in a tool table (WKZINDEX 0..1023).
+/// Number of entries in a tool table (WKZINDEX 0..1023, docs/objects.md
+/// device 1).
 pub use tc_objects::TOOL_ENTRIES;
 
 /// An index into a tool table (WKZINDEX, 0..=1023).

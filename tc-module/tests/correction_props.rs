@@ -10,7 +10,7 @@
 use std::f64::consts::{FRAC_PI_3, TAU};
 
 use proptest::prelude::*;
-use tc_module::{ArcDir, Motion, NoExtension, Origin, Path, SpoolElement, TcModule, AXES};
+use tc_module::{ArcDir, Logged, Motion, NoExtension, Origin, Path, TcModule, AXES};
 use uoi::{ObjectAddress, ObjectBus, Value};
 
 /// A programmed plane element, for measuring distances.
@@ -123,43 +123,51 @@ fn check(
     write(&mut tc, "1300/1/1/3", Value::I32(0));
     let err = tc.group_at(1).map(|g| g.error.bits()).unwrap_or(-1);
     prop_assert_eq!(err, 0, "ERROR bits set for a contour that fits");
-    let log: Vec<SpoolElement> = tc.spooler_mut().take_log();
+    let log: Vec<Logged> = tc.spooler_mut().take_log();
     prop_assert!(!log.is_empty());
 
     let want_side = if left { 1.0 } else { -1.0 };
     let mut prev_end = pos;
-    for (i, e) in log.iter().enumerate() {
+    for (
+        i,
+        Logged {
+            start,
+            end,
+            element: e,
+        },
+    ) in log.iter().enumerate()
+    {
         prop_assert!(
-            e.start.iter().chain(&e.end).all(|v| v.is_finite()),
+            start.iter().chain(end).all(|v| v.is_finite()),
             "non-finite element {i}"
         );
-        prop_assert!(e.length.is_finite());
-        for (a, b) in e.start.iter().zip(&prev_end) {
+        prop_assert!(e.length().is_finite());
+        for (a, b) in start.iter().zip(&prev_end) {
             prop_assert!(
                 (a - b).abs() <= 1e-9,
                 "element {i} does not start where {} ended",
                 i.saturating_sub(1)
             );
         }
-        prev_end = e.end;
-        if let Path::Arc(a) = &e.path {
-            let r0 = dist([e.start[0], e.start[1]], a.centre);
-            let r1 = dist([e.end[0], e.end[1]], a.centre);
+        prev_end = *end;
+        if let Path::Arc(a) = e.path() {
+            let c = [a.centre.x, a.centre.y];
+            let (r0, r1) = (dist([start[0], start[1]], c), dist([end[0], end[1]], c));
             prop_assert!(
                 (r0 - r1).abs() <= 1e-6,
                 "arc element {i} changes radius {r0} -> {r1}"
             );
         }
-        if !matches!(e.origin, Origin::Corrected | Origin::Transition) {
+        if !matches!(e.origin(), Origin::Corrected | Origin::Transition) {
             continue;
         }
         for j in 0..=16 {
-            let q = e.point_at(e.length * f64::from(j) / 16.0);
+            let q = e.point_at(start, end, e.length() * f64::from(j) / 16.0);
             let p = [q[0], q[1]];
             // The element spooled at STATUS=0 ends with its own offset end
-            // (trc-geometry.md): on a closed contour that end lies next to
-            // the programmed start, so it is measured against its own
-            // programmed element only.
+            // (docs/trc.md "The one-profile buffer"): on a closed contour
+            // that end lies next to the programmed start, so it is
+            // measured against its own programmed element only.
             let against: &[Prog] = if i + 1 == log.len() {
                 &prog[prog.len() - 1..]
             } else {
@@ -182,7 +190,7 @@ fn check(
                 prop_assert!(
                     (best.0 - radius).abs() <= 1e-6,
                     "element {i} ({:?}) at {p:?} is {} from the contour, radius {radius}",
-                    e.path,
+                    e.path(),
                     best.0
                 );
             }
@@ -440,11 +448,11 @@ proptest! {
                 }
                 Cmd::Exec(n) => tc.exec(Some(n)),
             }
-            for e in tc.spooler_mut().take_log() {
-                prop_assert!(e.start.iter().chain(&e.end).all(|v| v.is_finite()), "{:?}", e);
-                prop_assert!(e.length.is_finite() && e.length >= 0.0, "{:?}", e);
-                prop_assert!(e.feed.is_finite() && e.feed > 0.0);
-                if let Path::Arc(a) = e.path {
+            for Logged { start, end, element: e } in tc.spooler_mut().take_log() {
+                prop_assert!(start.iter().chain(&end).all(|v| v.is_finite()), "{:?}", e);
+                prop_assert!(e.length().is_finite() && e.length() >= 0.0, "{:?}", e);
+                prop_assert!(e.feed().is_finite() && e.feed() > 0.0);
+                if let Path::Arc(a) = e.path() {
                     prop_assert!(a.centre.iter().all(|v| v.is_finite()));
                 }
             }

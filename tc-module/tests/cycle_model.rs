@@ -7,7 +7,7 @@
 // Test helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
-use tc_module::extension::NoKey;
+use tc_module::NoKey;
 use tc_module::{
     AxisPos, Cycle, CycleTime, Groups, NoExtension, Origin, TcExtension, TcModule, AXES,
 };
@@ -75,8 +75,8 @@ impl TcExtension for NormalOffset {
         }
         self.tangent = c.tangent();
         if let Some(e) = c.current {
-            if s.currents.last() != Some(&e.origin) {
-                s.currents.push(e.origin);
+            if s.currents.last() != Some(&e.origin()) {
+                s.currents.push(e.origin());
             }
         }
         c.normal().map_or([0.0; AXES], |n| n.map(|v| W * v))
@@ -205,8 +205,8 @@ fn every_tag_is_seen_and_the_path_adds_up() {
     tc.exec(None);
     let seen = &tc.extension().seen;
     let mut want = [0.0; 5];
-    for e in &spooled {
-        want[usize::from(e.origin.code())] += e.length;
+    for e in spooled.iter().map(|l| l.element) {
+        want[usize::from(e.origin().code())] += e.length();
     }
     for (o, (got, want)) in seen.per_origin.iter().zip(want).enumerate() {
         assert!((got - want).abs() < 1e-9, "origin {o}: {got} vs {want}");
@@ -218,7 +218,7 @@ fn every_tag_is_seen_and_the_path_adds_up() {
         seen.currents,
         vec![Approach, Transition, Corrected, Transition, Corrected, Departure]
     );
-    assert!(spooled.iter().any(|e| e.origin == Departure));
+    assert!(spooled.iter().any(|l| l.element.origin() == Departure));
 }
 
 /// A corrected run of `count` collinear lines `step` long at 6000
@@ -261,7 +261,7 @@ fn many_tiny_elements_merge_by_tag_and_keep_the_distance() {
     // 0.004-long elements: 25 a cycle, more than MAX_PARTS.
     let tc = short_lines(0.004, 200);
     let seen = &tc.extension().seen;
-    assert!(seen.most_parts <= tc_module::cycle::MAX_PARTS);
+    assert!(seen.most_parts <= tc_module::MAX_PARTS);
     let travelled: f64 = seen.busiest.iter().map(|p| p.1).sum();
     assert!((travelled - 0.1).abs() < 1e-9, "{travelled}");
     let corrected: f64 = 200.0 * 0.004;

@@ -7,8 +7,8 @@
 // Test helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
-use tc_module::extension::NoKey;
-use tc_module::spooler::KEEP_WHEN_EMPTY;
+use tc_module::NoKey;
+use tc_module::KEEP_WHEN_EMPTY;
 use tc_module::{
     AxisPos, Cycle, CycleTime, ExecLeft, Groups, NoExtension, TcExtension, TcModule, AXES,
     EXEC_SLICE_CYCLES,

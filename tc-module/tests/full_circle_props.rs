@@ -1,6 +1,6 @@
 //! Property tests of programmed full circles (issue 8, point 18;
-//! trc-geometry.md "Inside corner", "A programmed full circle keeps its
-//! whole turn"): a full circle entered at a tangent, or nearly so, is
+//! decisions 48, 76 and 77: a programmed full circle keeps its whole
+//! turn): a full circle entered at a tangent, or nearly so, is
 //! corrected as a whole turn, on either side and in either direction,
 //! whether it is left by a flush, at a tangent or at an inside corner.
 //! The expected sweep is computed here from the exact geometry of the
@@ -12,9 +12,7 @@
 use std::f64::consts::{PI, TAU};
 
 use proptest::prelude::*;
-use tc_module::{
-    ArcDir, ErrorBits, Motion, NoExtension, Origin, Path, SpoolElement, TcModule, AXES,
-};
+use tc_module::{ArcDir, ErrorBits, Logged, Motion, NoExtension, Origin, Path, TcModule, AXES};
 use uoi::{ObjectAddress, ObjectBus, Value};
 
 type P2 = [f64; 2];
@@ -246,7 +244,7 @@ fn write(tc: &mut TcModule, addr: &str, v: Value) {
 }
 
 /// Runs the program corrected; the ERROR bits and the spool log.
-fn run(c: &Case) -> (i32, Vec<SpoolElement>) {
+fn run(c: &Case) -> (i32, Vec<Logged>) {
     let (from, prog) = program(c);
     let mut pos = [0.0; AXES];
     pos[..2].copy_from_slice(&from);
@@ -291,20 +289,25 @@ fn run(c: &Case) -> (i32, Vec<SpoolElement>) {
 
 /// The sweep of an arc element as the executor runs it: its plane length
 /// over its mean radius.
-fn sweep_of(e: &SpoolElement, centre: P2) -> f64 {
-    let r0 = norm(sub([e.start[0], e.start[1]], centre));
-    let r1 = norm(sub([e.end[0], e.end[1]], centre));
-    e.length / (0.5 * (r0 + r1))
+fn sweep_of(l: &Logged, centre: P2) -> f64 {
+    let (start, end) = (l.start, l.end);
+    let r0 = norm(sub([start[0], start[1]], centre));
+    let r1 = norm(sub([end[0], end[1]], centre));
+    l.element.length() / (0.5 * (r0 + r1))
 }
 
 /// The corrected elements about the circle's centre: the full circle.
-fn circle_sweeps(c: &Case, log: &[SpoolElement]) -> Vec<f64> {
+fn circle_sweeps(c: &Case, log: &[Logged]) -> Vec<f64> {
     let centre = c.centre;
     log.iter()
-        .filter(|e| e.origin == Origin::Corrected)
-        .filter_map(|e| match e.path {
-            Path::Arc(a) if norm(sub(a.centre, centre)) <= 1e-9 => Some(sweep_of(e, a.centre)),
-            _ => None,
+        .filter(|l| l.element.origin() == Origin::Corrected)
+        .filter_map(|l| {
+            match l.element.path() {
+                Path::Arc(a) => Some([a.centre.x, a.centre.y]),
+                Path::Line => None,
+            }
+            .filter(|&a| norm(sub(a, centre)) <= 1e-9)
+            .map(|a| sweep_of(l, a))
         })
         .collect()
 }

@@ -3,7 +3,7 @@
 
 use std::fmt;
 
-use tc_module::spooler::DEFAULT_SPOOL_CAPACITY;
+use tc_module::DEFAULT_SPOOL_CAPACITY;
 use tc_module::{ArcDir, AxisPos, AxisWords, CycleTime, AXES};
 use tc_request::text::{write_axis_words, write_letters};
 use tc_request::Request;

@@ -6,7 +6,7 @@
 
 use std::io::{BufRead, Read};
 
-use tc_module::spooler::check_capacity;
+use tc_module::check_capacity;
 use tc_module::{CycleTime, AXES};
 use tc_request::text::{parse_f64, parse_request, parse_words, Allow, TextResult};
 

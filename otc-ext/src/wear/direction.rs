@@ -14,18 +14,9 @@ pub const DEGENERATE_NORMAL: f64 = 1e-9;
 /// (the departure ends at 0), and 0 with no element before (a direct
 /// command).
 fn end_weight(e: Option<&SpoolElement>) -> f64 {
-    match e.map(|e| e.origin) {
+    match e.map(SpoolElement::origin) {
         Some(Origin::Corrected | Origin::Transition | Origin::Approach) => 1.0,
         _ => 0.0,
-    }
-}
-
-/// The fraction of element `e` run after distance `done`.
-fn fraction(e: &SpoolElement, done: f64) -> f64 {
-    if e.length > 0.0 {
-        (done / e.length).clamp(0.0, 1.0)
-    } else {
-        1.0
     }
 }
 
@@ -36,8 +27,8 @@ fn fraction(e: &SpoolElement, done: f64) -> f64 {
 pub fn radius_weight(c: &Cycle<'_>) -> f64 {
     let Some(e) = c.current else { return 0.0 };
     let start = end_weight(c.previous);
-    let f = fraction(e, c.done);
-    match e.origin {
+    let f = e.fraction(c.done);
+    match e.origin() {
         Origin::Corrected | Origin::Transition => 1.0,
         Origin::Approach => start + (1.0 - start) * f,
         Origin::Departure => start * (1.0 - f),
@@ -124,12 +115,17 @@ mod tests {
         p
     }
 
+    /// Where the test elements start.
+    const ZERO: AxisPos = [0.0; AXES];
+
     fn line(origin: Origin, to: AxisPos) -> SpoolElement {
-        SpoolElement::line([0.0; AXES], to, 1000.0, false, origin)
+        SpoolElement::line(&ZERO, &to, XY, 1000.0, false, origin)
     }
 
+    /// A cycle `done` along `current` (from [`ZERO`] to `end`).
     fn cycle<'a>(
         current: Option<&'a SpoolElement>,
+        end: &'a AxisPos,
         previous: Option<&'a SpoolElement>,
         done: f64,
         nominal: &'a AxisPos,
@@ -137,6 +133,8 @@ mod tests {
         Cycle {
             parts: &[],
             current,
+            start: &ZERO,
+            end,
             done,
             previous,
             nominal,
@@ -145,12 +143,12 @@ mod tests {
 
     #[test]
     fn weight_rises_along_the_approach_and_falls_along_the_departure() {
-        let p = [0.0; AXES];
-        let approach = line(Origin::Approach, pos(10.0, 0.0, 0.0));
-        let corrected = line(Origin::Corrected, pos(10.0, 0.0, 0.0));
-        let departure = line(Origin::Departure, pos(10.0, 0.0, 0.0));
-        let plain = line(Origin::Uncorrected, pos(10.0, 0.0, 0.0));
-        let w = |c, prev, d| radius_weight(&cycle(Some(c), prev, d, &p));
+        let (p, ten) = ([0.0; AXES], pos(10.0, 0.0, 0.0));
+        let approach = line(Origin::Approach, ten);
+        let corrected = line(Origin::Corrected, ten);
+        let departure = line(Origin::Departure, ten);
+        let plain = line(Origin::Uncorrected, ten);
+        let w = |c, prev, d| radius_weight(&cycle(Some(c), &ten, prev, d, &p));
         assert_eq!(w(&approach, None, 2.5), 0.25);
         assert_eq!(w(&approach, Some(&plain), 10.0), 1.0);
         assert_eq!(w(&approach, Some(&corrected), 2.5), 1.0);
@@ -159,7 +157,7 @@ mod tests {
         assert_eq!(w(&departure, Some(&plain), 2.5), 0.0);
         assert_eq!(w(&departure, None, 10.0), 0.0);
         assert_eq!(w(&plain, Some(&corrected), 2.5), 0.0);
-        assert_eq!(radius_weight(&cycle(None, None, 0.0, &p)), 0.0);
+        assert_eq!(radius_weight(&cycle(None, &p, None, 0.0, &p)), 0.0);
     }
 
     #[test]
@@ -191,15 +189,17 @@ mod tests {
         let p = [0.0; AXES];
         let t = tool_dir(0.0, [0, 1, 2]);
         // Down a 45° slope in X-Z: v = (1, 0, -1)/√2, n = (1, 0, 1)/√2.
-        let slope = line(Origin::Uncorrected, pos(1.0, 0.0, -1.0));
-        let n = surface_normal(&cycle(Some(&slope), None, 0.5, &p), &t, &XYZ);
+        let down = pos(1.0, 0.0, -1.0);
+        let slope = line(Origin::Uncorrected, down);
+        let n = surface_normal(&cycle(Some(&slope), &down, None, 0.5, &p), &t, &XYZ);
         let h = std::f64::consts::FRAC_1_SQRT_2;
         let n = n.map(|n| [n[0], n[1], n[2]]);
         assert!(n.is_some_and(|n| (n[0] - h).abs() < 1e-15 && (n[2] - h).abs() < 1e-15));
         // Along Z, t is the tangent: no normal.
-        let plunge = line(Origin::Uncorrected, pos(0.0, 0.0, -1.0));
+        let bottom = pos(0.0, 0.0, -1.0);
+        let plunge = line(Origin::Uncorrected, bottom);
         assert_eq!(
-            surface_normal(&cycle(Some(&plunge), None, 0.5, &p), &t, &XYZ),
+            surface_normal(&cycle(Some(&plunge), &bottom, None, 0.5, &p), &t, &XYZ),
             None
         );
         // A pure B move has no X/Y/Z tangent; nothing moved: none either.
@@ -207,9 +207,12 @@ mod tests {
         b[4] = 10.0;
         let turn = line(Origin::Uncorrected, b);
         assert_eq!(
-            surface_normal(&cycle(Some(&turn), None, 1.0, &p), &t, &XYZ),
+            surface_normal(&cycle(Some(&turn), &b, None, 1.0, &p), &t, &XYZ),
             None
         );
-        assert_eq!(surface_normal(&cycle(None, None, 0.0, &p), &t, &XYZ), None);
+        assert_eq!(
+            surface_normal(&cycle(None, &p, None, 0.0, &p), &t, &XYZ),
+            None
+        );
     }
 }

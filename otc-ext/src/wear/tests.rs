@@ -1,7 +1,7 @@
 //! The wear model against hand-computed values, without the executor.
 
 use tc_module::{
-    AxisPos, ContourNormal, Cycle, NormalRule, Origin, PathPart, PlaneAxes, SpoolElement, AXES,
+    AxisPos, ContourNormal, Cycle, NormalRule, Origin, PathPart, PlaneAxes, SpoolElement, AXES, V2,
 };
 
 use super::*;
@@ -40,25 +40,34 @@ fn pos(x: f64, y: f64, z: f64) -> AxisPos {
     p
 }
 
+/// Where [`corrected_line`] starts and ends.
+const LINE_START: AxisPos = [0.0, 3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+const LINE_END: AxisPos = [1000.0, 3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+
 /// A corrected line along X at Y = 3, the tool on its left: n = +Y.
 fn corrected_line() -> SpoolElement {
-    SpoolElement::line(
-        pos(0.0, 3.0, 0.0),
-        pos(1000.0, 3.0, 0.0),
-        600.0,
-        false,
-        Origin::Corrected,
+    SpoolElement::line(&LINE_START, &LINE_END, XY, 600.0, false, Origin::Corrected).with_normal(
+        Some(ContourNormal {
+            plane: XY,
+            rule: NormalRule::Fixed(V2::new(0.0, 1.0)),
+        }),
     )
-    .with_normal(Some(ContourNormal {
-        plane: XY,
-        rule: NormalRule::Fixed([0.0, 1.0]),
-    }))
 }
 
-fn on<'a>(e: &'a SpoolElement, parts: &'a [PathPart], done: f64, at: &'a AxisPos) -> Cycle<'a> {
+/// A cycle on `e` (which runs from `ends.0` to `ends.1`), `done` along it
+/// at `at`.
+fn on<'a>(
+    e: &'a SpoolElement,
+    ends: (&'a AxisPos, &'a AxisPos),
+    parts: &'a [PathPart],
+    done: f64,
+    at: &'a AxisPos,
+) -> Cycle<'a> {
     Cycle {
         parts,
         current: Some(e),
+        start: ends.0,
+        end: ends.1,
         done,
         previous: None,
         nominal: at,
@@ -110,7 +119,12 @@ fn radius_cont_moves_the_tool_toward_the_contour_by_the_wear() {
     let mut state = WearState::default();
     let mut units = TakenMut::default();
     let set = settings(ProcType::Radius, OtcMode::Cont);
-    let off = run_cycle(&mut state, &mut units, &set, &on(&e, &parts, 10.0, &at));
+    let off = run_cycle(
+        &mut state,
+        &mut units,
+        &set,
+        &on(&e, (&LINE_START, &LINE_END), &parts, 10.0, &at),
+    );
     // w = 0.01 × 10 = 0.1 against n = +Y.
     assert!((off[1] + 0.1).abs() < 1e-15 && off[0] == 0.0, "{off:?}");
     assert!((state.w_cont - 0.1).abs() < 1e-15);
@@ -134,7 +148,12 @@ fn disc_ramps_the_channel_unit_one_micrometre_per_cycle() {
             channel: Some(&mut channel),
             axis: None,
         };
-        off = run_cycle(&mut state, &mut units, &set, &on(&e, &parts, 10.0, &at));
+        off = run_cycle(
+            &mut state,
+            &mut units,
+            &set,
+            &on(&e, (&LINE_START, &LINE_END), &parts, 10.0, &at),
+        );
     }
     // DISC: no continuous wear; 3 cycles × 1 µm = 0.003 mm.
     assert_eq!(state.w_cont, 0.0);
@@ -149,6 +168,8 @@ fn tool_dir_ramps_two_units_separately_and_adds_them() {
     let idle = Cycle {
         parts: &[],
         current: None,
+        start: &b,
+        end: &b,
         done: 0.0,
         previous: None,
         nominal: &b,
@@ -187,6 +208,8 @@ fn surface_normal_starts_as_the_tool_direction_and_keeps_the_last() {
     let idle = Cycle {
         parts: &[],
         current: None,
+        start: &at,
+        end: &at,
         done: 0.0,
         previous: None,
         nominal: &at,
@@ -195,15 +218,27 @@ fn surface_normal_starts_as_the_tool_direction_and_keeps_the_last() {
     // Before any motion n = t = +Z (B = 0).
     assert_eq!(state.last_dir, Some(pos(0.0, 0.0, 1.0)));
     // Down a 45° slope: n = (1, 0, 1)/√2.
-    let slope = SpoolElement::line(at, pos(1.0, 0.0, -1.0), 600.0, false, Origin::Uncorrected);
+    let down = pos(1.0, 0.0, -1.0);
+    let slope = SpoolElement::line(&at, &down, XY, 600.0, false, Origin::Uncorrected);
     let parts = [part(Origin::Uncorrected, false, 0.5)];
-    let off = run_cycle(&mut state, &mut units, &set, &on(&slope, &parts, 0.5, &at));
+    let off = run_cycle(
+        &mut state,
+        &mut units,
+        &set,
+        &on(&slope, (&at, &down), &parts, 0.5, &at),
+    );
     let h = std::f64::consts::FRAC_1_SQRT_2;
     let w = 0.01 * 0.5;
     assert!((off[0] + w * h).abs() < 1e-15 && (off[2] + w * h).abs() < 1e-15);
     // A plunge along Z is degenerate: the slope's normal is kept.
-    let plunge = SpoolElement::line(at, pos(0.0, 0.0, -1.0), 600.0, false, Origin::Uncorrected);
-    run_cycle(&mut state, &mut units, &set, &on(&plunge, &parts, 0.5, &at));
+    let bottom = pos(0.0, 0.0, -1.0);
+    let plunge = SpoolElement::line(&at, &bottom, XY, 600.0, false, Origin::Uncorrected);
+    run_cycle(
+        &mut state,
+        &mut units,
+        &set,
+        &on(&plunge, (&at, &bottom), &parts, 0.5, &at),
+    );
     let n = state.last_dir.unwrap_or_default();
     assert!((n[0] - h).abs() < 1e-15 && (n[2] - h).abs() < 1e-15);
 }
@@ -213,14 +248,15 @@ fn length_with_a_tilted_disc_splits_the_wear_over_x_and_z() {
     let at = [0.0; AXES];
     let mut set = settings(ProcType::Length, OtcMode::Cont);
     set.tilt = TiltAngle(300_000.0); // 30°
-    let e = SpoolElement::line(at, pos(100.0, 0.0, 0.0), 600.0, false, Origin::Uncorrected);
+    let far = pos(100.0, 0.0, 0.0);
+    let e = SpoolElement::line(&at, &far, XY, 600.0, false, Origin::Uncorrected);
     let parts = [part(Origin::Uncorrected, false, 100.0)];
     let mut state = WearState::default();
     let off = run_cycle(
         &mut state,
         &mut TakenMut::default(),
         &set,
-        &on(&e, &parts, 100.0, &at),
+        &on(&e, (&at, &far), &parts, 100.0, &at),
     );
     // w = 0.01 × 100 = 1: −(sin 30°, 0, cos 30°).
     assert!((off[0] + 0.5).abs() < 1e-15 && (off[2] + 0.75f64.sqrt()).abs() < 1e-15);

@@ -54,6 +54,11 @@ pub trait Storage {
     fn remove_temporaries(&mut self) -> io::Result<Vec<String>>;
 }
 
+/// The tool file name of a group: `group01.wz` .. `group32.wz`.
+pub fn group_file_name(group: u8) -> String {
+    format!("group{group:02}.wz")
+}
+
 /// The temporary file [`Storage::write_file_atomic`] writes `name` into
 /// before renaming it.
 pub fn temporary_name(name: &str) -> String {

@@ -4,7 +4,10 @@
 //! runs short of room: so on a small volume it cannot eat the room that
 //! compaction needs to write the tool files.
 
-use super::{io_error, StoreError, ToolStore};
+use super::bound::CompactionBound;
+use super::error::{io_error, StoreError};
+use super::state::ToolStore;
+use crate::storage::group_file_name;
 use crate::file::write_group_file;
 use crate::storage::{Storage, JOURNAL_FILE};
 use crate::table::GroupTable;
@@ -20,39 +23,6 @@ const LINE_BYTES: u64 = 64;
 
 /// The header of a tool file, at most.
 const HEADER_BYTES: u64 = 320;
-
-/// When the journal is compacted: at `bytes` or `records`
-/// ([`ToolStore::needs_compaction`]), or once it holds `least` bytes while
-/// the disk has less free than compaction needs plus `low_space`
-/// ([`ToolStore::short_of_room`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct CompactionBound {
-    /// Journal size in bytes, at most.
-    pub bytes: u64,
-    /// Journal records, at most.
-    pub records: u64,
-    /// Free bytes on the disk, beyond what compaction needs, below which
-    /// the journal is compacted early.
-    pub low_space: u64,
-    /// The least journal, in bytes, compacted early for room: a smaller
-    /// one would free too little to be worth rewriting the tool files.
-    pub least: u64,
-}
-
-impl Default for CompactionBound {
-    /// 4 MiB or 100,000 records; early once the journal holds 16 KiB and
-    /// the disk has less than 64 KiB free beyond what compaction needs. On
-    /// the 256 KB volume of issue 20 (512 values in 16 groups) the journal
-    /// is compacted at about 127 KB instead of filling the volume.
-    fn default() -> Self {
-        Self {
-            bytes: 4 << 20,
-            records: 100_000,
-            low_space: 64 << 10,
-            least: 16 << 10,
-        }
-    }
-}
 
 impl<S: Storage> ToolStore<S> {
     /// Uses `bound` for [`needs_compaction`](Self::needs_compaction) and
@@ -167,7 +137,7 @@ impl<S: Storage> ToolStore<S> {
             .sum();
         let needs = new_files + plan.iter().map(|(_, t)| len(t)).max().unwrap_or(0);
         for (group, text) in plan {
-            let file = super::group_file_name(group);
+            let file = group_file_name(group);
             self.storage
                 .write_file_atomic(&file, text.as_bytes())
                 .map_err(|source| StoreError::Compaction {

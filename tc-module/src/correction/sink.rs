@@ -1,186 +1,238 @@
-//! The sink of the correction: admits what a profile spools as a whole or
-//! not at all, and writes the spooled elements (end points with the tool
-//! length, contour normals) into the spooler.
+//! The sink of the correction: builds the end points of what a profile
+//! spools (the plane point, the other axes from the programmed point with
+//! the tool length on the third axis, or from where the tool stands),
+//! writes the elements with their contour normals into the spooler, and
+//! admits them as a whole or not at all.
+//!
+//! Every point the sink builds is checked against the coordinate limit as
+//! it is built: only the plane coordinates and the third axis (tool
+//! length added) can leave it, the other axes are copied from programmed
+//! or spooled points, which were checked when they came in. An element
+//! that moves no axis outside the plane is built from plane points alone.
 
 use uoi::AccessError;
 
-use crate::element::{ContourNormal, NormalRule, Origin, Path, SpoolElement};
+use crate::element::{ArcGeometry, ContourNormal, NormalRule, Origin, SpoolElement};
 use crate::geometry::V2;
-use crate::limits::check_point;
+use crate::limits::within_limit;
 use crate::plane::{AxisPos, PlaneAxes};
 use crate::spooler::{Mark, Spooler};
 
-/// Where elements go: the spooler, with the current tool position and the
-/// group's plane and tool length.
+/// Where the axes outside the plane of an end point come from.
+#[derive(Debug, Clone, Copy)]
+pub(super) enum Axes<'p> {
+    /// They stay where the tool is (a transition).
+    Stay,
+    /// The programmed point's, with the tool length on the third axis.
+    Programmed(&'p AxisPos),
+}
+
+/// How an element moves: feed, rapid, origin tag and contour normal.
+#[derive(Debug, Clone, Copy)]
+struct Motion {
+    feed: f64,
+    rapid: bool,
+    origin: Origin,
+    normal: Option<ContourNormal>,
+}
+
+/// Where elements go: the spooler, with the group's plane and tool length.
+/// The tool stands where the next element starts (the spooler's tail).
 #[derive(Debug)]
 pub struct Sink<'a> {
-    /// The spooler.
-    pub spooler: &'a mut Spooler,
-    /// The current tool position (end of the last spooled element).
-    pub q: AxisPos,
-    /// The group's plane axes.
-    pub plane: PlaneAxes,
+    spooler: &'a mut Spooler,
+    plane: PlaneAxes,
     /// Tool length added on the third main axis of every end point.
-    pub len: f64,
-    /// Where the spooler stood when the profile came in.
-    pub(super) mark: Mark,
-}
-
-pub(super) fn rule_of(n: V2) -> NormalRule {
-    NormalRule::Fixed([n.x, n.y])
-}
-
-/// `base` with the plane point `p` on the plane axes (`v` written last,
-/// as [`PlaneAxes::set_point`] does) and `third_add` added on the third
-/// axis when it is not a plane axis. Axis by axis, so the position is
-/// built in registers (no single-axis store read back as a whole).
-fn with_plane_point(plane: PlaneAxes, base: &AxisPos, p: V2, third_add: Option<f64>) -> AxisPos {
-    let (h, v, third) = (plane.h as usize, plane.v as usize, plane.third as usize);
-    std::array::from_fn(|i| match third_add {
-        _ if i == v => p.y,
-        _ if i == h => p.x,
-        Some(add) if i == third => base[i] + add,
-        _ => base[i],
-    })
+    len: f64,
+    /// The third axis, where it is not one of the plane's (else the length
+    /// goes nowhere).
+    third: Option<usize>,
+    /// Where spooler and tool stood when the profile came in.
+    mark: Mark,
+    /// Whether every point built since the profile came in is within the
+    /// coordinate limit.
+    in_range: bool,
 }
 
 impl<'a> Sink<'a> {
-    /// Elements go to `spooler`; the tool stands at `q`; `plane` and tool
-    /// length `len` are the group's.
+    /// Elements go to `spooler`; the tool stands at `q` (the end of the
+    /// last element waiting there, or where the executor stands); `plane`
+    /// and tool length `len` are the group's.
     pub fn new(spooler: &'a mut Spooler, q: AxisPos, plane: PlaneAxes, len: f64) -> Self {
+        spooler.start_at(&q);
         let mark = spooler.mark();
+        let outside = plane.third != plane.h && plane.third != plane.v;
         Self {
             spooler,
-            q,
             plane,
             len,
+            third: outside.then_some(usize::from(plane.third)),
             mark,
+            in_range: true,
         }
+    }
+
+    /// The spooler the elements go to.
+    pub fn spooler(&mut self) -> &mut Spooler {
+        self.spooler
     }
 
     /// A profile comes in: what it spools is admitted or taken back as a
     /// whole.
     pub(super) fn begin(&mut self) {
         self.mark = self.spooler.mark();
+        self.in_range = true;
     }
 
     /// Admits what was spooled since the profile came in, with `reserve`
-    /// places kept for what the buffer then holds; otherwise takes it back
-    /// and answers why (`Range` for a point beyond the limit, `Full`).
+    /// places kept for what the buffer then holds: every point built
+    /// within the limit (else `Range`) and room left (else `Full`).
+    /// Otherwise the one rollback: spooler and tool position as they were.
     pub(super) fn admit(&mut self, reserve: usize) -> Result<(), AccessError> {
-        let r = self.check(reserve);
-        if r.is_err() {
+        let verdict = if !self.in_range {
+            Err(AccessError::Range)
+        } else if !self.spooler.has_room(reserve) {
+            Err(AccessError::Full)
+        } else {
+            Ok(())
+        };
+        if verdict.is_err() {
             self.spooler.rollback(self.mark);
         }
-        r
+        verdict
     }
 
-    /// Whether what was spooled since the profile came in may stay, with
-    /// `reserve` places kept: every point within the limit (`Range`) and
-    /// room left (`Full`).
-    pub(super) fn check(&self, reserve: usize) -> Result<(), AccessError> {
-        for e in self.spooler.since(self.mark) {
-            check_point(&e.end)?;
-            if let Path::Arc(a) = &e.path {
-                check_point(&a.centre)?;
+    /// The spooler's capacity.
+    pub(super) fn capacity(&self) -> usize {
+        self.spooler.capacity()
+    }
+
+    fn check_plane_point(&mut self, p: V2) {
+        self.in_range &= within_limit(p.x) & within_limit(p.y);
+    }
+
+    /// Checks the end point at plane point `p` with the other axes from
+    /// `prog` (see [`Axes::Programmed`]) without building it: the plane
+    /// point and the third axis.
+    #[inline]
+    pub(super) fn check_end(&mut self, p: V2, prog: &AxisPos) {
+        if let Some(t) = self.third {
+            self.in_range &= within_limit(prog[t] + self.len);
+        }
+        self.check_plane_point(p);
+    }
+
+    /// Where the tool stands, in the plane.
+    #[inline]
+    pub(super) fn here(&self) -> V2 {
+        self.plane.point(self.spooler.tail())
+    }
+
+    /// The end point at plane point `p` with the other axes from `prog`
+    /// (tool length on the third), when it moves an axis outside the
+    /// plane from where the tool stands; `None` when it moves none.
+    #[inline]
+    fn moved_end(&mut self, p: V2, axes: Axes) -> Option<AxisPos> {
+        let Axes::Programmed(prog) = axes else {
+            return None;
+        };
+        let q = self.spooler.tail();
+        let mut end = *prog;
+        if let Some(t) = self.third {
+            end[t] += self.len;
+        }
+        // Compared to the bit with the plane coordinates left as they are.
+        self.plane.set_point(&mut end, self.plane.point(q));
+        let differ = (0..end.len()).fold(0, |acc, i| acc | (end[i].to_bits() ^ q[i].to_bits()));
+        if differ == 0 {
+            return None;
+        }
+        if let Some(t) = self.third {
+            self.in_range &= within_limit(end[t]);
+        }
+        self.plane.set_point(&mut end, p);
+        Some(end)
+    }
+
+    /// Spools a line or (with `arc`: centre and direction) an arc to plane
+    /// point `p`, the other axes from `axes`.
+    #[inline]
+    fn spool(&mut self, p: V2, axes: Axes, arc: Option<(V2, bool)>, m: Motion) {
+        self.check_plane_point(p);
+        let plane = self.plane;
+        if let Some(end) = self.moved_end(p, axes) {
+            let start = *self.spooler.tail();
+            let (feed, origin) = (m.feed, m.origin);
+            let e = match arc {
+                None => SpoolElement::line(&start, &end, plane, feed, m.rapid, origin),
+                Some((c, ccw)) => SpoolElement::arc(&start, &end, plane, c, ccw, feed, origin),
+            };
+            self.spooler.push(&start, &end, e.with_normal(m.normal));
+            return;
+        }
+        // Only the plane axes move: the lengths over every axis add exact
+        // zeros for the others, so they are taken in the plane.
+        let from = plane.point(self.spooler.tail());
+        let (arc, length) = match arc {
+            None => {
+                let d = p - from;
+                (None, (d.x * d.x + d.y * d.y).sqrt())
             }
-        }
-        if self.spooler.len() + reserve > self.spooler.capacity() {
-            return Err(AccessError::Full);
-        }
-        Ok(())
+            Some((c, ccw)) => {
+                let (a, plane_len) = ArcGeometry::of(from, p, c, ccw);
+                (Some(a), (plane_len * plane_len).sqrt())
+            }
+        };
+        let e = SpoolElement::in_plane(plane, p, length, arc).moving(m.feed, m.rapid, m.origin);
+        self.spooler.push_in_plane(e.with_normal(m.normal));
     }
 
-    /// End point: plane point `p`, other axes from `prog` with the tool
-    /// length on the third axis.
-    pub(super) fn end_point(&self, p: V2, prog: &AxisPos) -> AxisPos {
-        with_plane_point(self.plane, prog, p, Some(self.len))
-    }
-
-    /// End point that moves only the plane axes from the tool position
-    /// (transitions: the other axes stay where the corner left them).
-    pub(super) fn in_plane(&self, p: V2) -> AxisPos {
-        with_plane_point(self.plane, &self.q, p, None)
-    }
-
+    /// The contour normal of `rule` in the group's plane.
     fn normal(&self, rule: Option<NormalRule>) -> Option<ContourNormal> {
-        rule.map(|rule| ContourNormal {
-            plane: self.plane,
-            rule,
-        })
+        let plane = self.plane;
+        rule.map(|rule| ContourNormal { plane, rule })
     }
 
+    /// Spools a line to plane point `p`, the other axes from `axes`.
+    #[inline]
     pub(super) fn line(
         &mut self,
-        end: AxisPos,
-        feed: f64,
-        rapid: bool,
+        p: V2,
+        axes: Axes,
+        (feed, rapid): (f64, bool),
         origin: Origin,
-        n: Option<NormalRule>,
+        rule: Option<NormalRule>,
     ) {
-        let e = SpoolElement::line(self.q, end, feed, rapid, origin).with_normal(self.normal(n));
-        self.spooler.push(e);
-        self.q = end;
+        let normal = self.normal(rule);
+        let m = Motion {
+            feed,
+            rapid,
+            origin,
+            normal,
+        };
+        self.spool(p, axes, None, m);
     }
 
+    /// Spools an arc about `centre` (checked against the limit) to plane
+    /// point `p`, the other axes from `axes`.
+    #[inline]
     pub(super) fn arc(
         &mut self,
-        end: AxisPos,
-        centre: V2,
-        ccw: bool,
+        p: V2,
+        axes: Axes,
+        (centre, ccw): (V2, bool),
         feed: f64,
         origin: Origin,
-        n: NormalRule,
+        rule: NormalRule,
     ) {
-        let c = [centre.x, centre.y];
-        let e = SpoolElement::arc(self.q, end, self.plane, c, ccw, feed, origin)
-            .with_normal(self.normal(Some(n)));
-        self.spooler.push(e);
-        self.q = end;
-    }
-
-    pub(super) fn here(&self) -> V2 {
-        let p = self.plane.point(&self.q);
-        V2::new(p[0], p[1])
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::plane::AXES;
-
-    /// The old way: copy, write h then v, add on a distinct third axis.
-    fn by_set_point(plane: PlaneAxes, base: &AxisPos, p: V2, add: Option<f64>) -> AxisPos {
-        let mut e = *base;
-        plane.set_point(&mut e, [p.x, p.y]);
-        let third = plane.third as usize;
-        if let Some(add) = add {
-            if third != plane.h as usize && third != plane.v as usize {
-                e[third] += add;
-            }
-        }
-        e
-    }
-
-    #[test]
-    fn plane_point_written_as_set_point_does() {
-        let base: AxisPos = std::array::from_fn(|i| i as f64 - 2.0);
-        let p = V2::new(10.5, -20.25);
-        for (h, v, third) in [
-            (0, 1, 2),
-            (2, 0, 1),
-            (1, 2, 0),
-            (3, 3, 4),
-            (5, 6, 5),
-            (7, 0, 7),
-        ] {
-            let plane = PlaneAxes { h, v, third };
-            for add in [None, Some(0.0), Some(4.0)] {
-                let want = by_set_point(plane, &base, p, add);
-                assert_eq!(with_plane_point(plane, &base, p, add), want, "{plane:?}");
-            }
-        }
-        assert_eq!(base.len(), AXES);
+        self.check_plane_point(centre);
+        let normal = self.normal(Some(rule));
+        let m = Motion {
+            feed,
+            rapid: false,
+            origin,
+            normal,
+        };
+        self.spool(p, axes, Some((centre, ccw)), m);
     }
 }

@@ -7,36 +7,8 @@
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-use super::offset::{cross, V2};
-use super::tolerance::{NEARLY_CLOSED, ON_ARC, SIGN_BAND};
-
-/// An angle tolerance (radians, in [0, π/2)) with its tangent.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AngleTol {
-    rad: f64,
-    tan: f64,
-}
-
-impl AngleTol {
-    /// The tolerance `rad` with `tan = tan(rad)` (written out, as `tan` is
-    /// not a const fn; `tolerance.rs` tests that they belong together).
-    /// Refused at compile time outside [0, π/2), where the sign tests do
-    /// not hold.
-    pub const fn new(rad: f64, tan: f64) -> Self {
-        assert!(rad >= 0.0 && rad < FRAC_PI_2 && tan >= 0.0);
-        Self { rad, tan }
-    }
-
-    /// The tolerance in radians.
-    pub const fn rad(self) -> f64 {
-        self.rad
-    }
-
-    /// Its tangent.
-    pub const fn tan(self) -> f64 {
-        self.tan
-    }
-}
+use super::tolerance::{AngleTol, NEARLY_CLOSED, ON_ARC, SIGN_BAND};
+use super::vector::{cross, V2};
 
 /// Turn angle θ in [0, π] between two vectors: the reference the sign
 /// tests fall back to.
@@ -47,20 +19,20 @@ pub fn turn_angle(ta: V2, tb: V2) -> f64 {
 /// Whether `atan2(y, x)` (y ≥ 0) is at most `tol`: the sign of
 /// `y - tan·x`; `None` within the band around the boundary (and for NaN).
 fn at_most(y: f64, x: f64, tol: AngleTol) -> Option<bool> {
-    let margin = y - tol.tan * x;
+    let margin = y - tol.tan() * x;
     (margin.abs() > SIGN_BAND * (x.abs() + y)).then_some(margin < 0.0)
 }
 
 /// θ between `a` and `b` is at most `tol`.
 pub fn turn_at_most(a: V2, b: V2, tol: AngleTol) -> bool {
     let (y, x) = (cross(a, b).abs(), a.dot(&b));
-    at_most(y, x, tol).unwrap_or_else(|| turn_angle(a, b) <= tol.rad)
+    at_most(y, x, tol).unwrap_or_else(|| turn_angle(a, b) <= tol.rad())
 }
 
 /// θ between `a` and `b` is at least `π - tol` (a near-reversal).
 pub fn turn_at_least_reversal(a: V2, b: V2, tol: AngleTol) -> bool {
     let (y, x) = (cross(a, b).abs(), a.dot(&b));
-    at_most(y, -x, tol).unwrap_or_else(|| turn_angle(a, b) >= PI - tol.rad)
+    at_most(y, -x, tol).unwrap_or_else(|| turn_angle(a, b) >= PI - tol.rad())
 }
 
 /// θ between `a` and `b` is at most 90°: `a · b ≥ 0`.
@@ -164,12 +136,12 @@ mod tests {
     fn turn_tests_agree_with_the_angle_at_the_boundaries() {
         for tol in [TANGENT, FULL_CIRCLE] {
             for base in [0.0, 1.0, -2.5, 3.0] {
-                for theta in around(tol.rad).into_iter().chain(around(PI - tol.rad)) {
+                for theta in around(tol.rad()).into_iter().chain(around(PI - tol.rad())) {
                     for sign in [1.0, -1.0] {
                         let (a, b) = (at(base), at(base + sign * theta));
                         let angle = turn_angle(a, b);
-                        assert_eq!(turn_at_most(a, b, tol), angle <= tol.rad, "{theta}");
-                        let rev = angle >= PI - tol.rad;
+                        assert_eq!(turn_at_most(a, b, tol), angle <= tol.rad(), "{theta}");
+                        let rev = angle >= PI - tol.rad();
                         assert_eq!(turn_at_least_reversal(a, b, tol), rev, "{theta}");
                     }
                 }

@@ -1,8 +1,10 @@
-//! Corner classification (trc-geometry.md "Corner", cases 1-4).
+//! Corner classification (docs/trc.md "How a corner is decided", cases
+//! 1-4).
 
 use super::angle::{turn_at_least_reversal, turn_at_most};
-use super::offset::{cross, OffsetPath, V2};
+use super::offset::OffsetPath;
 use super::tolerance::TANGENT;
+use super::vector::{cross, V2};
 
 /// What a corner needs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,11 +1,12 @@
-//! Programmed full circles (trc-geometry.md "Inside corner": a programmed
-//! full circle keeps its whole turn). Which corrected full circles keep
+//! Programmed full circles (decisions 48, 76 and 77: a programmed full
+//! circle keeps its whole turn). Which corrected full circles keep
 //! their whole turn, and where such a turn ends so that the element
 //! spooled from its start to its end is read as a whole turn, never as a
 //! sliver.
 
-use super::offset::{cross, Offset, OffsetPath, V2};
+use super::offset::{Offset, OffsetPath};
 use super::tolerance::FULL_CIRCLE;
+use super::vector::{cross, V2};
 
 /// The angle (radians, in (-π, π]) from the offset start of the arc
 /// `off` to the point `x`, about its centre and positive in its

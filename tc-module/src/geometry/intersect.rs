@@ -1,8 +1,8 @@
 //! Intersections of the carriers of offset elements: lines and circles.
 //! Typed results, one function per pair of primitives.
 
-use super::offset::{cross, left_normal, V2};
 use super::tolerance::{ON_PART, PARALLEL};
+use super::vector::{cross, left_normal, V2};
 
 /// Points where two carriers meet.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -16,6 +16,7 @@ pub enum Intersections {
     Two(V2, V2),
 }
 
+#[cfg(test)]
 impl Intersections {
     /// The points, in order.
     pub fn points(self) -> impl Iterator<Item = V2> {

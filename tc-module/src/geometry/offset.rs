@@ -1,21 +1,9 @@
-//! Offsets of lines and arcs (trc-geometry.md "Offset geometry").
-
-use nalgebra::Vector2;
+//! Offsets of lines and arcs: a line moved by `d` along its left normal,
+//! an arc's radius changed by `σ d` (docs/trc.md; decisions 15 and 22 for
+//! the elements that cannot be offset).
 
 use super::tolerance::{CENTER_TOL, MIN_RADIUS, PLANE_NULL};
-
-/// A plane point or vector `(h, v)`.
-pub type V2 = Vector2<f64>;
-
-/// Left normal of a unit tangent: `nL(t) = (-tv, th)`.
-pub fn left_normal(t: V2) -> V2 {
-    V2::new(-t.y, t.x)
-}
-
-/// 2-D cross product `a × b`.
-pub fn cross(a: V2, b: V2) -> f64 {
-    a.x * b.y - a.y * b.x
-}
+use super::vector::{left_normal, V2};
 
 /// A programmed plane contour element.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -175,7 +163,8 @@ fn offset_arc(from: V2, to: V2, centre: V2, sigma: f64, d: f64) -> Result<Offset
 
 impl Offset {
     /// The unit vector from the programmed contour to the tool centre at
-    /// the offset point `p` (otc.md rule 3): the side normal of a line,
+    /// the offset point `p` (docs/otc.md "Processing types and their
+    /// directions", RADIUS' n; decision 43): the side normal of a line,
     /// radial for an arc (outward when the tool runs outside it).
     pub fn normal_at(&self, p: V2) -> V2 {
         match self.path {

@@ -1,10 +1,12 @@
-//! Inside corners (trc-geometry.md "Inside corner"): the part of each
+//! Inside corners (docs/trc.md "Inside corner of two lines", "... of a
+//! line and an arc"): the part of each
 //! offset element a cut point may lie on, and the cut point itself.
 
 use super::angle::on_arc_part;
 use super::intersect::{circle_circle, line_circle, line_line, Intersections};
-use super::offset::{OffsetPath, V2};
+use super::offset::OffsetPath;
 use super::tolerance::ON_PART;
+use super::vector::V2;
 
 /// The part of an offset element on which an inside-corner point may lie.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -1,7 +1,36 @@
 //! Every tolerance of the correction geometry, named once with the rule it
-//! comes from (trc-geometry.md unless said otherwise).
+//! comes from (docs/trc.md and the decisions named; the numerical ones say
+//! so).
 
-use super::angle::AngleTol;
+use std::f64::consts::FRAC_PI_2;
+
+/// An angle tolerance (radians, in [0, π/2)) with its tangent.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AngleTol {
+    rad: f64,
+    tan: f64,
+}
+
+impl AngleTol {
+    /// The tolerance `rad` with `tan = tan(rad)` (written out, as `tan` is
+    /// not a const fn; the tests below check that they belong together).
+    /// Refused at compile time outside [0, π/2), where the sign tests do
+    /// not hold.
+    pub const fn new(rad: f64, tan: f64) -> Self {
+        assert!(rad >= 0.0 && rad < FRAC_PI_2 && tan >= 0.0);
+        Self { rad, tan }
+    }
+
+    /// The tolerance in radians.
+    pub const fn rad(self) -> f64 {
+        self.rad
+    }
+
+    /// Its tangent.
+    pub const fn tan(self) -> f64 {
+        self.tan
+    }
+}
 
 /// "Corner", case 1: a turn of at most 0.05 rad is treated as smooth
 /// (LinuxCNC's tolerance, so programs with 4-decimal coordinates keep

@@ -1,9 +1,10 @@
-//! Transitions inserted at outside corners (trc-geometry.md "Outside
-//! corner": TransitionMode 0 circular, 1 linear).
+//! Transitions inserted at outside corners (docs/trc.md "Outside corner,
+//! circular transition" and the two linear ones: TransitionMode 0
+//! circular, 1 linear).
 
 use super::angle::turn_at_most_right_angle;
 use super::intersect::line_line;
-use super::offset::V2;
+use super::vector::V2;
 
 /// Elements inserted at an outside corner.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -1,6 +1,7 @@
 //! Motion commands: interpolation (spooled as it is, or corrected by the
 //! running group), special functions, direct commands and `rs()`
-//! (trc-geometry.md "The one-profile buffer", "Errors while running").
+//! (docs/trc.md "The one-profile buffer"; docs/objects.md "ERROR bits" for
+//! the errors while running).
 
 use uoi::AccessError;
 
@@ -11,15 +12,11 @@ use crate::correction::{Profile, Refusal, Sink};
 use crate::element::{ContourNormal, NormalRule, Origin, SpoolElement};
 use crate::extension::{Groups, TcExtension};
 use crate::geometry::tolerance::MIN_RADIUS;
-use crate::geometry::{Contour, V2};
+use crate::geometry::Contour;
 use crate::motion::{ArcDir, Motion, SSF_FLUSH};
 use crate::plane::AxisWords;
 use crate::plane::AXES;
 use crate::rotation::Rotation;
-
-fn v2(p: [f64; 2]) -> V2 {
-    V2::new(p[0], p[1])
-}
 
 impl<E: TcExtension> TcModule<E> {
     /// Executes a motion command.
@@ -170,24 +167,25 @@ impl<E: TcExtension> TcModule<E> {
     fn spool_uncorrected(&mut self, cmd: &Intake) -> Result<(), AccessError> {
         let q = self.tool_position();
         let main = self.main_plane();
+        let (end, uncorrected) = (&cmd.target, Origin::Uncorrected);
         let element = match cmd.arc {
-            None => SpoolElement::line(q, cmd.target, cmd.feed, cmd.rapid, Origin::Uncorrected),
+            None => SpoolElement::line(&q, end, main, cmd.feed, cmd.rapid, uncorrected),
             Some((dir, c)) => {
-                let s = main.point(&cmd.start);
-                if (s[0] - c[0]).hypot(s[1] - c[1]) <= MIN_RADIUS {
+                let s = main.point(&cmd.start) - c;
+                if s.x.hypot(s.y) <= MIN_RADIUS {
                     // Refused: nothing changes, not even the modal feed.
                     return Err(AccessError::Range);
                 }
                 let ccw = dir == ArcDir::Ccw;
-                SpoolElement::arc(q, cmd.target, main, c, ccw, cmd.feed, Origin::Uncorrected)
+                SpoolElement::arc(&q, end, main, c, ccw, cmd.feed, uncorrected)
             }
         };
-        if self.spooler.free() == 0 {
+        if !self.spooler.has_room(1) {
             return Err(AccessError::Full);
         }
         self.accept(cmd);
         let element = self.uncorrected(element);
-        self.spooler.push(element);
+        self.spooler.push(&q, end, element);
         Ok(())
     }
 
@@ -204,13 +202,13 @@ impl<E: TcExtension> TcModule<E> {
         if cmd.arc.is_some() && !gp.same_plane(main) {
             return Err(ErrorBits::PLANE_ERROR.into());
         }
-        let (from, to) = (v2(gp.point(&cmd.start)), v2(gp.point(&cmd.target)));
+        let (from, to) = (gp.point(&cmd.start), gp.point(&cmd.target));
         let contour = match cmd.arc {
             None => Contour::Line { from, to },
-            Some((dir, c)) => Contour::Arc {
+            Some((dir, centre)) => Contour::Arc {
                 from,
                 to,
-                centre: v2(c),
+                centre,
                 sigma: dir.sigma(),
             },
         };

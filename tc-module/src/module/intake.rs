@@ -1,22 +1,18 @@
 //! The programmed frame: how a command's words become a machine target
 //! (limits, modal feed, unnamed axes, coordinate rotation of end point and
-//! arc centre: trc-geometry.md "Coordinates", "Coordinate rotation").
+//! arc centre: docs/objects.md device 0 and "Limits of motion commands";
+//! decisions 12, 13, 14 and 78).
 
 use uoi::AccessError;
 
 use super::TcModule;
 use crate::extension::TcExtension;
-use crate::limits::{check_point, within_limit, MIN_STEP};
+use crate::geometry::V2;
+use crate::limits::{check_point, within_limit, MIN_STEP, RAPID_FEED};
 use crate::motion::ArcDir;
 use crate::plane::AxisWords;
 use crate::plane::{AxisPos, TcPlane};
 use crate::rotation::Rotation;
-
-/// Default feed in units/min (trc-geometry.md "Spooler and execution").
-pub const DEFAULT_FEED: f64 = 1000.0;
-
-/// Default rapid feed in units/min (same section).
-pub const RAPID_FEED: f64 = 10000.0;
 
 /// `Range` unless every given word is finite and within
 /// [`MAX_COORD`](crate::limits::MAX_COORD).
@@ -39,7 +35,7 @@ pub struct Intake {
     /// The new programmed position (before rotation).
     pub programmed: AxisPos,
     /// Arc direction and centre in the main plane (rotated).
-    pub arc: Option<(ArcDir, [f64; 2])>,
+    pub arc: Option<(ArcDir, V2)>,
     /// The feed it runs at (the rapid feed for a rapid).
     pub feed: f64,
     /// The modal feed after it.
@@ -69,7 +65,7 @@ impl<E: TcExtension> TcModule<E> {
         let start = self.contour_end;
         let arc = arc.map(|(dir, ijk)| (dir, self.centre(&start, ijk)));
         if let Some((_, c)) = arc {
-            check_point(&c)?;
+            check_point(c.as_slice())?;
         }
         Ok(Intake {
             start,
@@ -118,20 +114,18 @@ impl<E: TcExtension> TcModule<E> {
 
     /// The arc centre in machine coordinates from I J K (along the axes
     /// allocated as X, Y, Z), rotated with the command.
-    fn centre(&self, start: &AxisPos, ijk: [Option<f64>; 3]) -> [f64; 2] {
-        let off = ijk.map(|v| v.unwrap_or(0.0));
+    fn centre(&self, start: &AxisPos, ijk: [Option<f64>; 3]) -> V2 {
+        let [i, j, k] = ijk.map(|v| v.unwrap_or(0.0));
         let plane_off = match self.plane {
-            TcPlane::Xy => [off[0], off[1]],
-            TcPlane::Zx => [off[2], off[0]],
-            TcPlane::Yz => [off[1], off[2]],
+            TcPlane::Xy => V2::new(i, j),
+            TcPlane::Zx => V2::new(k, i),
+            TcPlane::Yz => V2::new(j, k),
         };
-        let s = self.main_plane().point(start);
         let turn = Rotation {
             angle_deg: self.rotation.angle_deg,
-            center: [0.0, 0.0],
+            center: V2::zeros(),
         };
-        let o = turn.apply(plane_off);
-        [s[0] + o[0], s[1] + o[1]]
+        self.main_plane().point(start) + turn.apply(plane_off)
     }
 
     /// After a direct command the programmed position follows the machine.

@@ -17,16 +17,13 @@ use crate::cycle::{Cycle, CycleModel};
 use crate::element::{ContourNormal, Origin, SpoolElement};
 use crate::executor::Executor;
 use crate::extension::{Group, Groups, NoExtension, TcExtension};
-use crate::limits::CycleTime;
+use crate::limits::{CycleTime, DEFAULT_FEED};
 use crate::object_map::{object_table, TcKey, GROUP_COUNT};
 use crate::plane::{AxisPos, MainAxes, PlaneAxes, TcPlane, AXES};
 use crate::rotation::Rotation;
 use crate::spooler::{Spooler, MAX_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY};
 use crate::tool_table::ToolTable;
 use uoi::ObjectDesc;
-
-pub use crate::limits::MAX_COORD;
-pub use intake::{DEFAULT_FEED, RAPID_FEED};
 
 /// Stepped cycles one slice of an `EXEC` may run while an extension's
 /// per-cycle model is active ([`TcModule::exec_slice`]): a server runs a
@@ -43,7 +40,8 @@ pub enum ExecLeft {
     Rest(Option<u64>),
 }
 
-/// Default AxisNr X/Y/Z (uoi-map.md device 0 index 2: "default 0,1,2").
+/// Default AxisNr X/Y/Z (docs/objects.md device 0 index 2: defaults 0,
+/// 1, 2).
 pub const DEFAULT_AXIS_NR: [u8; 3] = [0, 1, 2];
 
 /// The TC module with extension `E`.
@@ -255,17 +253,13 @@ impl<E: TcExtension> TcModule<E> {
     fn uncorrected(&mut self, e: SpoolElement) -> SpoolElement {
         match self.departure.take() {
             None => e,
-            Some(Departure(normal)) => SpoolElement {
-                origin: Origin::Departure,
-                ..e
-            }
-            .with_normal(normal),
+            Some(Departure(normal)) => e.with_origin(Origin::Departure).with_normal(normal),
         }
     }
 }
 
 /// A pending departure: the contour normal the last corrected element
-/// ended with (otc.md rule 4), if it had one.
+/// ended with (decisions 42 and 43), if it had one.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Departure(Option<ContourNormal>);
 

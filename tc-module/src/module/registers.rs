@@ -1,4 +1,4 @@
-//! The registers of devices 0..2 and their rules (uoi-map.md): STATUS
+//! The registers of devices 0..2 and their rules (docs/objects.md): STATUS
 //! start/stop with its InitError conditions, RESET, Clean, ReInit, and
 //! the registers that may not change while the correction runs.
 
@@ -6,8 +6,9 @@ use uoi::{AccessError, ObjectAddress, Value};
 
 use super::{TcModule, DEFAULT_AXIS_NR};
 use crate::bits::{ErrorBits, StatusBits};
+use crate::correction::TransitionMode;
 use crate::extension::{Group, GroupAccess, TcExtension};
-use crate::group::{Side, TransitionMode};
+use crate::group::Side;
 use crate::object_map::{TcObject, GROUP_COUNT};
 use crate::plane::TcPlane;
 use crate::rotation::Rotation;
@@ -67,8 +68,8 @@ impl<E: TcExtension> TcModule<E> {
             }
             TcObject::Reset => (0..GROUP_COUNT).for_each(|slot| self.reset_group(slot)),
             TcObject::RotAngle => self.rotation.angle_deg = d,
-            TcObject::RotCenterX => self.rotation.center[0] = d,
-            TcObject::RotCenterY => self.rotation.center[1] = d,
+            TcObject::RotCenterX => self.rotation.center.x = d,
+            TcObject::RotCenterY => self.rotation.center.y = d,
             group_key => self.write_group(group_key, addr, v),
         }
         Ok(())
@@ -84,8 +85,8 @@ impl<E: TcExtension> TcModule<E> {
             TcObject::AxisNr => Value::I32(i32::from(self.axis_nr[usize::from(addr.sub)])),
             TcObject::TcPlane => Value::I32(self.plane.code()),
             TcObject::RotAngle => Value::F64(self.rotation.angle_deg),
-            TcObject::RotCenterX => Value::F64(self.rotation.center[0]),
-            TcObject::RotCenterY => Value::F64(self.rotation.center[1]),
+            TcObject::RotCenterX => Value::F64(self.rotation.center.x),
+            TcObject::RotCenterY => Value::F64(self.rotation.center.y),
             group_key => return self.read_group(group_key, slot_of(addr)),
         })
     }

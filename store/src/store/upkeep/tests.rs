@@ -6,6 +6,7 @@ use crate::storage::{FaultKind, FaultyStorage, MemStorage, Op};
 use crate::table::ToolKey;
 use crate::{CompactionBound, Strictness, ToolValue};
 use std::collections::BTreeMap;
+use std::time::Duration;
 
 type Disk = FaultyStorage<MemStorage>;
 type Model = BTreeMap<(u8, u16), u64>;
