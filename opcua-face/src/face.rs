@@ -21,6 +21,7 @@ use uoi::tcp::{AccessToken, CoreHandle};
 use crate::front::FrontBuilder;
 use crate::guard::{self, Limits};
 use crate::layout::Table;
+use crate::machine::nodesets;
 use crate::manager::{ObjectNodes, NAMESPACE};
 use crate::points::Points;
 use crate::sampler::TICK;
@@ -203,7 +204,9 @@ fn endpoint_host(addr: SocketAddr) -> String {
     }
 }
 
-/// The face's node manager: its namespace, its nodes from `table`.
+/// The face's node manager: its namespace, its nodes from `table`, and
+/// with a machine to show the companion NodeSets (their namespaces after
+/// the face's own, so it keeps its index).
 fn object_nodes(
     context: ServerContext,
     space: &mut AddressSpace,
@@ -220,5 +223,21 @@ fn object_nodes(
     let order = order
         .map(|(i, id)| (NodeId::new(ns, id.as_str()), i))
         .collect();
-    ObjectNodes::new(ns, Points::new(map, table.readings, core), order)
+    let mut companions = Vec::new();
+    let machine = table.machine.filter(|_| {
+        let mut tree = context.type_tree.write();
+        match nodesets::import(space, tree.namespaces_mut()) {
+            Ok(loaded) => {
+                companions = loaded;
+                true
+            }
+            Err(e) => {
+                tracing::error!("OPC UA: the machine is not shown: {e}");
+                false
+            }
+        }
+    });
+    let points = Points::new(map, table.readings, core.clone());
+    let machine = machine.map(|m| (m, core, companions));
+    ObjectNodes::new(ns, points, order, machine)
 }

@@ -9,7 +9,7 @@
 //!   is read here without that check.
 //! * Browsing lists the nodes in the order of the table (`browse`).
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use async_trait::async_trait;
 use opcua::server::address_space::{
@@ -28,7 +28,10 @@ use opcua::types::{
     TimestampsToReturn,
 };
 
+use tokio_util::sync::DropGuard;
+
 use crate::browse::browse;
+use crate::machine::setup;
 use crate::manager::ObjectNodes;
 
 /// Builds the face's in-memory node manager, then the front around it.
@@ -41,7 +44,10 @@ impl<B: NodeManagerBuilder> NodeManagerBuilder for FrontBuilder<B> {
             .into_any_arc()
             .downcast::<InMemoryNodeManager<ObjectNodes>>()
         {
-            Ok(inner) => Arc::new(Front { inner }),
+            Ok(inner) => Arc::new(Front {
+                inner,
+                machine: Mutex::new(None),
+            }),
             // Not the face's manager: nothing to change.
             Err(_) => built,
         }
@@ -51,6 +57,8 @@ impl<B: NodeManagerBuilder> NodeManagerBuilder for FrontBuilder<B> {
 /// The front.
 struct Front {
     inner: Arc<InMemoryNodeManager<ObjectNodes>>,
+    /// Stops the machine's live updates with the face.
+    machine: Mutex<Option<DropGuard>>,
 }
 
 /// Whether the read of `node` is an attribute other than the Value of a
@@ -111,8 +119,19 @@ impl NodeManager for Front {
         self.inner.namespaces_for_user(context)
     }
 
+    /// The manager's own start, then (every type known now) the machine.
     async fn init(&self, type_tree: &mut DefaultTypeTree, context: ServerContext) {
-        self.inner.init(type_tree, context).await;
+        self.inner.init(type_tree, context.clone()).await;
+        let Some((machine, core)) = self.inner.inner().machine() else {
+            return;
+        };
+        let ns = self.inner.inner().ns();
+        match setup::start(&self.inner, type_tree, &context, ns, machine, core.clone()) {
+            Ok(guard) => {
+                *self.machine.lock().unwrap_or_else(|p| p.into_inner()) = Some(guard);
+            }
+            Err(e) => tracing::error!("OPC UA: the machine is not shown: {e}"),
+        }
     }
 
     async fn resolve_external_references(

@@ -20,7 +20,10 @@ use opcua::types::{
     AttributeId, DataValue, MonitoringMode, NumericRange, StatusCode, TimestampsToReturn,
 };
 
+use uoi::tcp::CoreHandle;
+
 use crate::browse::Order;
+use crate::machine::Machine;
 use crate::points::{bad, stamped, Points};
 use crate::sampler::{Sampler, TICK};
 
@@ -31,29 +34,48 @@ const SLOWEST: Duration = Duration::from_secs(3600);
 /// The URI of the face's namespace.
 pub const NAMESPACE: &str = "urn:addipos-tc";
 
+/// A machine to show, the handle to look at it through, and the
+/// namespaces (URI, index) of the companion NodeSets loaded for it.
+pub(crate) type MachineParts = (Machine, CoreHandle, Vec<(String, u16)>);
+
 /// The face's node manager (behind `InMemoryNodeManager`).
 pub(crate) struct ObjectNodes {
     ns: u16,
     points: Arc<Points>,
     order: Order,
     sampler: Arc<Sampler>,
+    machine: Option<(Machine, CoreHandle)>,
+    /// The companion NodeSets' namespaces (with a machine).
+    companions: Vec<(String, u16)>,
 }
 
 impl ObjectNodes {
     /// The node manager of `points` in namespace `ns`, its nodes browsed
-    /// in `order`.
-    pub fn new(ns: u16, points: Points, order: Order) -> Self {
+    /// in `order`; with the machine to show, the handle to look at it
+    /// through and the namespaces of the companion NodeSets loaded.
+    pub fn new(ns: u16, points: Points, order: Order, machine: Option<MachineParts>) -> Self {
+        let (machine, companions) = match machine {
+            Some((m, core, companions)) => (Some((m, core)), companions),
+            None => (None, Vec::new()),
+        };
         Self {
             ns,
             points: Arc::new(points),
             order,
             sampler: Arc::new(Sampler::new()),
+            machine,
+            companions,
         }
     }
 
     /// The namespace index.
     pub fn ns(&self) -> u16 {
         self.ns
+    }
+
+    /// The machine shown, and the handle to look at it through.
+    pub fn machine(&self) -> Option<&(Machine, CoreHandle)> {
+        self.machine.as_ref()
     }
 
     /// Where each node comes in a browse result.
@@ -129,12 +151,21 @@ impl InMemoryNodeManagerImpl for ObjectNodes {
     }
 
     fn namespaces(&self) -> Vec<NamespaceMetadata> {
-        vec![NamespaceMetadata {
+        let own = NamespaceMetadata {
             is_namespace_subset: Some(false),
             namespace_uri: NAMESPACE.to_owned(),
             namespace_index: self.ns,
             ..Default::default()
-        }]
+        };
+        let companions = self
+            .companions
+            .iter()
+            .map(|(uri, index)| NamespaceMetadata {
+                namespace_uri: uri.clone(),
+                namespace_index: *index,
+                ..Default::default()
+            });
+        std::iter::once(own).chain(companions).collect()
     }
 
     async fn read_values(

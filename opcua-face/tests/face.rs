@@ -195,6 +195,7 @@ fn table() -> Table {
             request: Request::Read(ObjectAddress::new(BUS, 0, 3, 0), ValueType::I32),
             pick: Arc::new(answer_value),
         }],
+        machine: None,
     }
 }
 

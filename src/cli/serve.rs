@@ -78,6 +78,8 @@ struct ServeSettings {
     service: EmulatorService,
     /// The OPC UA face, when it is on.
     opcua: Option<FaceConfig>,
+    /// The machine's serial number in the OPC UA face.
+    serial_number: String,
     /// The lock on the tool folder, held while serving.
     _tools_lock: Option<std::fs::File>,
 }
@@ -137,6 +139,7 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
         server,
         service,
         opcua,
+        serial_number: cfg.opcua.serial_number.clone(),
         _tools_lock: lock,
     })
 }
@@ -244,7 +247,9 @@ pub fn cmd_serve(args: &ServeArgs) -> ExitCode {
     let face = match settings.opcua {
         Some(cfg) => {
             let at = cfg.listen;
-            match rt.block_on(Face::bind(cfg, addipos::opcua::table(), server.core())) {
+            let mut table = addipos::opcua::table();
+            table.machine = Some(addipos::opcua::machine(&settings.serial_number));
+            match rt.block_on(Face::bind(cfg, table, server.core())) {
                 Ok(face) => Some(face),
                 Err(e) => {
                     eprintln!("error: {}", opcua_listen_error(at, &e));

@@ -3,27 +3,36 @@
 //! served by the one handler the UOI connections share, under the same
 //! lock or by the same owner task, so every face sees every change at once.
 
+use std::any::Any;
 use std::future::Future;
 use std::pin::Pin;
 use std::sync::Arc;
 
 use super::idle::Activity;
 use super::server::Handler;
-use super::shared::Shared;
+use super::shared::{Look, Shared};
 use crate::wire::{Answer, Request};
 
 /// A boxed answer on its way.
 type Pending<'a> = Pin<Box<dyn Future<Output = Answer> + Send + 'a>>;
 
+/// A look on its way.
+type Looking<'a> = Pin<Box<dyn Future<Output = ()> + Send + 'a>>;
+
 /// What a [`CoreHandle`] submits to: the shared handler, of any type.
 trait Submit: Send + Sync {
     fn submit(&self, req: Request) -> Pending<'_>;
+    fn look(&self, look: Look) -> Looking<'_>;
 }
 
 impl<H: Handler> Submit for (Shared<H>, Activity) {
     fn submit(&self, req: Request) -> Pending<'_> {
         let (shared, activity) = self;
         Box::pin(shared.handle(req, activity, None))
+    }
+
+    fn look(&self, look: Look) -> Looking<'_> {
+        Box::pin(self.0.look(look))
     }
 }
 
@@ -56,5 +65,23 @@ impl CoreHandle {
     /// which the connections answer themselves, is not for a handle).
     pub async fn call(&self, req: Request) -> Answer {
         self.inner.submit(req).await
+    }
+
+    /// Runs `f` on the shared handler (as `dyn Any`: downcast it to the
+    /// handler's type) between two requests, under the same lock or in the
+    /// owner task, and gives what it returns: for a face that shows more
+    /// than single objects (a whole tool table) without a request per
+    /// value. `None` once the server has stopped. Keep `f` short: every
+    /// connection waits for it.
+    pub async fn inspect<T: Send + 'static>(
+        &self,
+        f: impl FnOnce(&mut dyn Any) -> T + Send + 'static,
+    ) -> Option<T> {
+        let (tx, rx) = tokio::sync::oneshot::channel();
+        let look: Look = Box::new(move |h| {
+            let _ = tx.send(f(h));
+        });
+        self.inner.look(look).await;
+        rx.await.ok()
     }
 }

@@ -3,6 +3,7 @@
 //! Either way a request is served slice by slice, and a long one neither
 //! starves the others nor outlives its connection.
 
+use std::any::Any;
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, TryLockError};
@@ -15,11 +16,16 @@ use super::idle::Activity;
 use super::server::{Core, Handler, Slice, Wait};
 use crate::wire::{Answer, ProtocolError, Request};
 
-/// What the owner task is asked to serve: a request, or the rest of one
-/// whose wait is over.
+/// A look at the handler between two requests (for
+/// [`CoreHandle::inspect`](super::CoreHandle::inspect)).
+pub(crate) type Look = Box<dyn FnOnce(&mut dyn Any) + Send>;
+
+/// What the owner task is asked to serve: a request, the rest of one
+/// whose wait is over, or a look at the handler.
 pub(crate) enum Work {
     Request(Request),
     Resume(u64, bool),
+    Look(Look),
 }
 
 type Job = (Work, oneshot::Sender<Answer>);
@@ -157,6 +163,20 @@ impl<H: Handler> Shared<H> {
             Shared::Owner(tx) => Box::pin(ask(tx, req, closed)).await,
         }
     }
+
+    /// Runs `look` on the handler between two requests: under the lock,
+    /// or as a job of the owner task (not at all once it has stopped).
+    pub(crate) async fn look(&self, look: Look) {
+        match self {
+            Shared::Lock(m) => look(&mut *m.lock()),
+            Shared::Owner(tx) => {
+                let (atx, arx) = oneshot::channel();
+                if tx.send((Work::Look(look), atx)).await.is_ok() {
+                    let _ = arx.await;
+                }
+            }
+        }
+    }
 }
 
 /// The owner task: serves the jobs of every connection; a job with more
@@ -189,6 +209,10 @@ async fn own<H: Handler>(mut h: H, mut rx: mpsc::Receiver<Job>, me: mpsc::WeakSe
         let slice = match work {
             Work::Request(req) => h.handle_slice(req),
             Work::Resume(token, ok) => h.resume(token, ok),
+            Work::Look(look) => {
+                look(&mut h);
+                Slice::Done(Answer::Ok)
+            }
         };
         match slice {
             Slice::Done(a) => {
