@@ -31,15 +31,22 @@ use opcua::types::{
 use tokio_util::sync::DropGuard;
 
 use crate::browse::browse;
+use crate::capped::too_large;
 use crate::machine::setup;
 use crate::manager::ObjectNodes;
 
 /// Builds the face's in-memory node manager, then the front around it.
-pub(crate) struct FrontBuilder<B>(pub B);
+pub(crate) struct FrontBuilder<B> {
+    /// The in-memory manager's builder.
+    pub inner: B,
+    /// The largest response, bytes (`capped.rs`).
+    pub largest: usize,
+}
 
 impl<B: NodeManagerBuilder> NodeManagerBuilder for FrontBuilder<B> {
     fn build(self: Box<Self>, context: ServerContext) -> Arc<DynNodeManager> {
-        let built = Box::new(self.0).build(context);
+        let largest = self.largest;
+        let built = Box::new(self.inner).build(context);
         match Arc::clone(&built)
             .into_any_arc()
             .downcast::<InMemoryNodeManager<ObjectNodes>>()
@@ -47,6 +54,7 @@ impl<B: NodeManagerBuilder> NodeManagerBuilder for FrontBuilder<B> {
             Ok(inner) => Arc::new(Front {
                 inner,
                 machine: Mutex::new(None),
+                largest,
             }),
             // Not the face's manager: nothing to change.
             Err(_) => built,
@@ -59,6 +67,9 @@ struct Front {
     inner: Arc<InMemoryNodeManager<ObjectNodes>>,
     /// Stops the machine's live updates with the face.
     machine: Mutex<Option<DropGuard>>,
+    /// The largest response, bytes: a Read asking more is refused before
+    /// any value is copied (`capped.rs`).
+    largest: usize,
 }
 
 /// Whether the read of `node` is an attribute other than the Value of a
@@ -152,6 +163,9 @@ impl NodeManager for Front {
         let mut rest: Vec<&mut ReadNode> = Vec::with_capacity(nodes.len());
         {
             let space = self.inner.address_space().read();
+            if too_large(&space, nodes, self.largest) {
+                return Err(StatusCode::BadResponseTooLarge);
+            }
             for node in nodes.iter_mut() {
                 if is_other_attribute(&space, node) {
                     node.set_result(read_attribute(&space, context, node, max_age, stamps));

@@ -26,6 +26,7 @@
 //!   [`MachineSource`].
 
 mod browse;
+mod capped;
 mod face;
 mod front;
 mod guard;

@@ -107,10 +107,17 @@ impl ObjectNodes {
 
     /// Writes one node: only the Value of a variable of the face, without
     /// an index range or a status of its own; timestamps are the server's.
-    async fn write_one(&self, write: &mut WriteNode) {
+    /// Any other node of the namespace (the machine, the loaded types) is
+    /// read-only.
+    async fn write_one(&self, space: &RwLock<AddressSpace>, write: &mut WriteNode) {
         let value = write.value();
         let Some(point) = self.points.get(&value.node_id) else {
-            write.set_status(StatusCode::BadNodeIdUnknown);
+            let status = if space.read().node_exists(&value.node_id) {
+                StatusCode::BadNotWritable
+            } else {
+                StatusCode::BadNodeIdUnknown
+            };
+            write.set_status(status);
             return;
         };
         let status = if value.attribute_id != AttributeId::Value {
@@ -250,11 +257,11 @@ impl InMemoryNodeManagerImpl for ObjectNodes {
     async fn write(
         &self,
         _context: &RequestContext,
-        _space: &RwLock<AddressSpace>,
+        space: &RwLock<AddressSpace>,
         nodes: &mut [&mut WriteNode],
     ) -> Result<(), StatusCode> {
         for write in nodes.iter_mut() {
-            self.write_one(write).await;
+            self.write_one(space, write).await;
         }
         Ok(())
     }

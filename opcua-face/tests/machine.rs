@@ -364,6 +364,11 @@ async fn the_channel_and_the_program_follow_the_machine() {
     );
     let ident = ua.read("machine/Identification/SerialNumber").await.value;
     assert_eq!(ident, Some(Variant::from("S-1")));
+    // Read-only, and a node the server does not have is still unknown.
+    let write = ua.write("machine/Identification/SerialNumber", "S-2").await;
+    assert_eq!(write, opcua::types::StatusCode::BadNotWritable);
+    let nowhere = ua.write("machine/Identification/Nothing", "S-2").await;
+    assert_eq!(nowhere, opcua::types::StatusCode::BadNodeIdUnknown);
     let unit = ua
         .read("machine/Monitoring/Channel1/FeedOverride/EngineeringUnits")
         .await;

@@ -34,9 +34,10 @@ use crate::manager::ObjectNodes;
 /// the tool tables).
 pub const POLL: Duration = Duration::from_millis(100);
 
-/// Most tools the list shows: the first ones by table and number (each
-/// tool is about twenty nodes; the tables could hold 32,768 tools).
-pub const MAX_TOOLS: usize = 4096;
+/// Most tools the list shows: the first ones by table and number. Each
+/// tool is 19 nodes, about 43 kB of server memory; the tables could hold
+/// 32,768 tools, which one UOI client could write.
+pub const MAX_TOOLS: usize = 1024;
 
 /// The manager whose address space holds the machine.
 pub(crate) type Manager = InMemoryNodeManager<ObjectNodes>;
@@ -172,64 +173,76 @@ impl Live {
     fn show(&mut self, space: &mut AddressSpace, r: &ToolRecord, c: &mut Changes) {
         let base = tools::base(r.group, r.number);
         let key = (r.group, r.number);
-        let Some(s) = self.shown.get_mut(&key) else {
+        let Some(old) = self.shown.get(&key).map(|s| s.record) else {
             let list = self.id(MACHINE, TOOLS);
-            let nodes =
-                tools::of(&self.templates, r, self.at.own).place(space, self.at.own, &base, &list);
-            c.model.push(change(
-                self.id(&base, ""),
-                self.templates.tool_type.clone(),
-                verb::NODE_ADDED | verb::REFERENCE_ADDED,
-            ));
+            let tool = tools::of(&self.templates, r, self.at.own);
+            let nodes = tool.place(space, self.at.own, &base, &list);
+            let id = self.id(&base, "");
+            let added = verb::NODE_ADDED | verb::REFERENCE_ADDED;
+            c.model
+                .push(change(id, self.templates.tool_type.clone(), added));
             c.list |= verb::REFERENCE_ADDED;
-            let mut shown = Shown {
+            let running = match r.running_wear {
+                Some(_) => self.place_running(space, &base, r, c),
+                None => Vec::new(),
+            };
+            let shown = Shown {
                 record: *r,
                 nodes,
-                running: Vec::new(),
+                running,
             };
-            if r.running_wear.is_some() {
-                shown.running = self.place_running(space, &base, r, c);
-            }
             self.shown.insert(key, shown);
             return;
         };
-        let old = s.record;
-        s.record = *r;
         for path in LIVE {
             let new = tools::value(r, path);
-            if new != tools::value(&old, path) {
-                if let Some(v) = new {
-                    c.values.push((Template::id(self.at.own, &base, path), v));
-                }
+            if let Some(v) = new.filter(|n| Some(n) != tools::value(&old, path).as_ref()) {
+                c.values.push((self.id(&base, path), v));
             }
         }
+        self.running(space, &base, &old, r, c);
+        if let Some(s) = self.shown.get_mut(&key) {
+            s.record = *r;
+        }
+    }
+
+    /// The running-wear entry of a tool shown (`old` its record before,
+    /// `r` now): placed, deleted or updated.
+    fn running(
+        &mut self,
+        space: &mut AddressSpace,
+        base: &str,
+        old: &ToolRecord,
+        r: &ToolRecord,
+        c: &mut Changes,
+    ) {
+        let key = (r.group, r.number);
         match (old.running_wear, r.running_wear) {
             (None, Some(_)) => {
-                let running = self.place_running(space, &base, r, c);
+                let running = self.place_running(space, base, r, c);
                 if let Some(s) = self.shown.get_mut(&key) {
                     s.running = running;
                 }
             }
             (Some(_), None) => {
-                for id in s.running.drain(..).rev() {
-                    space.delete(&id, true);
+                let gone = self
+                    .shown
+                    .get_mut(&key)
+                    .map(|s| std::mem::take(&mut s.running))
+                    .unwrap_or_default();
+                for id in gone.iter().rev() {
+                    space.delete(id, true);
                 }
-                let entry = Template::id(self.at.own, &base, RUNNING_WEAR);
-                let life = Template::id(self.at.own, &base, "ToolLife");
-                c.model.push(change(
-                    entry,
-                    self.templates.life_type.clone(),
-                    verb::NODE_DELETED | verb::REFERENCE_DELETED,
-                ));
-                c.model.push(change(
-                    life,
-                    ObjectTypeId::BaseObjectType.into(),
-                    verb::REFERENCE_DELETED,
-                ));
+                let (entry, life) = (self.id(base, RUNNING_WEAR), self.id(base, "ToolLife"));
+                let deleted = verb::NODE_DELETED | verb::REFERENCE_DELETED;
+                c.model
+                    .push(change(entry, self.templates.life_type.clone(), deleted));
+                let base_object = ObjectTypeId::BaseObjectType.into();
+                c.model
+                    .push(change(life, base_object, verb::REFERENCE_DELETED));
             }
             (Some(a), Some(b)) if a != b => {
-                c.values
-                    .push((Template::id(self.at.own, &base, RUNNING_WEAR), b.into()));
+                c.values.push((self.id(base, RUNNING_WEAR), b.into()));
             }
             _ => {}
         }

@@ -5,7 +5,6 @@
 use std::sync::Arc;
 
 use opcua::server::address_space::{DefaultTypeTree, EventNotifier, NodeType};
-use opcua::server::node_manager::memory::CoreNodeManager;
 use opcua::server::node_manager::ServerContext;
 use tokio_util::sync::{CancellationToken, DropGuard};
 use uoi::tcp::CoreHandle;
@@ -17,6 +16,7 @@ use super::nodesets::{MACHINERY, MACHINE_TOOL};
 use super::tools;
 use super::types::Types;
 use super::Machine;
+use crate::capped::Capped;
 
 /// The states of the active program the face shows.
 const PROGRAM_STATES: [&str; 4] = ["Initializing", "Running", "Interrupted", "Ended"];
@@ -44,7 +44,7 @@ pub(crate) fn start(
     };
     let core_nodes = context
         .node_managers
-        .get_of_type::<CoreNodeManager>()
+        .get_of_type::<Capped>()
         .ok_or("the server has no core node manager")?;
     let core_space = core_nodes.address_space().read();
     let mut space = manager.address_space().write();

@@ -81,30 +81,7 @@ pub(crate) fn templates(
         decl: Some(&entry.node),
     };
     tool.add(types, "ToolLife", life_entry("WearRadius"), &[]);
-    let own = |name: &str, ty: VariableTypeId| Root {
-        browse_name: QualifiedName::new(at.own, name),
-        reference: ReferenceTypeId::HasComponent.into(),
-        type_definition: ty.into(),
-        decl: None,
-    };
-    tool.add(
-        types,
-        "",
-        own("Radius", VariableTypeId::AnalogUnitType),
-        &[],
-    );
-    tool.add(
-        types,
-        "",
-        own("Length", VariableTypeId::AnalogUnitType),
-        &[],
-    );
-    tool.add(
-        types,
-        "",
-        own("ToolKind", VariableTypeId::MultiStateDiscreteType),
-        &[],
-    );
+    add_own(types, at, &mut tool);
     fixed(&mut tool, kinds);
     let mut running = Template::default();
     running.add(types, "", life_entry("RunningWear"), &[]);
@@ -120,6 +97,25 @@ pub(crate) fn templates(
         tool_type,
         life_type,
     })
+}
+
+/// The variables of this server's own below a tool: `Radius`, `Length`
+/// (AnalogUnitType) and `ToolKind` (MultiStateDiscreteType).
+fn add_own(types: &Types<'_>, at: Spaces, tool: &mut Template) {
+    let own = [
+        ("Radius", VariableTypeId::AnalogUnitType),
+        ("Length", VariableTypeId::AnalogUnitType),
+        ("ToolKind", VariableTypeId::MultiStateDiscreteType),
+    ];
+    for (name, ty) in own {
+        let root = Root {
+            browse_name: QualifiedName::new(at.own, name),
+            reference: ReferenceTypeId::HasComponent.into(),
+            type_definition: ty.into(),
+            decl: None,
+        };
+        tool.add(types, "", root, &[]);
+    }
 }
 
 /// The values every tool has alike, and the descriptions.
