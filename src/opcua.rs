@@ -279,6 +279,40 @@ mod tests {
     }
 
     #[test]
+    fn the_machine_sees_the_tool_tables_and_the_channel() {
+        use tc_module::CycleTime;
+        let mut emu = Emulator::new([0.0; 8], CycleTime::DEFAULT);
+        let fresh = view(&mut emu);
+        assert!(fresh.tools.is_empty());
+        assert_eq!(fresh.state, ChannelState::Idle);
+        let at = |d, g, s| ObjectAddress::new(TC_BUS, d, g, s);
+        emu.write(at(1, 2, 8), Value::I32(5)).unwrap();
+        // Selecting an entry makes no tool of it; a radius does.
+        assert!(view(&mut emu).tools.is_empty());
+        emu.write(at(1, 2, 6), Value::F64(2.5)).unwrap();
+        let tools = view(&mut emu).tools;
+        assert_eq!(tools.len(), 1);
+        assert_eq!(
+            (tools[0].group, tools[0].number, tools[0].radius),
+            (2, 5, 2.5)
+        );
+        assert_eq!((tools[0].wear, tools[0].running_wear), (0.0, None));
+        let lin = tc_request::text::parse_request("LIN X10").unwrap();
+        emu.run(&lin);
+        assert_eq!(view(&mut emu).state, ChannelState::Running);
+        // Another group's entry written through its own WKZINDEX.
+        emu.write(at(1, 7, 12), Value::F64(40.0)).unwrap();
+        let tools = view(&mut emu).tools;
+        assert_eq!(
+            tools
+                .iter()
+                .map(|t| (t.group, t.number))
+                .collect::<Vec<_>>(),
+            [(2, 5), (7, 0)]
+        );
+    }
+
+    #[test]
     fn readings_pick_their_value() {
         let pos = Reply::Pos([1.0, 2.0, 3.0, 0.0, 0.0, 0.0, 0.0, 8.5]).to_wire();
         assert_eq!(axis_position(&pos, 7), Ok(Value::F64(8.5)));
