@@ -2,7 +2,9 @@
 //! (async-opcua's) on loopback, beside the UOI face: the tree, reads and
 //! writes of every device, every refusal status, subscriptions seeing the
 //! UOI face's writes, the executor and the correction, and `addipos serve
-//! --opcua` itself (open, and guarded by the access token).
+//! --opcua` itself (open, and guarded by the access token). And the
+//! emulator as a machine of OPC 40501-1 (issue 22): tools from its tool
+//! tables, the wear of OTC in their ToolLife, every mandatory node.
 
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
@@ -42,8 +44,21 @@ impl Rig {
         Self::with(EmulatorService::new([0.0; 8], CycleTime::DEFAULT)).await
     }
 
+    /// Both faces of a fresh emulator, the machine of the Machine Tools
+    /// model shown.
+    async fn machine() -> Rig {
+        let mut table = emulator::opcua::table();
+        table.machine = Some(emulator::opcua::machine("T-7"));
+        Self::serve(EmulatorService::new([0.0; 8], CycleTime::DEFAULT), table).await
+    }
+
     /// Both faces of `service`.
     async fn with<H: Handler>(service: H) -> Rig {
+        Self::serve(service, emulator::opcua::table()).await
+    }
+
+    /// Both faces of `service`, the face showing `table`.
+    async fn serve<H: Handler>(service: H, table: opcua_face::Table) -> Rig {
         let data = tempfile::tempdir().expect("data dir");
         let cfg = ServerConfig {
             listen: "127.0.0.1:0".parse().unwrap(),
@@ -57,7 +72,7 @@ impl Rig {
             token: None,
             pki_dir: data.path().join("opcua"),
         };
-        let face = Face::bind(face_cfg, emulator::opcua::table(), server.core())
+        let face = Face::bind(face_cfg, table, server.core())
             .await
             .expect("face");
         let url = face.endpoint_url().to_string();
@@ -629,4 +644,123 @@ fn an_opcua_address_of_another_machine_needs_allow_remote() {
         err.contains("OPC UA") && err.contains("--allow-remote"),
         "{err}"
     );
+}
+
+/// Waits until the Value of `id` is `want`.
+async fn shows(ua: &Ua, id: &str, want: Variant) {
+    guarded(id, async {
+        while ua.read(id).await.value != Some(want.clone()) {
+            tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+        }
+    })
+    .await;
+}
+
+/// The Double a variable holds.
+async fn double(ua: &Ua, id: &str) -> f64 {
+    match ua.read(id).await.value {
+        Some(Variant::Double(v)) => v,
+        other => panic!("{id}: {other:?}"),
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_tool_tables_and_the_wear_of_otc_as_a_machine_tool() {
+    let rig = Rig::machine().await;
+    let ua = Ua::open(&rig.url).await;
+    let mut uoi = rig.client().await;
+    // A radius written to an empty entry makes a tool of it.
+    for line in ["W 1300/1/2/8 i 5", "W 1300/1/2/6 d 2.5"] {
+        assert_eq!(send(&mut uoi, line).await, Reply::Ok, "{line}");
+    }
+    shows(&ua, "machine/tool/2/5/Radius", Variant::from(2.5)).await;
+    assert_eq!(
+        ua.read("machine/tool/2/5/ControlIdentifier1").await.value,
+        Some(Variant::from(5u32))
+    );
+    assert_eq!(
+        ua.read("machine/tool/2/5/ControlIdentifier2").await.value,
+        Some(Variant::from(2u32))
+    );
+    // The grinding disc of the OTC manual in entry 1 of group 1, and the
+    // general example's motion (docs/otc.md), run 1000 cycles of the way:
+    // through the approach and into the corrected profile that wears.
+    for line in [
+        "W 1300/1/1/8 i 1",
+        "W 1300/3/1/30 i 2",
+        "W 1300/1/1/6 d 30",
+        "W 1300/3/1/31 d 100000",
+        "RAP X0 Y0 Z0 F10000",
+        "W 1300/3/1/2 i 0",
+        "W 1300/3/1/3 i 2",
+        "EXEC",
+        "W 1300/3/1/1 i 1",
+        "W 1300/1/1/9 i 1",
+        "W 1300/1/1/3 i 1",
+        "LIN X50",
+        "LIN X1000",
+        "W 1300/1/1/3 i 0",
+        "LIN X50",
+        "EXEC 1000",
+    ] {
+        assert_eq!(send(&mut uoi, line).await, Reply::Ok, "{line}");
+    }
+    // While OTC runs, the disc's ToolLife has the wear not yet booked, and
+    // the channel is active (motion is waiting).
+    let running = "machine/tool/1/1/ToolLife/RunningWear";
+    let started = guarded("running wear", async {
+        loop {
+            match ua.read(running).await.value {
+                Some(Variant::Double(w)) if w > 0.0 => return w,
+                _ => {}
+            }
+            tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+        }
+    })
+    .await;
+    shows(
+        &ua,
+        "machine/Monitoring/Channel1/ChannelState",
+        Variant::from(0i32),
+    )
+    .await;
+    for line in ["EXEC", "W 1300/3/1/1 i 0"] {
+        assert_eq!(send(&mut uoi, line).await, Reply::Ok, "{line}");
+    }
+    // Switched off: the wear is booked (WearRadius) and the running entry
+    // gone; the disc's radius is smaller by it.
+    let booked = match send(&mut uoi, "R 1300/3/1/10 d").await {
+        Reply::Value(Value::F64(w)) => w,
+        other => panic!("{other:?}"),
+    };
+    assert!(booked > started, "{booked} after {started}");
+    shows(
+        &ua,
+        "machine/tool/1/1/ToolLife/WearRadius",
+        Variant::from(booked),
+    )
+    .await;
+    assert_eq!(
+        ua.read(running).await.status,
+        Some(StatusCode::BadNodeIdUnknown)
+    );
+    assert_eq!(double(&ua, "machine/tool/1/1/Radius").await, 30.0 - booked);
+    shows(
+        &ua,
+        "machine/Monitoring/Channel1/ChannelState",
+        Variant::from(2i32),
+    )
+    .await;
+    // Every mandatory node of every type, as the server's type model has it.
+    let machine = ua.node("machine");
+    let report = ua::model::Walk::check(&ua, &machine, "machine").await;
+    assert!(report.problems.is_empty(), "{:#?}", report.problems);
+    assert!(report
+        .checked
+        .iter()
+        .any(|c| c.ends_with("G1 T1/ToolLife/WearRadius")));
+    let serial = ua.read("machine/Identification/SerialNumber").await.value;
+    assert_eq!(serial, Some(Variant::from("T-7")));
+    ua.close().await;
+    rig.stop().await;
 }

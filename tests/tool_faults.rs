@@ -503,10 +503,9 @@ fn a_small_volume_is_not_wedged_by_the_journal() {
     let crashed = rig.disk.snapshot();
     live_values_held(&reopen(crashed.clone()), 0..6000);
     drop(rig);
-    let mut again = serve_on(
-        Disk(Arc::new(Mutex::new(crashed)), Duration::ZERO),
-        |s| s.with_capacity(VOLUME),
-    );
+    let mut again = serve_on(Disk(Arc::new(Mutex::new(crashed)), Duration::ZERO), |s| {
+        s.with_capacity(VOLUME)
+    });
     let answers = write_live(&mut again.client, 6000..7000);
     assert!(
         answers.iter().all(|a| *a == Answer::Ok),

@@ -79,6 +79,9 @@ pub struct OpcuaSettings {
     /// Where OPC UA clients connect, in a form [`parse_address`] reads;
     /// loopback only unless `allow_remote`.
     pub listen: String,
+    /// The machine's serial number in the Machine Tools model
+    /// (`Identification/SerialNumber`, and its ProductInstanceUri).
+    pub serial_number: String,
 }
 
 impl Default for OpcuaSettings {
@@ -86,6 +89,7 @@ impl Default for OpcuaSettings {
         Self {
             enabled: false,
             listen: "127.0.0.1:4840".into(),
+            serial_number: "1".into(),
         }
     }
 }

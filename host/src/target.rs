@@ -17,8 +17,8 @@
 use std::path::PathBuf;
 
 use emulator::{Config, RealTimeFactor, DEFAULT_CONFIG};
-use tc_module::limits::check_point;
 use tc_module::check_capacity;
+use tc_module::limits::check_point;
 use tc_module::{AxisPos, CycleTime};
 
 use crate::error::{Error, ErrorCode, Result};

@@ -3,6 +3,7 @@
 //! the object map. The in-memory address space keeps references in a hash
 //! set, so without this a browsing user would see them shuffled.
 
+use std::cmp::Ordering;
 use std::collections::{HashMap, VecDeque};
 
 use opcua::server::address_space::{AddressSpace, DefaultTypeTree, ReferenceDirection};
@@ -44,7 +45,7 @@ pub(crate) fn browse(
             |r: &ReferenceDescription| order.get(&r.node_id.node_id).copied().unwrap_or(usize::MAX);
         key(a)
             .cmp(&key(b))
-            .then_with(|| a.browse_name.name.as_ref().cmp(b.browse_name.name.as_ref()))
+            .then_with(|| natural(a.browse_name.name.as_ref(), b.browse_name.name.as_ref()))
     });
     let mut rest = Rest::default();
     for r in found {
@@ -55,6 +56,45 @@ pub(crate) fn browse(
     if !rest.0.is_empty() {
         node.set_next_continuation_point(Box::new(rest));
     }
+}
+
+/// `a` against `b` with their runs of digits compared as numbers: `G1 T2`
+/// before `G1 T10` (the tools of the Machine Tools model).
+fn natural(a: &str, b: &str) -> Ordering {
+    let (mut a, mut b) = (a, b);
+    loop {
+        match (a.chars().next(), b.chars().next()) {
+            (None, None) => return Ordering::Equal,
+            (None, Some(_)) => return Ordering::Less,
+            (Some(_), None) => return Ordering::Greater,
+            (Some(x), Some(y)) if x.is_ascii_digit() && y.is_ascii_digit() => {
+                let (na, ra) = digits(a);
+                let (nb, rb) = digits(b);
+                let by_value = na
+                    .trim_start_matches('0')
+                    .len()
+                    .cmp(&nb.trim_start_matches('0').len())
+                    .then_with(|| na.trim_start_matches('0').cmp(nb.trim_start_matches('0')))
+                    .then_with(|| na.len().cmp(&nb.len()));
+                if by_value != Ordering::Equal {
+                    return by_value;
+                }
+                (a, b) = (ra, rb);
+            }
+            (Some(x), Some(y)) => {
+                if x != y {
+                    return x.cmp(&y);
+                }
+                (a, b) = (&a[x.len_utf8()..], &b[y.len_utf8()..]);
+            }
+        }
+    }
+}
+
+/// The leading digits of `s`, and the rest.
+fn digits(s: &str) -> (&str, &str) {
+    let end = s.find(|c: char| !c.is_ascii_digit()).unwrap_or(s.len());
+    s.split_at(end)
 }
 
 /// The references of `node` to nodes of `space`; those to nodes of other
@@ -125,4 +165,23 @@ fn type_definition(
         .map_or_else(ExpandedNodeId::null, |t| {
             ExpandedNodeId::new(t.target_node.clone())
         })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_in_names_sort_by_value() {
+        let mut names = [
+            "G1 T10", "G10 T1", "G1 T2", "G2 T1", "G1 T02", "Tools", "G1",
+        ];
+        names.sort_by(|a, b| natural(a, b));
+        assert_eq!(
+            names,
+            ["G1", "G1 T2", "G1 T02", "G1 T10", "G2 T1", "G10 T1", "Tools"]
+        );
+        assert_eq!(natural("Axis7", "Axis7"), Ordering::Equal);
+        assert_eq!(natural("b", "a1"), Ordering::Greater);
+    }
 }

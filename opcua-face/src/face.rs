@@ -11,6 +11,7 @@ use std::sync::Arc;
 use opcua::core::config::Config as _;
 use opcua::crypto::X509Data;
 use opcua::server::address_space::{add_namespaces, AddressSpace};
+use opcua::server::diagnostics::DiagnosticsNodeManagerBuilder;
 use opcua::server::node_manager::memory::InMemoryNodeManagerBuilder;
 use opcua::server::node_manager::ServerContext;
 use opcua::server::{Server, ServerBuilder, ServerHandle};
@@ -18,9 +19,11 @@ use opcua::types::NodeId;
 use tokio::net::TcpListener;
 use uoi::tcp::{AccessToken, CoreHandle};
 
+use crate::capped::CappedCore;
 use crate::front::FrontBuilder;
 use crate::guard::{self, Limits};
 use crate::layout::Table;
+use crate::machine::nodesets;
 use crate::manager::{ObjectNodes, NAMESPACE};
 use crate::points::Points;
 use crate::sampler::TICK;
@@ -102,15 +105,26 @@ impl Face {
         limits.max_chunk_count = MAX_CHUNKS;
         limits.max_message_size = limits.receive_buffer_size * MAX_CHUNKS;
         let door = Limits::new(u32::try_from(limits.receive_buffer_size).unwrap_or(u32::MAX));
+        let limits = limits.clone();
         if pki::ensure_keypair(&cfg.pki_dir, &builder.config().application_description())? {
             let cert = pki::cert_path(&cfg.pki_dir);
             tracing::info!("made the OPC UA server certificate {}", cert.display());
         }
-        let builder = builder.with_node_manager(FrontBuilder(InMemoryNodeManagerBuilder::new(
-            move |context: ServerContext, space: &mut AddressSpace| {
-                object_nodes(context, space, table, core)
-            },
-        )));
+        // The library's own node managers (namespace 0 behind the size
+        // check of `capped.rs`, diagnostics), then the face's.
+        let largest = limits.max_message_size;
+        let builder = builder
+            .without_node_managers()
+            .with_node_manager(CappedCore { limit: largest })
+            .with_node_manager(DiagnosticsNodeManagerBuilder)
+            .with_node_manager(FrontBuilder {
+                inner: InMemoryNodeManagerBuilder::new(
+                    move |context: ServerContext, space: &mut AddressSpace| {
+                        object_nodes(context, space, table, core)
+                    },
+                ),
+                largest,
+            });
         let (server, handle) = builder.build().map_err(io::Error::other)?;
         Ok(Self {
             server,
@@ -203,7 +217,9 @@ fn endpoint_host(addr: SocketAddr) -> String {
     }
 }
 
-/// The face's node manager: its namespace, its nodes from `table`.
+/// The face's node manager: its namespace, its nodes from `table`, and
+/// with a machine to show the companion NodeSets (their namespaces after
+/// the face's own, so it keeps its index).
 fn object_nodes(
     context: ServerContext,
     space: &mut AddressSpace,
@@ -220,5 +236,21 @@ fn object_nodes(
     let order = order
         .map(|(i, id)| (NodeId::new(ns, id.as_str()), i))
         .collect();
-    ObjectNodes::new(ns, Points::new(map, table.readings, core), order)
+    let mut companions = Vec::new();
+    let machine = table.machine.filter(|_| {
+        let mut tree = context.type_tree.write();
+        match nodesets::import(space, tree.namespaces_mut()) {
+            Ok(loaded) => {
+                companions = loaded;
+                true
+            }
+            Err(e) => {
+                tracing::error!("OPC UA: the machine is not shown: {e}");
+                false
+            }
+        }
+    });
+    let points = Points::new(map, table.readings, core.clone());
+    let machine = machine.map(|m| (m, core, companions));
+    ObjectNodes::new(ns, points, order, machine)
 }

@@ -9,7 +9,7 @@
 //!   is read here without that check.
 //! * Browsing lists the nodes in the order of the table (`browse`).
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use async_trait::async_trait;
 use opcua::server::address_space::{
@@ -28,20 +28,34 @@ use opcua::types::{
     TimestampsToReturn,
 };
 
+use tokio_util::sync::DropGuard;
+
 use crate::browse::browse;
+use crate::capped::too_large;
+use crate::machine::setup;
 use crate::manager::ObjectNodes;
 
 /// Builds the face's in-memory node manager, then the front around it.
-pub(crate) struct FrontBuilder<B>(pub B);
+pub(crate) struct FrontBuilder<B> {
+    /// The in-memory manager's builder.
+    pub inner: B,
+    /// The largest response, bytes (`capped.rs`).
+    pub largest: usize,
+}
 
 impl<B: NodeManagerBuilder> NodeManagerBuilder for FrontBuilder<B> {
     fn build(self: Box<Self>, context: ServerContext) -> Arc<DynNodeManager> {
-        let built = Box::new(self.0).build(context);
+        let largest = self.largest;
+        let built = Box::new(self.inner).build(context);
         match Arc::clone(&built)
             .into_any_arc()
             .downcast::<InMemoryNodeManager<ObjectNodes>>()
         {
-            Ok(inner) => Arc::new(Front { inner }),
+            Ok(inner) => Arc::new(Front {
+                inner,
+                machine: Mutex::new(None),
+                largest,
+            }),
             // Not the face's manager: nothing to change.
             Err(_) => built,
         }
@@ -51,6 +65,11 @@ impl<B: NodeManagerBuilder> NodeManagerBuilder for FrontBuilder<B> {
 /// The front.
 struct Front {
     inner: Arc<InMemoryNodeManager<ObjectNodes>>,
+    /// Stops the machine's live updates with the face.
+    machine: Mutex<Option<DropGuard>>,
+    /// The largest response, bytes: a Read asking more is refused before
+    /// any value is copied (`capped.rs`).
+    largest: usize,
 }
 
 /// Whether the read of `node` is an attribute other than the Value of a
@@ -111,8 +130,19 @@ impl NodeManager for Front {
         self.inner.namespaces_for_user(context)
     }
 
+    /// The manager's own start, then (every type known now) the machine.
     async fn init(&self, type_tree: &mut DefaultTypeTree, context: ServerContext) {
-        self.inner.init(type_tree, context).await;
+        self.inner.init(type_tree, context.clone()).await;
+        let Some((machine, core)) = self.inner.inner().machine() else {
+            return;
+        };
+        let ns = self.inner.inner().ns();
+        match setup::start(&self.inner, type_tree, &context, ns, machine, core.clone()) {
+            Ok(guard) => {
+                *self.machine.lock().unwrap_or_else(|p| p.into_inner()) = Some(guard);
+            }
+            Err(e) => tracing::error!("OPC UA: the machine is not shown: {e}"),
+        }
     }
 
     async fn resolve_external_references(
@@ -133,6 +163,9 @@ impl NodeManager for Front {
         let mut rest: Vec<&mut ReadNode> = Vec::with_capacity(nodes.len());
         {
             let space = self.inner.address_space().read();
+            if too_large(&space, nodes, self.largest) {
+                return Err(StatusCode::BadResponseTooLarge);
+            }
             for node in nodes.iter_mut() {
                 if is_other_attribute(&space, node) {
                     node.set_result(read_attribute(&space, context, node, max_age, stamps));

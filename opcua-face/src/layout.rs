@@ -8,6 +8,8 @@ use std::sync::Arc;
 use uoi::wire::{Answer, Request};
 use uoi::{Access, AccessError, Meaning, ObjectDesc, Value, ValueRange, ValueType};
 
+use crate::machine::view::Machine;
+
 /// The object table of one bus, and the dashboard beside it.
 #[derive(Clone)]
 pub struct Table {
@@ -20,6 +22,9 @@ pub struct Table {
     /// Read-only values for a dashboard (a folder `Dashboard` in the bus
     /// folder).
     pub readings: Vec<Reading>,
+    /// The machine in the OPC UA for Machine Tools model, if it is shown
+    /// (then the companion NodeSets are loaded too).
+    pub machine: Option<Machine>,
 }
 
 /// A device of the bus: a folder `Device<n>`.

@@ -20,13 +20,18 @@
 //!   `browse` in the order of the table; `sampler`: the monitored
 //!   variables sampled from the table;
 //! * `security`: who gets in; `pki`: the certificate store; [`face`]: the
-//!   server, bound and run.
+//!   server, bound and run;
+//! * [`machine`]: the machine in the OPC UA for Machine Tools model
+//!   (OPC 40501-1), its tool list kept up to date from a
+//!   [`MachineSource`].
 
 mod browse;
+mod capped;
 mod face;
 mod front;
 mod guard;
 pub mod layout;
+pub mod machine;
 mod manager;
 mod nodes;
 mod pki;
@@ -38,6 +43,10 @@ pub mod status;
 
 pub use face::{Face, FaceConfig, APPLICATION_NAME, APPLICATION_URI};
 pub use layout::{answer_value, Device, IndexKind, Pick, Reading, Row, Table};
+pub use machine::{
+    ChannelState, Identity, Machine, MachineSource, MachineView, ToolRecord, MACHINERY,
+    MACHINE_TOOL,
+};
 pub use manager::NAMESPACE;
 pub use pki::{OWN_CERT, OWN_KEY, RENEW_DAYS};
 pub use sampler::TICK as FASTEST_SAMPLING;

@@ -20,7 +20,10 @@ use opcua::types::{
     AttributeId, DataValue, MonitoringMode, NumericRange, StatusCode, TimestampsToReturn,
 };
 
+use uoi::tcp::CoreHandle;
+
 use crate::browse::Order;
+use crate::machine::view::Machine;
 use crate::points::{bad, stamped, Points};
 use crate::sampler::{Sampler, TICK};
 
@@ -31,29 +34,48 @@ const SLOWEST: Duration = Duration::from_secs(3600);
 /// The URI of the face's namespace.
 pub const NAMESPACE: &str = "urn:addipos-tc";
 
+/// A machine to show, the handle to look at it through, and the
+/// namespaces (URI, index) of the companion NodeSets loaded for it.
+pub(crate) type MachineParts = (Machine, CoreHandle, Vec<(String, u16)>);
+
 /// The face's node manager (behind `InMemoryNodeManager`).
 pub(crate) struct ObjectNodes {
     ns: u16,
     points: Arc<Points>,
     order: Order,
     sampler: Arc<Sampler>,
+    machine: Option<(Machine, CoreHandle)>,
+    /// The companion NodeSets' namespaces (with a machine).
+    companions: Vec<(String, u16)>,
 }
 
 impl ObjectNodes {
     /// The node manager of `points` in namespace `ns`, its nodes browsed
-    /// in `order`.
-    pub fn new(ns: u16, points: Points, order: Order) -> Self {
+    /// in `order`; with the machine to show, the handle to look at it
+    /// through and the namespaces of the companion NodeSets loaded.
+    pub fn new(ns: u16, points: Points, order: Order, machine: Option<MachineParts>) -> Self {
+        let (machine, companions) = match machine {
+            Some((m, core, companions)) => (Some((m, core)), companions),
+            None => (None, Vec::new()),
+        };
         Self {
             ns,
             points: Arc::new(points),
             order,
             sampler: Arc::new(Sampler::new()),
+            machine,
+            companions,
         }
     }
 
     /// The namespace index.
     pub fn ns(&self) -> u16 {
         self.ns
+    }
+
+    /// The machine shown, and the handle to look at it through.
+    pub fn machine(&self) -> Option<&(Machine, CoreHandle)> {
+        self.machine.as_ref()
     }
 
     /// Where each node comes in a browse result.
@@ -85,10 +107,17 @@ impl ObjectNodes {
 
     /// Writes one node: only the Value of a variable of the face, without
     /// an index range or a status of its own; timestamps are the server's.
-    async fn write_one(&self, write: &mut WriteNode) {
+    /// Any other node of the namespace (the machine, the loaded types) is
+    /// read-only.
+    async fn write_one(&self, space: &RwLock<AddressSpace>, write: &mut WriteNode) {
         let value = write.value();
         let Some(point) = self.points.get(&value.node_id) else {
-            write.set_status(StatusCode::BadNodeIdUnknown);
+            let status = if space.read().node_exists(&value.node_id) {
+                StatusCode::BadNotWritable
+            } else {
+                StatusCode::BadNodeIdUnknown
+            };
+            write.set_status(status);
             return;
         };
         let status = if value.attribute_id != AttributeId::Value {
@@ -129,12 +158,21 @@ impl InMemoryNodeManagerImpl for ObjectNodes {
     }
 
     fn namespaces(&self) -> Vec<NamespaceMetadata> {
-        vec![NamespaceMetadata {
+        let own = NamespaceMetadata {
             is_namespace_subset: Some(false),
             namespace_uri: NAMESPACE.to_owned(),
             namespace_index: self.ns,
             ..Default::default()
-        }]
+        };
+        let companions = self
+            .companions
+            .iter()
+            .map(|(uri, index)| NamespaceMetadata {
+                namespace_uri: uri.clone(),
+                namespace_index: *index,
+                ..Default::default()
+            });
+        std::iter::once(own).chain(companions).collect()
     }
 
     async fn read_values(
@@ -219,11 +257,11 @@ impl InMemoryNodeManagerImpl for ObjectNodes {
     async fn write(
         &self,
         _context: &RequestContext,
-        _space: &RwLock<AddressSpace>,
+        space: &RwLock<AddressSpace>,
         nodes: &mut [&mut WriteNode],
     ) -> Result<(), StatusCode> {
         for write in nodes.iter_mut() {
-            self.write_one(write).await;
+            self.write_one(space, write).await;
         }
         Ok(())
     }

@@ -276,6 +276,7 @@ mod tests {
                 request: Request::Read(ObjectAddress::new(7, 1, 1, 3), ValueType::I32),
                 pick: Arc::new(crate::layout::answer_value),
             }],
+            machine: None,
         }
     }
 

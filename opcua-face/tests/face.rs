@@ -196,6 +196,7 @@ fn table() -> Table {
             request: Request::Read(ObjectAddress::new(BUS, 0, 3, 0), ValueType::I32),
             pick: Arc::new(answer_value),
         }],
+        machine: None,
     }
 }
 
@@ -625,6 +626,33 @@ async fn a_slower_item_still_gets_the_last_change() {
     }
     // 3 stays: the slow item gets it.
     until(&mut slow, &Variant::Double(3.0)).await;
+    ua.close().await;
+    rig.stop().await;
+}
+
+/// A Read whose values could not fit in one response is refused value by
+/// value before they are copied: 5,000 times namespace 0's binary type
+/// dictionary (about 200 kB) would be about a gigabyte, which the library
+/// alone builds before it fails the whole service. Small values in any
+/// number still read.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_read_too_large_for_a_response_is_refused_before_it_is_built() {
+    let rig = Rig::start(None).await;
+    let ua = Ua::open(&rig.url).await;
+    let dictionary: opcua::types::NodeId = opcua::types::VariableId::OpcUa_BinarySchema.into();
+    let many = ua.read_many(&vec![dictionary; 5000]).await;
+    assert_eq!(many.len(), 5000);
+    assert!(
+        many.iter()
+            .all(|v| v.status() == StatusCode::BadResponseTooLarge),
+        "{:?}",
+        many[0].status
+    );
+    let state: opcua::types::NodeId = opcua::types::VariableId::Server_ServerStatus_State.into();
+    let mut small = vec![state; 5000];
+    small.push(ua.node(&demo(0, 2, 0)));
+    let read = ua.read_many(&small).await;
+    assert!(read.iter().all(|v| v.status() == StatusCode::Good));
     ua.close().await;
     rig.stop().await;
 }

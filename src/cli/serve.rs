@@ -75,6 +75,8 @@ struct ServeSettings {
     service: EmulatorService,
     /// The OPC UA face, when it is on.
     opcua: Option<FaceConfig>,
+    /// The machine's serial number in the OPC UA face.
+    serial_number: String,
     /// The lock on the tool folder, held while serving.
     _tools_lock: Option<std::fs::File>,
 }
@@ -134,6 +136,7 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
         server,
         service,
         opcua,
+        serial_number: cfg.opcua.serial_number.clone(),
         _tools_lock: lock,
     })
 }
@@ -237,7 +240,8 @@ pub fn cmd_serve(args: &ServeArgs, print_default_config: bool) -> Outcome {
     let face = match settings.opcua {
         Some(cfg) => {
             let at = cfg.listen;
-            let table = emulator::opcua::table();
+            let mut table = emulator::opcua::table();
+            table.machine = Some(emulator::opcua::machine(&settings.serial_number));
             let face = rt.block_on(Face::bind(cfg, table, server.core()));
             Some(face.map_err(|e| Failure::trouble(opcua_listen_error(at, &e)))?)
         }

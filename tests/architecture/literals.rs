@@ -331,7 +331,10 @@ impl<'ast> Visit<'ast> for Ints {
     /// Only a number an address part can hold (bus, device and subindex
     /// are `u16`): a 32-bit error code such as `0x06090011` is no address.
     fn visit_lit_int(&mut self, lit: &'ast syn::LitInt) {
-        if lit.base10_parse::<u64>().is_ok_and(|n| n <= u64::from(u16::MAX)) {
+        if lit
+            .base10_parse::<u64>()
+            .is_ok_and(|n| n <= u64::from(u16::MAX))
+        {
             self.0 = true;
         }
     }

@@ -63,6 +63,16 @@ async fn both_faces_see_each_other() {
     uoi.write(reg(), Value::I32(9)).await.expect("write");
     let read = Request::Read(reg(), ValueType::I32);
     assert_eq!(handle.call(read).await, Answer::Value(Value::I32(9)));
+    // A look at the handler itself sees the same register, and a look
+    // that takes it for another type finds nothing.
+    let seen = handle
+        .inspect(|h| h.downcast_mut::<Register>().map(|r| r.0))
+        .await;
+    assert_eq!(seen, Some(Some(9)));
+    let other = handle
+        .inspect(|h| h.downcast_mut::<String>().is_some())
+        .await;
+    assert_eq!(other, Some(false));
     let nowhere = Request::Read(ObjectAddress::new(7, 0, 2, 0), ValueType::I32);
     assert_eq!(
         handle.call(nowhere).await,

@@ -10,15 +10,18 @@ use std::future::Future;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use opcua::client::{ClientBuilder, DataChangeCallback, IdentityToken, Session};
+use opcua::client::{ClientBuilder, DataChangeCallback, EventCallback, IdentityToken, Session};
 use opcua::crypto::SecurityPolicy;
 use opcua::types::{
-    AttributeId, BrowseDescription, BrowseDescriptionResultMask, BrowseDirection, DataValue,
-    EndpointDescription, MessageSecurityMode, MonitoredItemCreateRequest, MonitoringMode,
-    MonitoringParameters, NodeId, ReadValueId, ReferenceTypeId, StatusCode, TimestampsToReturn,
-    Variant, WriteValue,
+    AttributeId, BrowseDescription, BrowseDescriptionResultMask, BrowseDirection,
+    ContentFilterBuilder, DataValue, EndpointDescription, EventFilter, ExtensionObject,
+    LiteralOperand, MessageSecurityMode, MonitoredItemCreateRequest, MonitoringMode,
+    MonitoringParameters, NodeId, ObjectTypeId, ReadValueId, ReferenceDescription, ReferenceTypeId,
+    SimpleAttributeOperand, StatusCode, TimestampsToReturn, Variant, WriteValue,
 };
 use tokio::sync::mpsc;
+
+pub mod model;
 
 /// The hang guard of every wait.
 pub const GUARD: Duration = Duration::from_secs(30);
@@ -210,6 +213,39 @@ impl Ua {
             .collect()
     }
 
+    /// Every reference of `node` of type `kind` (and its subtypes) in
+    /// `direction`, following continuation points.
+    pub async fn browse(
+        &self,
+        node: &NodeId,
+        kind: impl Into<NodeId>,
+        direction: BrowseDirection,
+    ) -> Vec<ReferenceDescription> {
+        let d = BrowseDescription {
+            node_id: node.clone(),
+            browse_direction: direction,
+            reference_type_id: kind.into(),
+            include_subtypes: true,
+            node_class_mask: 0,
+            result_mask: BrowseDescriptionResultMask::all().bits(),
+        };
+        let mut r = guarded("browse", self.session.browse(&[d], 0, None))
+            .await
+            .expect("browse");
+        let mut r = r.pop().expect("one result");
+        assert!(r.status_code.is_good(), "browse {node}: {}", r.status_code);
+        let mut all = r.references.take().unwrap_or_default();
+        while !r.continuation_point.is_null() {
+            let cp = [r.continuation_point.clone()];
+            let mut next = guarded("browse next", self.session.browse_next(false, &cp))
+                .await
+                .expect("browse next");
+            r = next.pop().expect("one result");
+            all.extend(r.references.take().unwrap_or_default());
+        }
+        all
+    }
+
     /// A subscription (publishing every 10 ms) with one monitored item on
     /// `id` sampled every `sampling_ms`: its notifications, each with the
     /// moment it arrived.
@@ -243,6 +279,74 @@ impl Ua {
                 sampling_interval: sampling_ms,
                 queue_size: 100,
                 discard_oldest: true,
+                ..Default::default()
+            },
+        );
+        let created = guarded(
+            "monitor",
+            self.session
+                .create_monitored_items(sub, TimestampsToReturn::Both, vec![item]),
+        )
+        .await
+        .expect("monitored item");
+        assert!(
+            created[0].result.status_code.is_good(),
+            "{:?}",
+            created[0].result
+        );
+        rx
+    }
+
+    /// A subscription (publishing every 10 ms) to the events `node`
+    /// notifies of type `event_type` (a where clause `OfType`): the values
+    /// of the fields `fields` of each, named as OPC 10000-4 allows for any
+    /// event type: by their BrowseName below BaseEventType.
+    pub async fn events(
+        &self,
+        node: &NodeId,
+        event_type: NodeId,
+        fields: &[&str],
+    ) -> mpsc::UnboundedReceiver<Vec<Variant>> {
+        let (tx, rx) = mpsc::unbounded_channel();
+        let callback = EventCallback::new(move |fields, _item| {
+            let _ = tx.send(fields.unwrap_or_default());
+        });
+        let sub = guarded(
+            "subscribe",
+            self.session.create_subscription(
+                Duration::from_millis(10),
+                3000,
+                1000,
+                0,
+                0,
+                true,
+                callback,
+            ),
+        )
+        .await
+        .expect("subscription");
+        let select = fields
+            .iter()
+            .map(|f| SimpleAttributeOperand::new_value(ObjectTypeId::BaseEventType, f))
+            .collect();
+        let literal = LiteralOperand {
+            value: Variant::from(event_type.clone()),
+        };
+        let filter = EventFilter {
+            select_clauses: Some(select),
+            where_clause: ContentFilterBuilder::new().of_type(literal).build(),
+        };
+        let item = MonitoredItemCreateRequest::new(
+            ReadValueId {
+                node_id: node.clone(),
+                attribute_id: AttributeId::EventNotifier as u32,
+                ..Default::default()
+            },
+            MonitoringMode::Reporting,
+            MonitoringParameters {
+                queue_size: 100,
+                discard_oldest: true,
+                filter: ExtensionObject::from_message(filter),
                 ..Default::default()
             },
         );

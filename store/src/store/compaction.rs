@@ -7,8 +7,8 @@
 use super::bound::CompactionBound;
 use super::error::{io_error, StoreError};
 use super::state::ToolStore;
-use crate::storage::group_file_name;
 use crate::file::write_group_file;
+use crate::storage::group_file_name;
 use crate::storage::{Storage, JOURNAL_FILE};
 use crate::table::GroupTable;
 

@@ -3,22 +3,27 @@
 //! served by the one handler the UOI connections share, under the same
 //! lock, so every face sees every change at once.
 
+use std::any::Any;
 use std::future::Future;
 use std::pin::Pin;
 use std::sync::Arc;
 
 use super::handler::Handler;
 use super::idle::Activity;
-use super::shared::Shared;
+use super::shared::{Look, Shared};
 use super::slices::{to_the_end, By};
 use crate::wire::{Answer, ProtocolError, Request};
 
 /// A boxed answer on its way.
 type Pending<'a> = Pin<Box<dyn Future<Output = Answer> + Send + 'a>>;
 
+/// A look on its way.
+type Looking<'a> = Pin<Box<dyn Future<Output = ()> + Send + 'a>>;
+
 /// What a [`CoreHandle`] submits to: the shared handler, of any type.
 trait Submit: Send + Sync {
     fn submit(&self, req: Request) -> Pending<'_>;
+    fn look(&self, look: Look) -> Looking<'_>;
 }
 
 impl<H: Handler> Submit for (Shared<H>, Activity) {
@@ -31,6 +36,11 @@ impl<H: Handler> Submit for (Shared<H>, Activity) {
                 .await
                 .unwrap_or(Answer::Protocol(ProtocolError::Busy))
         })
+    }
+
+    fn look(&self, look: Look) -> Looking<'_> {
+        self.0.look(look);
+        Box::pin(std::future::ready(()))
     }
 }
 
@@ -63,5 +73,23 @@ impl CoreHandle {
     /// which the connections answer themselves, is not for a handle).
     pub async fn call(&self, req: Request) -> Answer {
         self.inner.submit(req).await
+    }
+
+    /// Runs `f` on the shared handler (as `dyn Any`: downcast it to the
+    /// handler's type) between two requests, under the same lock, and gives
+    /// what it returns: for a face that shows more
+    /// than single objects (a whole tool table) without a request per
+    /// value. `None` once the server has stopped. Keep `f` short: every
+    /// connection waits for it.
+    pub async fn inspect<T: Send + 'static>(
+        &self,
+        f: impl FnOnce(&mut dyn Any) -> T + Send + 'static,
+    ) -> Option<T> {
+        let (tx, rx) = tokio::sync::oneshot::channel();
+        let look: Look = Box::new(move |h| {
+            let _ = tx.send(f(h));
+        });
+        self.inner.look(look).await;
+        rx.await.ok()
     }
 }

@@ -3,11 +3,16 @@
 //! with more slices to go lets the requests waiting for the lock in
 //! before it takes its next slice.
 
+use std::any::Any;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, TryLockError};
 
 use super::handler::{Handler, Slice};
 use crate::wire::Request;
+
+/// A look at the handler between two requests (for
+/// [`CoreHandle::inspect`](super::CoreHandle::inspect)).
+pub(crate) type Look = Box<dyn FnOnce(&mut dyn Any) + Send>;
 
 /// The handler behind a lock, with a count of the requests waiting for it.
 struct Locked<H> {
@@ -65,6 +70,11 @@ impl<H: Handler> Shared<H> {
     /// The rest of a request whose wait is over, under the lock.
     pub(crate) fn resume(&self, token: u64, ok: bool) -> Slice {
         self.lock().resume(token, ok)
+    }
+
+    /// Runs `look` on the handler, under the lock.
+    pub(crate) fn look(&self, look: Look) {
+        look(&mut *self.lock());
     }
 
     /// Whether requests are waiting for the lock right now.
