@@ -19,7 +19,7 @@
 //!   answered);
 //! * [`object_reference`]: `docs/objects.md`, generated from the object
 //!   table;
-//! * with the feature `opcua`, [`opcua`]: what the OPC UA face shows of
+//! * with the feature `opcua`, `opcua`: what the OPC UA face shows of
 //!   bus 1300.
 //!
 //! ```

@@ -5,7 +5,7 @@
 //! (`ADDIPOS_E_INTERNAL`).
 //!
 //! An `addipos *` is a token of the connection registry
-//! ([`crate::registry`]), never followed as a pointer: NULL is
+//! (the library's registry), never followed as a pointer: NULL is
 //! `ADDIPOS_E_ARGUMENT`, a closed or made-up one `ADDIPOS_E_CONNECTION`.
 
 // The one module allowed `unsafe`: a C caller's pointers (target and

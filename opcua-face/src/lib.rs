@@ -19,7 +19,7 @@
 //!   server sees it, AccessLevel applied to the Value attribute only and
 //!   `browse` in the order of the table; `sampler`: the monitored
 //!   variables sampled from the table;
-//! * `security`: who gets in; `pki`: the certificate store; [`face`]: the
+//! * `security`: who gets in; `pki`: the certificate store; `face`: the
 //!   server, bound and run;
 //! * [`machine`]: the machine in the OPC UA for Machine Tools model
 //!   (OPC 40501-1), its tool list kept up to date from a

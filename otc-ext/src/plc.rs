@@ -11,7 +11,7 @@ pub struct PlcUnit {
     pub command: i32,
     /// `enable_w`.
     pub enable: bool,
-    /// The value applied now, in [`APPLIED_UNIT_MM`] (0.01 µm): always a
+    /// The value applied now, in `APPLIED_UNIT_MM` (0.01 µm): always a
     /// whole number, since the targets and the ramp step are, so ramps
     /// are exact.
     pub applied: f64,

@@ -7,9 +7,9 @@
 //! Only the [`Storage`] trait touches the disk, so tests can inject faults.
 //! The format is described for users in `docs/tool-files.md`.
 //!
-//! For a server it also holds the tool folder's lock ([`lock`]), opening a
+//! For a server it also holds the tool folder's lock ([`lock_exclusive`]), opening a
 //! data directory's tool data ([`open_tools`]) and the journal's one
-//! writer thread with group commit ([`writer`]): this crate is the only
+//! writer thread with group commit ([`Writer`]): this crate is the only
 //! one that touches tool files.
 
 mod decimal;

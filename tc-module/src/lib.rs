@@ -42,7 +42,6 @@ mod rotation;
 mod spooler;
 mod tool_table;
 
-pub use tc_request::motion;
 
 pub use bits::{ErrorBits, StatusBits};
 pub use correction::TransitionMode;
@@ -54,7 +53,7 @@ pub use geometry::V2;
 pub use group::{CorrGroup, Side};
 pub use limits::{CycleTime, MAX_COORD};
 pub use module::{ExecLeft, TcModule, EXEC_SLICE_CYCLES};
-pub use motion::{ArcDir, Motion};
+pub use tc_request::{ArcDir, Motion};
 pub use object_map::{TcKey, TcObject, GROUPS, GROUP_COUNT, TC_BUS, TC_OBJECTS};
 pub use plane::{AxisPos, MainAxes, PlaneAxes, TcPlane, AXES, AXIS_NAMES};
 pub use spooler::{

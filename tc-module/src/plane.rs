@@ -3,7 +3,7 @@
 //! plane points of the correction.
 
 use tc_objects::{PLANE_XY, PLANE_YZ, PLANE_ZX};
-pub use tc_request::axes::{AxisPos, AxisWords, AXES, AXIS_NAMES};
+pub use tc_request::{AxisPos, AxisWords, AXES, AXIS_NAMES};
 
 use crate::geometry::V2;
 
@@ -113,7 +113,7 @@ impl PlaneAxes {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tc_request::axes::axis_index;
+    use tc_request::axis_index;
 
     #[test]
     fn planes_pick_axes() {

@@ -9,7 +9,10 @@
 //!   one parser function per verb, and writing a request back;
 //! * [`wire`]: the payloads of the TC ops on the UOI wire (the object
 //!   layer `uoi` carries them without knowing what they mean);
-//! * the NC front end (to come) turns program blocks into [`Request`]s.
+//! * the NC front end (`nc`) turns program blocks into [`Request`]s.
+//!
+//! The model's own modules are private: every type is named at the root;
+//! [`text`] and [`wire`] are namespaces of their own.
 //!
 //! It lives in its own small crate so that a client, the trace tools and
 //! the NC front end can speak to the TC module without depending on its
@@ -26,10 +29,10 @@
 //! assert_eq!(Request::from_wire(&wire), Ok(req));
 //! ```
 
-pub mod axes;
-pub mod element;
-pub mod motion;
-pub mod request;
+mod axes;
+mod element;
+mod motion;
+mod request;
 pub mod text;
 pub mod wire;
 

@@ -1,9 +1,9 @@
 //! When the journal is compacted: its bound.
 
 /// When the journal is compacted: at `bytes` or `records`
-/// ([`ToolStore::needs_compaction`]), or once it holds `least` bytes while
+/// ([`ToolStore::needs_compaction`](crate::ToolStore::needs_compaction)), or once it holds `least` bytes while
 /// the disk has less free than compaction needs plus `low_space`
-/// ([`ToolStore::short_of_room`]).
+/// ([`ToolStore::short_of_room`](crate::ToolStore::short_of_room)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CompactionBound {
     /// Journal size in bytes, at most.

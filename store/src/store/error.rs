@@ -36,7 +36,7 @@ pub enum StoreError {
         error: RecordError,
     },
     /// An earlier failed append could not be undone on disk: appends are
-    /// refused until a successful [`ToolStore::compact`] or a reopen.
+    /// refused until a successful [`ToolStore::compact`](crate::ToolStore::compact) or a reopen.
     #[error("the journal could not be repaired after a failed write; compact or reopen")]
     Poisoned,
     /// Compaction could not write a tool file; what the disk needs.

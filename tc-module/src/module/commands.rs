@@ -13,7 +13,7 @@ use crate::element::{ContourNormal, NormalRule, Origin, SpoolElement};
 use crate::extension::{Groups, TcExtension};
 use crate::geometry::tolerance::MIN_RADIUS;
 use crate::geometry::Contour;
-use crate::motion::{ArcDir, Motion, SSF_FLUSH};
+use tc_request::{ArcDir, Motion, SSF_FLUSH};
 use crate::plane::AxisWords;
 use crate::plane::AXES;
 use crate::rotation::Rotation;

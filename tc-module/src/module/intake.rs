@@ -9,7 +9,7 @@ use super::TcModule;
 use crate::extension::TcExtension;
 use crate::geometry::V2;
 use crate::limits::{check_point, within_limit, MIN_STEP, RAPID_FEED};
-use crate::motion::ArcDir;
+use tc_request::ArcDir;
 use crate::plane::AxisWords;
 use crate::plane::{AxisPos, TcPlane};
 use crate::rotation::Rotation;
