@@ -116,10 +116,13 @@ impl Spooler {
         self.capacity.saturating_sub(self.queue.len())
     }
 
-    /// The one capacity rule: whether `places` more elements fit.
+    /// The one capacity rule: whether the elements waiting (those just
+    /// spooled by a profile not yet admitted included) and `places` more
+    /// fit. Not `places <= free()`: `free` saturates at 0, so a queue
+    /// already past its capacity would still have room for nothing more.
     #[inline]
     pub fn has_room(&self, places: usize) -> bool {
-        places <= self.free()
+        self.queue.len().saturating_add(places) <= self.capacity
     }
 
     /// Elements the queue's storage could hold without growing (memory
@@ -340,6 +343,19 @@ mod tests {
         assert_eq!(log[0].record().end[0], 1.0);
         assert_eq!(sp.free(), 7);
         assert!(sp.has_room(7) && !sp.has_room(8));
+    }
+
+    #[test]
+    fn a_queue_pushed_past_its_capacity_has_no_room_even_for_nothing() {
+        let mut sp = Spooler::with_capacity(8);
+        for i in 0..8 {
+            push_line(&mut sp, f64::from(i));
+        }
+        assert!(sp.has_room(0) && !sp.has_room(1));
+        // A profile spools tentatively before it is admitted.
+        push_line(&mut sp, 9.0);
+        assert_eq!(sp.free(), 0);
+        assert!(!sp.has_room(0));
     }
 
     #[test]
