@@ -57,7 +57,8 @@ enum Command {
     /// Run an NC program (ISG / DIN 66025 subset) on a fresh emulator: print
     /// the spooled elements in trace `<` syntax, the final position and the
     /// V.G. wear values; warnings and errors (with line and block) go to
-    /// stderr. Exits 1 on a parse error, a run error or an OTC error.
+    /// stderr. The supported NC subset, with a worked example: docs/nc.md.
+    /// Exits 1 on a parse error, a run error or an OTC error.
     #[command(after_help = EXIT_HELP)]
     Run {
         #[command(flatten)]

@@ -20,7 +20,8 @@ use super::{Failure, Outcome};
 /// Arguments of `addipos run`.
 #[derive(Args, Debug)]
 pub struct RunArgs {
-    /// The NC program (ISG / DIN 66025 subset). A line may hold at most
+    /// The NC program (ISG / DIN 66025 subset; every word, G function and
+    /// limit in docs/nc.md). A line may hold at most
     /// 1 MiB (1,048,576 bytes; a longer one is an error on its line). A
     /// program from a pipe (anything but a regular file, e.g. /dev/stdin)
     /// may hold at most 64 MiB: it is kept in memory for the check pass
