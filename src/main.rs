@@ -3,13 +3,13 @@
 mod cli;
 
 use std::io::IsTerminal;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
 use cli::plot::PlotArgs;
 use cli::remote_args::RemoteArgs;
+use cli::replay::ReplayArgs;
 use cli::run::RunArgs;
 use cli::serve::ServeArgs;
 use cli::{exit, Outcome, EXIT_HELP};
@@ -51,23 +51,14 @@ enum Command {
     /// report every mismatch; exits non-zero if any trace fails.
     #[command(after_help = EXIT_HELP)]
     Replay {
-        /// Trace files, or folders whose *.trace files are replayed.
-        #[arg(required = true)]
-        files: Vec<PathBuf>,
-        /// Replay over the wire against this server instead of in-process
-        /// (HOST:PORT, localhost:PORT, or a bare PORT).
-        #[arg(long, value_name = "ADDR")]
-        server: Option<String>,
-        /// Print a line for every trace, not only failing ones.
-        #[arg(short, long)]
-        verbose: bool,
         #[command(flatten)]
-        remote: RemoteArgs,
+        args: ReplayArgs,
     },
     /// Run an NC program (ISG / DIN 66025 subset) on a fresh emulator: print
     /// the spooled elements in trace `<` syntax, the final position and the
     /// V.G. wear values; warnings and errors (with line and block) go to
-    /// stderr. Exits 1 on a parse error, a run error or an OTC error.
+    /// stderr. The supported NC subset, with a worked example: docs/nc.md.
+    /// Exits 1 on a parse error, a run error or an OTC error.
     #[command(after_help = EXIT_HELP)]
     Run {
         #[command(flatten)]
@@ -138,12 +129,7 @@ fn dispatch(command: Command) -> Outcome {
             request,
             remote,
         } => cli::call::cmd_call(&addr, &request, &remote),
-        Command::Replay {
-            files,
-            server,
-            verbose,
-            remote,
-        } => cli::replay::cmd_replay(&files, server.as_deref(), verbose, &remote),
+        Command::Replay { args } => cli::replay::cmd_replay(&args),
         Command::Run { args } => cli::run::cmd_run(&args),
         Command::Plot { args } => cli::plot::cmd_plot(&args),
         Command::Objects => cli::objects::cmd_objects(),

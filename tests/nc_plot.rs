@@ -51,7 +51,7 @@ fn assert_three_paths(svg: &str) {
         assert!(svg.contains(label), "no legend `{label}`");
     }
     // Legend samples have 2 points each; the paths have more.
-    for colour in ["#888", "#16c", "#d22"] {
+    for colour in ["#666", "#8cf", "#d22"] {
         assert!(points_of(svg, colour) > 4, "{colour} has no points");
     }
 }

@@ -135,7 +135,7 @@ fn assert_three_paths(name: &str, svg: &str) {
         svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"),
         "{name}"
     );
-    for colour in ["#888", "#16c", "#d22"] {
+    for colour in ["#666", "#8cf", "#d22"] {
         let drawn = path_points(svg, colour)
             .iter()
             .any(|points| points.iter().any(|p| *p != points[0]));

@@ -12,7 +12,7 @@ mod path_plot;
 mod picture;
 
 pub use path_plot::{
-    collect_paths, nc_steps, render, trace_steps, Paths, Piece, PlotStep, MAX_EXECUTED_POINTS,
-    MAX_STEPPED_CYCLES,
+    collect_paths, collect_paths_with, nc_steps, render, trace_steps, Paths, Piece, PlotStep,
+    MAX_EXECUTED_POINTS, MAX_STEPPED_CYCLES,
 };
 pub use picture::{Plot, Series, Stroke};

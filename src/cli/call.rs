@@ -2,10 +2,34 @@
 //! server, its answer printed.
 
 use tc_request::text::parse_request;
-use tc_request::{Reply, AXIS_NAMES};
+use tc_request::{Reply, Request, AXIS_NAMES};
+use uoi::AccessError;
 
 use super::remote_args::{connect, protocol_hint, token_hint, RemoteArgs};
 use super::{Failure, Outcome};
+
+/// What an access error means for this request, after its machine-readable
+/// name (decision 319).
+fn meaning(e: AccessError, req: &Request) -> String {
+    let addr = match req {
+        Request::Read(a, _) | Request::Write(a, _) => Some(*a),
+        _ => None,
+    };
+    match (e, addr) {
+        (AccessError::NoObject, Some(a)) => format!(
+            "no object {}/{}/{} (bus, device or index does not exist; `addipos objects` lists them)",
+            a.bus, a.device, a.index
+        ),
+        (AccessError::NoSubindex, Some(a)) => format!(
+            "object {}/{}/{} has no subindex {} (`addipos objects` lists them)",
+            a.bus, a.device, a.index, a.sub
+        ),
+        (AccessError::State, _) => "refused in the current state: the correction group may be \
+            in fault (read its ERROR register); writing the group's RESET clears the fault"
+            .to_string(),
+        (e, _) => e.text().to_string(),
+    }
+}
 
 /// Runs `addipos call`: `words` is the request in trace syntax.
 pub fn cmd_call(addr: &str, words: &[String], remote_args: &RemoteArgs) -> Outcome {
@@ -28,7 +52,7 @@ pub fn cmd_call(addr: &str, words: &[String], remote_args: &RemoteArgs) -> Outco
             println!("{}", words.join(" "));
         }
         Reply::Access(e) => {
-            println!("err {}", e.name());
+            println!("err {}: {}", e.name(), meaning(e, &req));
             return Err(Failure::reported());
         }
         Reply::Protocol(e) => return Err(Failure::failed(format!("{e}{}", protocol_hint(e)))),

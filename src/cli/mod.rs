@@ -3,12 +3,15 @@
 //! `error:` line on standard error.
 
 pub mod call;
+pub mod junit;
 pub mod objects;
 pub mod plot;
+pub mod progress;
 pub mod remote_args;
 pub mod replay;
 pub mod run;
 pub mod serve;
+pub mod shard;
 pub mod token;
 pub mod tools;
 

@@ -5,10 +5,13 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use plot::{collect_paths, nc_steps, render, trace_steps, Paths};
+use plot::{
+    collect_paths_with, nc_steps, render, trace_steps, Paths, PlotStep, MAX_STEPPED_CYCLES,
+};
 use trace::nc_run::run_nc_with_tools;
 use trace::{load_trace, Header};
 
+use super::progress::count_bar;
 use super::run::read_tool_values;
 use super::{Failure, Outcome};
 
@@ -42,7 +45,15 @@ fn nc_paths(args: &PlotArgs, name: &str) -> Result<(Paths, bool), String> {
         eprintln!("error: {name}: {e}");
     }
     let header = Header::new(name);
-    Ok((collect_paths(&header, &nc_steps(&run)), run.failed()))
+    Ok((paths_shown(&header, &nc_steps(&run)), run.failed()))
+}
+
+/// The paths of the steps, with a progress bar on a terminal.
+fn paths_shown(header: &Header, steps: &[PlotStep]) -> Paths {
+    let bar = count_bar(steps.len() as u64, "requests");
+    let paths = collect_paths_with(header, steps, &mut |k| bar.set_position(k as u64));
+    bar.finish_and_clear();
+    paths
 }
 
 /// Runs `addipos plot`.
@@ -50,11 +61,17 @@ pub fn cmd_plot(args: &PlotArgs) -> Outcome {
     let name = args.file.display().to_string();
     let is_trace = args.file.extension().is_some_and(|e| e == "trace");
     let paths = if is_trace {
-        load_trace(&args.file).map(|t| (collect_paths(&t.header, &trace_steps(&t)), false))
+        load_trace(&args.file).map(|t| (paths_shown(&t.header, &trace_steps(&t)), false))
     } else {
         nc_paths(args, &name)
     };
     let (paths, failed) = paths.map_err(Failure::trouble)?;
+    if paths.truncated {
+        eprintln!(
+            "note: {name}: only the first {MAX_STEPPED_CYCLES} cycles are drawn one by one; \
+             the executed path shows only where each later EXEC ended"
+        );
+    }
     let svg = render(&paths, &name);
     std::fs::write(&args.output, svg)
         .map_err(|e| Failure::trouble(format!("{}: cannot write: {e}", args.output.display())))?;

@@ -8,7 +8,7 @@ use clap::Args;
 
 use emulator::parse_address;
 use trace::remote::RemoteTarget;
-use uoi::tcp::{AccessToken, ClientError, ClientOptions};
+use uoi::tcp::{AccessToken, ClientError, ClientOptions, Waited};
 use uoi::wire::ProtocolError;
 
 /// How `call` and `replay --server` reach the server.
@@ -77,15 +77,50 @@ pub fn protocol_hint(e: ProtocolError) -> &'static str {
 }
 
 /// Connects `call` or `replay --server` to a server given as the user
-/// typed its address, or says why not.
+/// typed its address, or says why not: nothing listening, or something
+/// that is no UOI server (silent, or answering something else), found
+/// within the connection timeout (decision 312).
 pub fn connect(addr: &str, args: &RemoteArgs) -> Result<RemoteTarget, String> {
     let resolved = parse_address(addr)?;
     let opts = args.options()?;
-    RemoteTarget::connect_with(&resolved.to_string(), &opts).map_err(|e| match e {
-        ClientError::TimedOut { .. } => e.to_string(),
+    let at = resolved.to_string();
+    let cannot = |e: ClientError| match e {
+        ClientError::TimedOut {
+            waited: Waited::Connect,
+            ..
+        } => e.to_string(),
+        ClientError::TimedOut { after, .. } => format!(
+            "could not reach a UOI server at {addr} ({resolved}): got no UOI answer within {} s \
+             (is it an addipos server? --timeout sets the wait)",
+            after.as_secs_f64()
+        ),
+        ClientError::Unexpected(_) | ClientError::Io(_) if is_answerless(&e) => format!(
+            "could not reach a UOI server at {addr} ({resolved}): got no UOI answer \
+             (it answered something else, or closed the connection: {e})"
+        ),
         e => format!(
             "cannot connect to {addr} ({resolved}): {e}{}",
             token_hint(&e)
         ),
-    })
+    };
+    RemoteTarget::probe(&at, &opts).map_err(cannot)?;
+    RemoteTarget::connect_with(&at, &opts).map_err(cannot)
+}
+
+/// Whether a client error after the connection was made means the peer
+/// gave no UOI answer: an answer that does not decode, or the connection
+/// closed or reset instead of an answer.
+fn is_answerless(e: &ClientError) -> bool {
+    match e {
+        ClientError::Unexpected(_) => true,
+        ClientError::Io(io) => matches!(
+            io.kind(),
+            std::io::ErrorKind::UnexpectedEof
+                | std::io::ErrorKind::ConnectionReset
+                | std::io::ErrorKind::ConnectionAborted
+                | std::io::ErrorKind::BrokenPipe
+                | std::io::ErrorKind::InvalidData
+        ),
+        _ => false,
+    }
 }

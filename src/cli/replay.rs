@@ -1,13 +1,60 @@
 //! `addipos replay FILES`: conformance traces replayed against a fresh
-//! emulator each, in-process or over the wire, every mismatch printed.
+//! emulator each, in-process or over the wire; the first mismatches of
+//! each trace printed, the rest counted; optionally one part of the
+//! traces (`--shard`) and a JUnit report (`--junit`).
 
+use std::fs::File;
+use std::io::BufReader;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
-use trace::remote::{setup_failed, RemoteTarget};
-use trace::{fresh_emulator, open_trace, replay_stream, trace_files, Target};
+use clap::Args;
+use indicatif::ProgressBar;
 
+use trace::remote::RemoteTarget;
+use trace::{fresh_emulator, replay_stream, trace_files, Target, TraceReader};
+
+use super::junit::{write_junit, CaseResult};
+use super::progress::bytes_bar;
 use super::remote_args::{connect, RemoteArgs};
+use super::shard::Shard;
 use super::{Failure, Outcome};
+
+/// Mismatch lines printed per trace unless `--max-reports` says otherwise:
+/// enough to see a pattern, few enough that one systematic mistake in a
+/// long trace does not bury the others (decision 313).
+const DEFAULT_MAX_REPORTS: usize = 30;
+
+/// Arguments of `addipos replay`.
+#[derive(Args)]
+pub struct ReplayArgs {
+    /// Trace files, or folders whose *.trace files are replayed.
+    #[arg(required = true)]
+    pub files: Vec<PathBuf>,
+    /// Replay over the wire against this server instead of in-process
+    /// (HOST:PORT, localhost:PORT, or a bare PORT).
+    #[arg(long, value_name = "ADDR")]
+    pub server: Option<String>,
+    /// Print a line for every trace, not only failing ones.
+    #[arg(short, long)]
+    pub verbose: bool,
+    /// Also write the results as JUnit XML to FILE: one test case per
+    /// trace, its first mismatches as the failure message.
+    #[arg(long, value_name = "FILE")]
+    pub junit: Option<PathBuf>,
+    /// Replay only part K of N of the traces (1 <= K <= N): the traces at
+    /// positions K, K+N, K+2N ... of the list the arguments give. N jobs
+    /// given the same arguments replay every trace exactly once
+    /// (docs/trace-format.md, "Replays in CI").
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<Shard>,
+    /// Mismatch lines printed per trace at most; the rest are counted
+    /// (0: no limit).
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_REPORTS)]
+    pub max_reports: usize,
+    #[command(flatten)]
+    pub remote: RemoteArgs,
+}
 
 /// The trace files the arguments name: files as given, folders as their
 /// `*.trace` files. A path that does not exist, or a folder without
@@ -35,68 +82,144 @@ fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
     Ok(out)
 }
 
-/// Replays one trace file as it is read, printing every mismatch; true
-/// when it passed.
-fn replay_file(path: &Path, remote: Option<&mut RemoteTarget>, verbose: bool) -> bool {
-    let mut reader = match open_trace(path) {
+/// Where the mismatches of one trace go: printed up to a cap, counted all.
+struct Reports<'a> {
+    case: CaseResult,
+    max: usize,
+    bar: &'a ProgressBar,
+}
+
+impl Reports<'_> {
+    fn report(&mut self, line: String) {
+        self.case.mismatches += 1;
+        if self.max == 0 || self.case.shown.len() < self.max {
+            self.bar.suspend(|| println!("{line}"));
+            self.case.shown.push(line);
+        }
+    }
+
+    /// The line saying how many mismatches were not printed, if any.
+    fn finish(&self) {
+        let more = self.case.mismatches - self.case.shown.len();
+        if more > 0 {
+            self.bar.suspend(|| {
+                println!(
+                    "{}: {more} more mismatches not shown (of {}; --max-reports {})",
+                    self.case.file, self.case.mismatches, self.max
+                )
+            });
+        }
+    }
+}
+
+/// Replays one trace file as it is read; the server's setup failing is
+/// `Err` (the server is lost, the other traces cannot run either).
+fn replay_file(
+    path: &Path,
+    remote: Option<&mut RemoteTarget>,
+    max: usize,
+    bar: &ProgressBar,
+) -> Result<CaseResult, String> {
+    let name = path.display().to_string();
+    let mut out = Reports {
+        case: CaseResult {
+            file: name.clone(),
+            ..CaseResult::default()
+        },
+        max,
+        bar,
+    };
+    let opened = File::open(path)
+        .map_err(|e| format!("{name}: cannot read: {e}"))
+        .and_then(|f| {
+            let read = BufReader::new(bar.wrap_read(f));
+            TraceReader::open(&name, read).map_err(|e| e.to_string())
+        });
+    let mut reader = match opened {
         Ok(r) => r,
         Err(e) => {
-            println!("{e}");
-            return false;
+            out.case.error = Some(e);
+            return Ok(out.case);
         }
     };
     let header = reader.header().clone();
     let mut emulator;
     let target: &mut dyn Target = match remote {
-        Some(r) => match r.prepare(&header) {
-            Ok(()) => r,
-            Err(e) => {
-                println!("{}", setup_failed(&header, e));
-                return false;
-            }
-        },
+        Some(r) => {
+            r.prepare(&header)
+                .map_err(|e| format!("{name}: the server did not set up a fresh emulator: {e}"))?;
+            r
+        }
         None => {
             emulator = fresh_emulator(&header);
             &mut emulator
         }
     };
-    match replay_stream(&mut reader, target, &mut |m| println!("{m}")) {
-        Ok(done) if done.mismatches == 0 => {
-            if verbose {
-                println!("{}: ok ({} requests)", header.file, done.steps);
-            }
-            true
-        }
-        Ok(_) => false,
-        Err(e) => {
-            println!("{e}");
-            false
-        }
+    match replay_stream(&mut reader, target, &mut |m| out.report(m.to_string())) {
+        Ok(done) => out.case.steps = done.steps,
+        Err(e) => out.case.error = Some(e.to_string()),
+    }
+    out.finish();
+    Ok(out.case)
+}
+
+/// Prints what a trace's replay ended with, beyond its mismatches.
+fn say(case: &CaseResult, verbose: bool, bar: &ProgressBar) {
+    if let Some(e) = &case.error {
+        bar.suspend(|| println!("{e}"));
+    } else if verbose && case.passed() {
+        bar.suspend(|| println!("{}: ok ({} requests)", case.file, case.steps));
     }
 }
 
-/// Runs `addipos replay`: over the wire when `server` is given.
-pub fn cmd_replay(
-    files: &[PathBuf],
-    server: Option<&str>,
-    verbose: bool,
-    remote_args: &RemoteArgs,
-) -> Outcome {
-    let files = expand(files).map_err(Failure::trouble)?;
-    let mut remote = server
-        .map(|s| connect(s, remote_args))
+/// The traces to replay: those the arguments name, or this job's part.
+fn chosen_files(args: &ReplayArgs) -> Result<Vec<PathBuf>, Failure> {
+    let files = expand(&args.files).map_err(Failure::trouble)?;
+    Ok(match args.shard {
+        None => files,
+        Some(shard) => {
+            let all = files.len();
+            let part = shard.pick(files);
+            eprintln!("shard {shard}: {} of {all} traces", part.len());
+            part
+        }
+    })
+}
+
+/// Runs `addipos replay`: over the wire when `--server` is given.
+pub fn cmd_replay(args: &ReplayArgs) -> Outcome {
+    let files = chosen_files(args)?;
+    let mut remote = args
+        .server
+        .as_deref()
+        .map(|s| connect(s, &args.remote))
         .transpose()
         .map_err(Failure::trouble)?;
-    let (mut passed, mut failed) = (0usize, 0usize);
+    let total: u64 = files
+        .iter()
+        .filter_map(|f| std::fs::metadata(f).ok())
+        .map(|m| m.len())
+        .sum();
+    let bar = bytes_bar(total);
+    let mut cases = Vec::with_capacity(files.len());
     for f in &files {
-        if replay_file(f, remote.as_mut(), verbose) {
-            passed += 1;
-        } else {
-            failed += 1;
-        }
+        bar.set_message(f.display().to_string());
+        let start = Instant::now();
+        let mut case =
+            replay_file(f, remote.as_mut(), args.max_reports, &bar).map_err(Failure::trouble)?;
+        case.secs = start.elapsed().as_secs_f64();
+        say(&case, args.verbose, &bar);
+        cases.push(case);
     }
-    println!("{passed} passed, {failed} failed");
-    if failed == 0 {
+    bar.finish_and_clear();
+    let passed = cases.iter().filter(|c| c.passed()).count();
+    println!("{passed} passed, {} failed", cases.len() - passed);
+    if let Some(path) = &args.junit {
+        File::create(path)
+            .and_then(|f| write_junit(std::io::BufWriter::new(f), "addipos replay", &cases))
+            .map_err(|e| Failure::trouble(format!("{}: cannot write: {e}", path.display())))?;
+    }
+    if passed == cases.len() {
         Ok(())
     } else {
         Err(Failure::reported())

@@ -13,16 +13,15 @@ use clap::Args;
 use nc::check_program_counted;
 use nc::run::RunError;
 use tool_store::{ToolKey, ToolValue};
-use trace::nc_run::{
-    axis_text, run_checked_nc, spool_lines_of, trace_head, trace_lines, NcOutcome,
-};
+use trace::nc_run::{axis_text, run_checked_nc, trace_head, trace_lines, NcOutcome, SpoolLabels};
 
 use super::{Failure, Outcome};
 
 /// Arguments of `addipos run`.
 #[derive(Args, Debug)]
 pub struct RunArgs {
-    /// The NC program (ISG / DIN 66025 subset). A line may hold at most
+    /// The NC program (ISG / DIN 66025 subset; every word, G function and
+    /// limit in docs/nc.md). A line may hold at most
     /// 1 MiB (1,048,576 bytes; a longer one is an error on its line). A
     /// program from a pipe (anything but a regular file, e.g. /dev/stdin)
     /// may hold at most 64 MiB: it is kept in memory for the check pass
@@ -60,7 +59,15 @@ pub fn read_tool_values(
     };
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
-    let table = tool_store::parse_group_file(&name, &text).map_err(|e| e.to_string())?;
+    let (table, errors) = tool_store::parse_group_file_lenient(&name, &text);
+    if !errors.is_empty() {
+        // Every bad line, as `tools import` says them; nothing runs.
+        errors.iter().for_each(|e| eprintln!("{e}"));
+        return Err(format!(
+            "{name}: {} bad line(s) in the tool file; nothing was run",
+            errors.len()
+        ));
+    }
     Ok(table.iter().map(|(k, v)| (group, k, v)).collect())
 }
 
@@ -149,8 +156,9 @@ fn run_streamed(
     let reader = source
         .reader()
         .map_err(|e| format!("{name}: cannot read: {e}"))?;
+    let mut labels = SpoolLabels::default();
     let mut sink = |x: trace::nc_run::Exchange, axis_nr: [u8; 3]| -> io::Result<()> {
-        for line in spool_lines_of(&x, axis_nr) {
+        for line in labels.lines(&x, axis_nr) {
             writeln!(out, "{line}")
                 .map_err(|e| io::Error::new(e.kind(), format!("standard output: {e}")))?;
         }
@@ -179,9 +187,24 @@ fn print_end(out: &mut impl Write, outcome: &NcOutcome) -> io::Result<()> {
         writeln!(out, "POS {}", axis_text(p))?;
     }
     for (name, v) in &outcome.wear {
-        writeln!(out, "{name} = {v}")?;
+        writeln!(out, "{name} = {}", to_register(*v))?;
     }
     out.flush()
+}
+
+/// Steps of the wear registers per millimetre: they count in 0.1 µm.
+const REGISTER_STEPS_PER_MM: f64 = 10_000.0;
+
+/// A value in mm rounded to the registers' resolution (0.1 µm), so that
+/// `9.500000000001434` prints as `9.5`.
+fn to_register(mm: f64) -> f64 {
+    let v = (mm * REGISTER_STEPS_PER_MM).round() / REGISTER_STEPS_PER_MM;
+    // No `-0` for a wear that rounds to nothing.
+    if v == 0.0 {
+        0.0
+    } else {
+        v
+    }
 }
 
 fn report_errors<E: std::fmt::Display>(errors: &[E], name: &str) {
@@ -200,6 +223,14 @@ fn report_more(more: u64, what: &str, name: &str) {
 fn report_problems(outcome: &NcOutcome, name: &str) {
     for w in &outcome.report.warnings {
         eprintln!("warning: {name}: {w}");
+    }
+    if let Some((var, wear, radius)) = outcome.wear_beyond_radius() {
+        eprintln!(
+            "warning: {name}: {var} = {} mm is more than the tool's radius {} mm: the disc \
+             would be used up; the controller books it without an OtcError bit (decision 316)",
+            to_register(wear),
+            to_register(radius)
+        );
     }
     report_more(outcome.report.more_warnings, "warnings", name);
     let errors: Vec<&RunError> = outcome.error.iter().chain(&outcome.report.faults).collect();

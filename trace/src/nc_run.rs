@@ -13,7 +13,7 @@ use nc::run::{
 };
 use nc::{check_program, Blocks, NcError};
 use tc_objects::TcObject;
-use tc_request::{AxisPos, Reply, Request, SpoolRecord, AXIS_NAMES};
+use tc_request::{AxisPos, Origin, Reply, Request, SpoolRecord, AXIS_NAMES};
 use tool_store::{ToolKey, ToolValue};
 
 use uoi::{Value, ValueType};
@@ -64,6 +64,9 @@ pub struct NcOutcome {
     pub axis_nr: [u8; 3],
     /// The executed position at the end.
     pub position: Option<AxisPos>,
+    /// The radius of correction group 1 at the end (mm), as the
+    /// correction uses it: the tool's radius less the booked radius wear.
+    pub radius: Option<f64>,
     /// The V.G. wear values read at the end: name and value.
     pub wear: Vec<(String, f64)>,
 }
@@ -214,6 +217,10 @@ pub fn run_checked_nc<R: BufRead>(
             wear.push((name, v));
         }
     }
+    let radius = match rec.call(&Request::Read(RADIUS, ValueType::F64), end) {
+        Reply::Value(Value::F64(r)) => Some(r),
+        _ => None,
+    };
     if let Some(e) = rec.failed {
         return Err(e);
     }
@@ -223,7 +230,27 @@ pub fn run_checked_nc<R: BufRead>(
         report,
         position,
         wear,
+        radius,
     })
+}
+
+/// The radius of correction group 1 (mm).
+const RADIUS: uoi::ObjectAddress = TcObject::Radius.of(1);
+
+impl NcOutcome {
+    /// The booked radius wear beyond the tool's radius, if there is: the
+    /// wear variable's name, the wear and the tool's radius (mm; the
+    /// radius in use plus the wear). A disc cannot lose more radius than it
+    /// has; the controller books it all the same (decision 316), `run`
+    /// warns.
+    pub fn wear_beyond_radius(&self) -> Option<(&str, f64, f64)> {
+        let in_use = self.radius?;
+        let (name, wear) = self
+            .wear
+            .iter()
+            .find(|(name, _)| name == "V.G.WZ_AKT.WEAR_RADIUS")?;
+        (in_use < 0.0 && *wear > 0.0).then_some((name.as_str(), *wear, in_use + wear))
+    }
 }
 
 /// The header of a trace with no options: what `run_nc` runs on.
@@ -254,10 +281,7 @@ pub fn axis_text(p: &AxisPos) -> String {
 }
 
 fn block_comment(at: At) -> String {
-    match at.number {
-        Some(n) => format!("# N{n} (line {})", at.line),
-        None => format!("# line {}", at.line),
-    }
+    format!("# {}", block_name(at))
 }
 
 /// The first line of the trace of a run of program `name`.
@@ -265,13 +289,59 @@ pub fn trace_head(name: &str) -> String {
     format!("@name NC program {name}\n")
 }
 
-/// The spooled elements of an exchange in trace `<` syntax, with its
-/// block, one line each (without line ends).
-pub fn spool_lines_of(x: &Exchange, axis_nr: [u8; 3]) -> impl Iterator<Item = String> + '_ {
-    x.spooled.iter().map(move |rec| {
-        let el = format_record(rec, axis_nr);
-        format!("< {el}    {}", block_comment(x.at))
-    })
+/// Labels each spooled element with the block it comes from. The
+/// correction holds one profile until the next block shows its corner
+/// (docs/trc.md, "The one-profile buffer"): the approach and corrected
+/// elements spooled at a block belong to the motion block before it, a
+/// transition to the corner between the two, an uncorrected element or a
+/// departure to the block that spooled it (decision 315).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct SpoolLabels {
+    /// The block of the last motion request: the profile held, if any.
+    last_motion: Option<At>,
+}
+
+impl SpoolLabels {
+    /// The spooled elements of an exchange in trace `<` syntax, each with
+    /// its block (and the block it was spooled at where that differs), one
+    /// line each (without line ends). Call it for every exchange in order.
+    pub fn lines(&mut self, x: &Exchange, axis_nr: [u8; 3]) -> Vec<String> {
+        let held = self.last_motion;
+        let out = x
+            .spooled
+            .iter()
+            .map(|rec| {
+                let el = format_record(rec, axis_nr);
+                format!("< {el}    # {}", label(rec.origin, held, x.at))
+            })
+            .collect();
+        if matches!(x.request, Request::Motion(_)) {
+            self.last_motion = Some(x.at);
+        }
+        out
+    }
+}
+
+/// `N10 (line 3)`, or `line 3` for a block without a number.
+fn block_name(at: At) -> String {
+    match at.number {
+        Some(n) => format!("N{n} (line {})", at.line),
+        None => format!("line {}", at.line),
+    }
+}
+
+/// Where an element of `origin`, spooled at block `now` while the profile
+/// of block `held` (if any) was held, comes from.
+fn label(origin: Origin, held: Option<At>, now: At) -> String {
+    match (origin, held) {
+        (Origin::Approach | Origin::Corrected, Some(h)) if h != now => {
+            format!("{}, spooled at {}", block_name(h), block_name(now))
+        }
+        (Origin::Transition, Some(h)) if h != now => {
+            format!("transition {} to {}", block_name(h), block_name(now))
+        }
+        _ => block_name(now),
+    }
 }
 
 /// An exchange as trace lines (line ends included): the request with its
@@ -297,9 +367,10 @@ impl NcRun {
 
     /// Every spooled element in trace `<` syntax, with its block.
     pub fn spool_lines(&self) -> Vec<String> {
+        let mut labels = SpoolLabels::default();
         self.exchanges
             .iter()
-            .flat_map(|x| spool_lines_of(x, self.axis_nr))
+            .flat_map(|x| labels.lines(x, self.axis_nr))
             .collect()
     }
 

@@ -3,6 +3,7 @@
 use tc_objects::TcObject;
 use tc_request::{Reply, Request, SpoolRecord};
 use uoi::tcp::{BlockingClient, ClientError, ClientOptions};
+use uoi::wire::ProtocolError;
 use uoi::{Value, ValueType};
 
 use crate::model::{Header, Trace};
@@ -29,6 +30,25 @@ impl RemoteTarget {
         Ok(Self {
             client: BlockingClient::connect_with(addr, opts)?,
         })
+    }
+
+    /// Checks that `addr` is a UOI server, on a connection of its own that
+    /// waits at most `opts.connect_timeout` for the connection and for an
+    /// answer (the HELLO of `opts.token`, then a read of AxisNr X): a
+    /// server that is silent fails within that bound, one that answers
+    /// something else (an HTTP server) at once. An access error or a
+    /// protocol answer is a UOI answer: `Ok`, except `Unauthorized`.
+    pub fn probe(addr: &str, opts: &ClientOptions) -> Result<(), ClientError> {
+        let quick = ClientOptions {
+            request_timeout: opts.connect_timeout,
+            ..opts.clone()
+        };
+        let mut client = BlockingClient::connect_with(addr, &quick)?;
+        match client.read(TcObject::AxisNr.sub(0), ValueType::I32) {
+            Ok(_) | Err(ClientError::Access(_)) => Ok(()),
+            Err(ClientError::Protocol(p)) if p != ProtocolError::Unauthorized => Ok(()),
+            Err(e) => Err(e),
+        }
     }
 
     /// One request on the wire, its reply decoded.

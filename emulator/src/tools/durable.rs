@@ -205,6 +205,7 @@ impl<J: Journal> Durable<J> {
             *emu = saved;
             return Answer::Access(AccessError::Storage);
         }
+        warn_group_reset(addr, &expected);
         for r in &records {
             if let Record::Set { group, key, .. } = r {
                 self.holds.insert((*group, key.index, key.field), self.last);
@@ -235,6 +236,30 @@ fn may_touch_tools(emu: &mut Emulator, addr: ObjectAddress, expected: &[GroupTab
         }
         _ => expected.iter().any(|t| !t.is_empty()),
     }
+}
+
+/// A group RESET rejects the programmed tool values and, as the legacy
+/// module did, clears the group's tool table, persisted one included
+/// (docs/tool-files.md): said in the log with the group and how many
+/// entries held values (decision 321).
+fn warn_group_reset(addr: ObjectAddress, before: &[GroupTable]) {
+    if BusObject::at(addr) != Some(BusObject::Tc(TcObject::GroupReset)) {
+        return;
+    }
+    let Some(table) = before.get(usize::from(addr.index).wrapping_sub(1)) else {
+        return;
+    };
+    let mut entries: Vec<u16> = table.iter().map(|(key, _)| key.index).collect();
+    entries.sort_unstable();
+    entries.dedup();
+    tracing::warn!(
+        group = addr.index,
+        entries = entries.len(),
+        "group RESET: the tool table of group {} is cleared, {} entries back at their \
+         defaults, on disk too",
+        addr.index,
+        entries.len()
+    );
 }
 
 /// The entry at (`group`, `index`) as it is now (its group created).

@@ -28,6 +28,35 @@ const PIXEL: f64 = 1.0;
 /// Length in pixels up to which consecutive pieces are joined into one
 /// polyline (its hover text then names the first and the last block).
 const JOIN_PIXELS: f64 = 24.0;
+/// How one of the three paths is drawn: colour, width in pixels, and the
+/// dash of the executed path (its rapids are drawn with [`RAPID_DASH`]).
+struct Look {
+    colour: &'static str,
+    width: f64,
+    dash: &'static str,
+}
+
+/// The corrected tool-centre path: a wide light-blue band.
+const CORRECTED: Look = Look {
+    colour: "#8cf",
+    width: 5.0,
+    dash: "",
+};
+/// The programmed contour: a mid-grey line.
+const PROGRAMMED: Look = Look {
+    colour: "#666",
+    width: 1.5,
+    dash: "",
+};
+/// The executed path: a thin red dashed line, on top.
+const EXECUTED: Look = Look {
+    colour: "#d22",
+    width: 1.2,
+    dash: "5 3",
+};
+/// The dash of rapids on the programmed and the corrected path.
+const RAPID_DASH: &str = "6 4";
+
 /// Least extent along an axis that counts as motion along it (units).
 const SPAN: f64 = 1e-9;
 
@@ -144,6 +173,16 @@ fn distance(a: &AxisPos, b: &AxisPos) -> f64 {
 /// Runs the steps on a fresh emulator for `header`, stepping every EXEC
 /// cycle by cycle, and returns the three paths.
 pub fn collect_paths(header: &Header, steps: &[PlotStep]) -> Paths {
+    collect_paths_with(header, steps, &mut |_| {})
+}
+
+/// [`collect_paths`], calling `done(k)` after each step with the number of
+/// steps carried out so far (for a progress bar).
+pub fn collect_paths_with(
+    header: &Header,
+    steps: &[PlotStep],
+    done: &mut dyn FnMut(usize),
+) -> Paths {
     let mut emu = fresh_emulator(header);
     let mut rec = Recording {
         programmed: Vec::new(),
@@ -153,7 +192,7 @@ pub fn collect_paths(header: &Header, steps: &[PlotStep]) -> Paths {
         cycles: 0,
     };
     let mut at = header.start;
-    for step in steps {
+    for (k, step) in steps.iter().enumerate() {
         if let Request::Motion(m) = &step.request {
             program_target(&mut rec, &mut at, &step.label, m);
         }
@@ -166,6 +205,7 @@ pub fn collect_paths(header: &Header, steps: &[PlotStep]) -> Paths {
         for s in emu.take_spool_log() {
             rec.spooled.push((step.label.clone(), s));
         }
+        done(k + 1);
     }
     let truncated = rec.cycles >= MAX_STEPPED_CYCLES;
     let axis_nr = emu.tc().axis_nr();
@@ -325,9 +365,9 @@ fn centre_in_plane(
 /// Adds a path as pieces: consecutive pieces of the same kind are joined
 /// until they are a few pixels long, so that tiny elements cost little;
 /// the hover text names the blocks joined.
-fn add_pieces(plot: &mut Plot, label: &str, colour: &str, pieces: &[Piece], eps: f64) {
-    let solid = Stroke::solid(colour, 1.5);
-    let dashed = Stroke::dashed(colour, 1.2, "6 4");
+fn add_pieces(plot: &mut Plot, label: &str, look: &Look, pieces: &[Piece], eps: f64) {
+    let solid = Stroke::solid(look.colour, look.width);
+    let dashed = Stroke::dashed(look.colour, look.width * 0.8, RAPID_DASH);
     let flush = |plot: &mut Plot, run: &mut Vec<&Piece>| {
         let (Some(first), Some(last)) = (run.first(), run.last()) else {
             return;
@@ -376,23 +416,27 @@ pub fn render(paths: &Paths, title: &str) -> String {
     let names = tc_request::AXIS_NAMES;
     let (h, v) = (names[paths.plane[0]], names[paths.plane[1]]);
     let mut plot = Plot::new(title).axes(&h.to_string(), &v.to_string());
+    // Where the paths coincide (no correction, no OTC) all three stay in
+    // sight: the corrected path a wide light band underneath, the
+    // programmed contour a mid-width line on it, the executed path dashed
+    // on top (decision 318).
     add_pieces(
         &mut plot,
-        "programmed contour",
-        "#888",
-        &paths.programmed,
+        "corrected tool centre (spooled)",
+        &CORRECTED,
+        &paths.corrected,
         eps,
     );
     add_pieces(
         &mut plot,
-        "corrected tool centre (spooled)",
-        "#16c",
-        &paths.corrected,
+        "programmed contour",
+        &PROGRAMMED,
+        &paths.programmed,
         eps,
     );
     plot.piece(
         "executed path (cycle by cycle, OTC offset included)",
-        Stroke::solid("#d22", 1.0),
+        Stroke::dashed(EXECUTED.colour, EXECUTED.width, EXECUTED.dash),
         thin(&paths.executed, eps),
         None,
     );
