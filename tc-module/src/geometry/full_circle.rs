@@ -131,7 +131,10 @@ mod tests {
             assert_eq!(whole_turn_end(&off, from, shift, near), TurnEnd::Arc(from));
             // Just beyond the overlap and the tolerance: one arc to x.
             let beyond = at(sigma * 2e-7) * 12.0;
-            assert_eq!(whole_turn_end(&off, from, shift, beyond), TurnEnd::Arc(beyond));
+            assert_eq!(
+                whole_turn_end(&off, from, shift, beyond),
+                TurnEnd::Arc(beyond)
+            );
             // A cut before the end is one arc, a turn less the rest.
             let cut = at(-sigma * 0.3) * 12.0;
             assert_eq!(whole_turn_end(&off, from, shift, cut), TurnEnd::Arc(cut));
