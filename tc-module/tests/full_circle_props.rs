@@ -1,9 +1,11 @@
-//! Property tests of programmed full circles (issue 8, point 18;
-//! decisions 48, 76 and 77: a programmed full circle keeps its whole
-//! turn): a full circle entered at a tangent, or nearly so, is
-//! corrected as a whole turn, on either side and in either direction,
-//! whether it is left by a flush, at a tangent or at an inside corner.
-//! The expected sweep is computed here from the exact geometry of the
+//! Property tests of programmed full circles (issue 8, point 18; issue
+//! 20, point 3; decisions 48, 76, 77 and 330: a programmed full circle
+//! keeps its whole turn): a full circle entered at a tangent, or nearly
+//! so, is corrected as a whole turn, on either side and in either
+//! direction, whether it is left by a flush, at a tangent, at an outside
+//! or at an inside corner; one whose corrected start lies before its
+//! offset start runs a whole turn and on to its own end. The expected
+//! sweeps and end point are computed here from the exact geometry of the
 //! program, independently of the correction code.
 
 // Test helpers may stop loudly on a broken setup.
@@ -73,6 +75,9 @@ enum Exit {
     /// A line turning by θ (0.1 .. π - 0.1) to the tool's side: an inside
     /// corner.
     Inside(f64),
+    /// A line turning by θ (0.1 .. π - 0.1) away from the tool's side: an
+    /// outside corner.
+    Outside(f64),
 }
 
 /// One random program: lead-in, entry, full circle, exit.
@@ -144,6 +149,7 @@ fn exit() -> impl Strategy<Value = Exit> {
         Just(Exit::Flush),
         Just(Exit::Tangent),
         (0.1f64..PI - 0.1).prop_map(Exit::Inside),
+        (0.1f64..PI - 0.1).prop_map(Exit::Outside),
     ]
 }
 
@@ -217,6 +223,11 @@ fn program(c: &Case) -> (P2, Vec<Prog>) {
             let to_side = if c.tool_left { theta } else { -theta };
             let tb = turn(t, [0.0, 0.0], to_side);
             out.push(Prog::Line(add(p, mul(tb, 80.0))));
+        }
+        Exit::Outside(theta) => {
+            let away = if c.tool_left { -theta } else { theta };
+            let tb = turn(t, [0.0, 0.0], away);
+            out.push(Prog::Line(add(p, mul(tb, 20.0))));
         }
     }
     (lead_start, out)
@@ -296,20 +307,21 @@ fn sweep_of(l: &Logged, centre: P2) -> f64 {
     l.element.length() / (0.5 * (r0 + r1))
 }
 
-/// The corrected elements about the circle's centre: the full circle.
-fn circle_sweeps(c: &Case, log: &[Logged]) -> Vec<f64> {
+/// The corrected elements about the circle's centre (the full circle):
+/// their sweeps, and where the last one ends.
+fn circle_sweeps(c: &Case, log: &[Logged]) -> (Vec<f64>, Option<P2>) {
     let centre = c.centre;
-    log.iter()
+    let on_circle: Vec<&Logged> = log
+        .iter()
         .filter(|l| l.element.origin() == Origin::Corrected)
-        .filter_map(|l| {
-            match l.element.path() {
-                Path::Arc(a) => Some([a.centre.x, a.centre.y]),
-                Path::Line => None,
-            }
-            .filter(|&a| norm(sub(a, centre)) <= 1e-9)
-            .map(|a| sweep_of(l, a))
+        .filter(|l| match l.element.path() {
+            Path::Arc(a) => norm(sub([a.centre.x, a.centre.y], centre)) <= 1e-9,
+            Path::Line => false,
         })
-        .collect()
+        .collect();
+    let sweeps = on_circle.iter().map(|l| sweep_of(l, centre)).collect();
+    let end = on_circle.last().map(|l| [l.end[0], l.end[1]]);
+    (sweeps, end)
 }
 
 /// The angle from `a` to `b` about `centre`, positive in direction
@@ -383,20 +395,38 @@ fn entry_offset_end(c: &Case) -> P2 {
     }
 }
 
-/// The sweep of the corrected circle: the turn from where its corrected
-/// element starts (the entry's offset end) to where it ends. That start
-/// lies off the offset start when the entry is tilted (up to 0.04 rad),
-/// and, by up to d·eps / (radius·r_off) (1.7e-6 rad at the extremes of
-/// [`case`]), when the entry's end point is eps off the tangent point.
-/// It keeps its whole turn when it starts within 1e-7 rad of its offset
-/// start or before it; otherwise its part ends at its offset end. A whole
-/// turn that would end at most its overlap (plus 1e-7 rad) past its start
-/// is one exact turn.
-fn expected_sweep(c: &Case) -> Option<f64> {
+/// What the corrected circle spools: the sweep of each element about its
+/// centre, and where the last one ends.
+#[derive(Debug, Clone, PartialEq)]
+struct Expected {
+    sweeps: Vec<f64>,
+    end: P2,
+}
+
+/// The angle by which the circle's corrected start `from` (the entry's
+/// offset end) lies after its offset start: negative before it.
+fn start_shift(c: &Case) -> f64 {
+    let (off_start, _) = circle_offset(c);
+    angle_about(c.centre, off_start, entry_offset_end(c), c.sigma())
+}
+
+/// The corrected circle: from where its corrected element starts (the
+/// entry's offset end) to where it ends. That start lies off the offset
+/// start when the entry is tilted (up to 0.04 rad), and, by up to d·eps /
+/// (radius·r_off) (1.7e-6 rad at the extremes of [`case`]), when the
+/// entry's end point is eps off the tangent point. It keeps its whole
+/// turn when it starts within 1e-7 rad of its offset start or before it;
+/// otherwise its part ends at its offset end. Its end is the offset end
+/// (flush, tangent or outside exit) or the inside cut nearest the
+/// corner. A whole turn whose end lies at most 1e-7 rad past its start is
+/// one exact turn; one past it by at most the overlap (how far the start
+/// lies before the offset start) plus 1e-7 rad is a whole turn ending on
+/// the start and then the arc on to the end (decision 330).
+fn expected(c: &Case) -> Option<Expected> {
     let (sigma, centre) = (c.sigma(), c.centre);
     let (off_start, _) = circle_offset(c);
     let from = entry_offset_end(c);
-    let shift = angle_about(centre, off_start, from, sigma);
+    let shift = start_shift(c);
     let whole = shift.abs() <= 1e-7 || shift < 0.0;
     let x = match c.exit {
         Exit::Inside(theta) => inside_cut(c, theta, |x| {
@@ -406,15 +436,26 @@ fn expected_sweep(c: &Case) -> Option<f64> {
         _ => off_start,
     };
     let past = angle_about(centre, from, x, sigma);
-    if whole && (0.0..=(-shift).max(0.0) + 1e-7).contains(&past) {
-        return Some(TAU);
+    let one = |sweep: f64, end: P2| Expected {
+        sweeps: vec![sweep],
+        end,
+    };
+    if whole && (0.0..=1e-7).contains(&past) {
+        return Some(one(TAU, from));
+    }
+    if whole && past > 1e-7 && past <= (-shift).max(0.0) + 1e-7 {
+        return Some(Expected {
+            sweeps: vec![TAU, past],
+            end: x,
+        });
     }
     let sweep = past.rem_euclid(TAU);
-    Some(if sweep <= 1e-12 { TAU } else { sweep })
+    Some(one(if sweep <= 1e-12 { TAU } else { sweep }, x))
 }
 
-/// Runs the case and compares the spooled circle's sweep with `want`.
-fn check(c: &Case, want: Option<f64>) -> Result<(), TestCaseError> {
+/// Runs the case and compares the spooled circle with `want`: its
+/// elements' sweeps (within 1e-6 rad) and where it ends (within 1e-9).
+fn check(c: &Case, want: Option<Expected>) -> Result<(), TestCaseError> {
     let (err, log) = run(c);
     let Some(want) = want else {
         // The exact geometry does not fit: KorrError.
@@ -423,13 +464,29 @@ fn check(c: &Case, want: Option<f64>) -> Result<(), TestCaseError> {
         return Ok(());
     };
     prop_assert_eq!(err, 0, "ERROR bits for a program that fits: {:?}", log);
-    let sweeps = circle_sweeps(c, &log);
-    prop_assert_eq!(sweeps.len(), 1, "one circle element: {:?}", log);
+    let (sweeps, end) = circle_sweeps(c, &log);
+    prop_assert_eq!(
+        sweeps.len(),
+        want.sweeps.len(),
+        "circle elements {:?}, expected {:?}: {:?}",
+        sweeps,
+        want.sweeps,
+        log
+    );
+    for (got, exp) in sweeps.iter().zip(&want.sweeps) {
+        prop_assert!(
+            (got - exp).abs() <= 1e-6,
+            "circle sweeps {:?} instead of {:?}",
+            sweeps,
+            want.sweeps
+        );
+    }
+    let end = end.unwrap_or([f64::NAN; 2]);
     prop_assert!(
-        (sweeps[0] - want).abs() <= 1e-6,
-        "circle sweeps {} instead of {}",
-        sweeps[0],
-        want
+        norm(sub(end, want.end)) <= 1e-9,
+        "circle ends at {:?} instead of {:?}",
+        end,
+        want.end
     );
     Ok(())
 }
@@ -446,14 +503,40 @@ proptest! {
     /// with a large tool inside, runs to the offset end: a turn less that.)
     #[test]
     fn tangent_entry_keeps_the_whole_turn(c in case(false)) {
-        check(&c, expected_sweep(&c))?;
+        check(&c, expected(&c))?;
     }
 
     /// Entries tilted by 1e-9 .. 0.04 rad off the tangent (still a smooth
     /// join): never a sliver, and the sweep the geometry gives.
     #[test]
     fn nearly_tangent_entry_never_leaves_a_sliver(c in case(true)) {
-        check(&c, expected_sweep(&c))?;
+        check(&c, expected(&c))?;
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 256,
+        // About half the tilted cases start before the offset start.
+        max_global_rejects: 4096,
+        ..ProptestConfig::default()
+    })]
+
+    /// Tilted entries whose corrected start lies more than 1e-7 rad before
+    /// the circle's offset start (issue 20, point 3): a whole turn ending
+    /// on that start, then on to the circle's own end (its offset end
+    /// after a flush, a tangent or an outside corner; the cut at an inside
+    /// corner), so that the next element starts on its own offset geometry.
+    #[test]
+    fn start_before_the_offset_start_runs_a_turn_and_on(c in case(true)) {
+        prop_assume!(start_shift(&c) < -1e-7);
+        let want = expected(&c);
+        if let Some(w) = &want {
+            if matches!(c.exit, Exit::Flush | Exit::Tangent | Exit::Outside(_)) {
+                prop_assert_eq!(w.sweeps.len(), 2, "a turn and on: {:?}", w);
+            }
+        }
+        check(&c, want)?;
     }
 }
 
@@ -478,7 +561,7 @@ fn grazing_inside_cut_after_a_tangent_entry() {
         tool: 0.5292636962517333,
         tool_left: true,
     };
-    check(&c, expected_sweep(&c)).unwrap();
+    check(&c, expected(&c)).unwrap();
 }
 
 /// A tangent entry ending 1e-6 off the tangent point of a small circle
@@ -501,5 +584,5 @@ fn tangent_entry_starting_ahead_of_the_offset_start() {
         tool: 2.49,
         tool_left: true,
     };
-    check(&c, expected_sweep(&c)).unwrap();
+    check(&c, expected(&c)).unwrap();
 }

@@ -5,12 +5,13 @@
 use super::profile::Profile;
 use super::sink::{Axes, Sink};
 use crate::element::{NormalRule, Origin};
-use crate::geometry::full_circle::{keeps_whole_turn, start_shift, whole_turn_end};
+use crate::geometry::full_circle::{keeps_whole_turn, start_shift, whole_turn_end, TurnEnd};
 use crate::geometry::tolerance::ZERO_ARC;
 use crate::geometry::{Contour, Offset, Part, V2};
 use crate::plane::AxisPos;
 
-/// Most elements a held profile spools (an approach line and the arc).
+/// Most elements a held profile spools: an approach line and the arc, or
+/// a full circle's whole turn and the arc on to its end (decision 330).
 pub(super) const MAX_HELD: usize = 2;
 
 /// How a profile entered the buffer.
@@ -39,6 +40,8 @@ pub(super) struct Hold {
     from: Option<V2>,
     /// A programmed full circle that keeps its whole turn.
     whole_turn: bool,
+    /// A programmed full circle (it counts two places, decision 331).
+    full: bool,
 }
 
 impl Hold {
@@ -51,11 +54,13 @@ impl Hold {
                 approach: true,
                 from: matches!(prof.contour, Contour::Arc { .. }).then_some(off.start),
                 whole_turn: full,
+                full,
             },
             Entry::Corner { from, continued } => Self {
                 approach: false,
                 from: Some(from),
                 whole_turn: full && keeps_whole_turn(start_shift(off, from), continued),
+                full,
             },
         }
     }
@@ -66,9 +71,10 @@ impl Hold {
     }
 
     /// Places its elements take at most: an approach arc spools a line
-    /// and the arc.
+    /// and the arc; a full circle counts two places however it entered (a
+    /// whole turn and the arc on to its end, decisions 330 and 331).
     pub fn reserve(&self) -> usize {
-        if self.arc_approach() {
+        if self.arc_approach() || self.full {
             MAX_HELD
         } else {
             1
@@ -187,31 +193,38 @@ impl Held {
             sink.line(s, axes, self.motion(), Origin::Approach, Some(n));
         }
         let here = sink.here();
-        let x = self.end_at(here, x);
-        let zero = (here - x).norm() <= ZERO_ARC;
-        if !zero || self.prof.contour.is_full_circle() {
+        let arc = |p: V2, axes: Axes, sink: &mut Sink| {
             let rule = NormalRule::Radial {
                 centre,
                 outward: self.off.tool_outside_arc(sigma),
             };
-            let (axes, feed) = (Axes::Programmed(&self.prof.end), self.prof.feed);
-            sink.arc(
-                x,
-                axes,
-                (centre, sigma > 0.0),
-                feed,
-                Origin::Corrected,
-                rule,
-            );
+            let (ccw, feed) = (sigma > 0.0, self.prof.feed);
+            sink.arc(p, axes, (centre, ccw), feed, Origin::Corrected, rule);
+        };
+        let all_axes = Axes::Programmed(&self.prof.end);
+        match self.end_at(here, x) {
+            // The whole turn makes the whole change outside the plane.
+            TurnEnd::TurnThen(x) => {
+                arc(here, all_axes, sink);
+                arc(x, Axes::Stay, sink);
+                x
+            }
+            TurnEnd::Arc(x) => {
+                let zero = (here - x).norm() <= ZERO_ARC;
+                if !zero || self.prof.contour.is_full_circle() {
+                    arc(x, all_axes, sink);
+                }
+                x
+            }
         }
-        x
     }
 
     /// Where its corrected element ends when its corner asks for `x`: a
-    /// whole turn that would end just past its start (`here`) ends on it.
-    fn end_at(&self, here: V2, x: V2) -> V2 {
+    /// whole turn ends on its start (`here`), and runs on from there to an
+    /// end within its overlap (decision 330).
+    fn end_at(&self, here: V2, x: V2) -> TurnEnd {
         if !self.hold.whole_turn {
-            return x;
+            return TurnEnd::Arc(x);
         }
         let shift = start_shift(&self.off, here);
         whole_turn_end(&self.off, here, shift, x)

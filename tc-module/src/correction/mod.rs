@@ -136,12 +136,21 @@ impl Buffer {
         self.held.as_ref().map_or(0, Held::reserve) + self.nulls.len()
     }
 
-    /// Drops the held profile without spooling it (ReInit, direct command,
-    /// RESET, fault, start).
+    /// Drops the held profile without spooling it, and the contour normal
+    /// where the tool stands (ReInit, direct command, RESET, fault).
     pub fn clear(&mut self) {
         self.held = None;
         self.clear_nulls();
         self.last_normal = None;
+    }
+
+    /// STATUS=1: drops what may still be held (nothing after a STATUS=0),
+    /// but keeps the contour normal where the last corrected element
+    /// ended: switching the correction on and off again without motion
+    /// leaves the departure that follows as it was (decision 334).
+    pub fn restart(&mut self) {
+        self.held = None;
+        self.clear_nulls();
     }
 
     /// Forgets the waiting plane-null profiles, giving back large storage.

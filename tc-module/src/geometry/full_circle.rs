@@ -1,8 +1,9 @@
-//! Programmed full circles (decisions 48, 76 and 77: a programmed full
-//! circle keeps its whole turn). Which corrected full circles keep
-//! their whole turn, and where such a turn ends so that the element
-//! spooled from its start to its end is read as a whole turn, never as a
-//! sliver.
+//! Programmed full circles (decisions 48, 76, 77 and 330: a programmed
+//! full circle keeps its whole turn). Which corrected full circles keep
+//! their whole turn, and where such a turn ends: an element spooled from
+//! its start to its end is read as a whole turn, never as a sliver, and a
+//! circle started before its offset start runs a whole turn and on to its
+//! own end (docs/trc.md "Full circles").
 
 use super::offset::{Offset, OffsetPath};
 use super::tolerance::FULL_CIRCLE;
@@ -29,24 +30,38 @@ pub fn keeps_whole_turn(shift: f64, continued: bool) -> bool {
     shift.abs() <= FULL_CIRCLE.rad() || (continued && shift < 0.0)
 }
 
+/// How a whole-turn circle spooled from its corrected start `c` ends
+/// (decisions 76, 77 and 330).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TurnEnd {
+    /// One arc from `c` to this point: a whole turn when it is `c`
+    /// itself.
+    Arc(V2),
+    /// A whole turn ending on `c`, then an arc from `c` on to this point.
+    TurnThen(V2),
+}
+
 /// Where a whole-turn circle of offset `off`, spooled from `from` (its
-/// corrected start, `shift` radians from the offset start), ends when
-/// its corner asks for `x`. A point at most the overlap `max(-shift, 0)`
-/// plus [`FULL_CIRCLE`] past `from` lies at (or beyond) the end of the
-/// whole turn: the turn ends exactly on `from`, one turn, as an element
-/// from `from` to a point just past it would be read as a sliver.
-/// Elsewhere `x` itself.
-pub fn whole_turn_end(off: &Offset, from: V2, shift: f64, x: V2) -> V2 {
+/// corrected start `c`, `shift` radians from the offset start), ends when
+/// its corner asks for `x` (the offset end, or an inside corner's cut
+/// point). An end at most [`FULL_CIRCLE`] past `c` is one turn ending on
+/// `c`; one past it by at most the overlap `max(-shift, 0)` plus
+/// [`FULL_CIRCLE`] lies beyond a whole turn: the turn ends on `c` and an
+/// arc runs on to `x` (an element from `c` to a point just past it would
+/// read as a sliver). Any other end is one arc from `c` to `x`.
+pub fn whole_turn_end(off: &Offset, from: V2, shift: f64, x: V2) -> TurnEnd {
     let OffsetPath::Arc { centre, sigma, .. } = off.path else {
-        return x;
+        return TurnEnd::Arc(x);
     };
     let (a, b) = (from - centre, x - centre);
     let past = sigma * cross(a, b).atan2(a.dot(&b));
-    let overlap = (-shift).max(0.0) + FULL_CIRCLE.rad();
-    if (0.0..=overlap).contains(&past) {
-        from
+    let tol = FULL_CIRCLE.rad();
+    if (0.0..=tol).contains(&past) {
+        TurnEnd::Arc(from)
+    } else if past > tol && past <= (-shift).max(0.0) + tol {
+        TurnEnd::TurnThen(x)
     } else {
-        x
+        TurnEnd::Arc(x)
     }
 }
 
@@ -103,23 +118,34 @@ mod tests {
     }
 
     #[test]
-    fn a_turn_that_would_end_just_past_its_start_ends_on_it() {
+    fn a_turn_ends_on_its_start_then_runs_on_to_an_end_within_the_overlap() {
         for sigma in [1.0, -1.0] {
             let off = circle(sigma);
             let from = at(-sigma * 1e-5) * 12.0; // 1e-5 rad before the start
             let shift = start_shift(&off, from);
-            // The offset end lies 1e-5 past `from`: one turn, on `from`.
-            assert_eq!(whole_turn_end(&off, from, shift, off.end), from);
-            // Just beyond the overlap and the tolerance: x itself.
+            // The offset end lies 1e-5 past `from`: a turn, then on to it.
+            let end = whole_turn_end(&off, from, shift, off.end);
+            assert_eq!(end, TurnEnd::TurnThen(off.end));
+            // Within the tolerance past `from`: one turn, on `from`.
+            let near = at(-sigma * (1e-5 - 5e-8)) * 12.0;
+            assert_eq!(whole_turn_end(&off, from, shift, near), TurnEnd::Arc(from));
+            // Just beyond the overlap and the tolerance: one arc to x.
             let beyond = at(sigma * 2e-7) * 12.0;
-            assert_eq!(whole_turn_end(&off, from, shift, beyond), beyond);
-            // A cut before the end is kept.
+            assert_eq!(
+                whole_turn_end(&off, from, shift, beyond),
+                TurnEnd::Arc(beyond)
+            );
+            // A cut before the end is one arc, a turn less the rest.
             let cut = at(-sigma * 0.3) * 12.0;
-            assert_eq!(whole_turn_end(&off, from, shift, cut), cut);
+            assert_eq!(whole_turn_end(&off, from, shift, cut), TurnEnd::Arc(cut));
             // Started on the offset start: a rounding step past it is the end.
             let past = at(sigma * 1e-12) * 12.0;
-            assert_eq!(whole_turn_end(&off, off.start, 0.0, past), off.start);
-            assert_eq!(whole_turn_end(&off, off.start, 0.0, off.end), off.start);
+            let on = |x| whole_turn_end(&off, off.start, 0.0, x);
+            assert_eq!(on(past), TurnEnd::Arc(off.start));
+            assert_eq!(on(off.end), TurnEnd::Arc(off.start));
+            // Not before the offset start: no overlap, nothing runs on.
+            let ahead = at(sigma * 5e-8) * 12.0;
+            assert_eq!(whole_turn_end(&off, ahead, 5e-8, past), TurnEnd::Arc(past));
         }
     }
 
@@ -131,6 +157,7 @@ mod tests {
         };
         let off = l.offset(1.0).unwrap();
         assert_eq!(start_shift(&off, v(5.0, 5.0)), 0.0);
-        assert_eq!(whole_turn_end(&off, off.start, 0.0, off.start), off.start);
+        let end = whole_turn_end(&off, off.start, 0.0, off.start);
+        assert_eq!(end, TurnEnd::Arc(off.start));
     }
 }

@@ -199,7 +199,7 @@ impl<E: TcExtension> TcModule<E> {
         let ready =
             g.side.is_some() && g.plane_axes(plane).distinct() && !other_running && !g.faulted;
         if ready {
-            g.buffer.clear();
+            g.buffer.restart();
             self.running = Some(slot);
             self.departure = None;
         } else {
