@@ -20,7 +20,7 @@ use super::halves::{ClosableRead, ClosableWrite};
 use super::handler::{Handler, Session, Slice};
 use super::idle::{Activity, Closed};
 use super::shared::Shared;
-use super::slices::{to_the_end, BeforeWait, By};
+use super::slices::{to_the_end, By, Caller, Cut};
 use crate::wire::{
     Answer, CodecError, Op, ProtocolError, Rejected, Reply, Request, ServerCodec, MAX_FRAME,
     PREFIX_LEN,
@@ -35,12 +35,26 @@ type Incoming = Result<(u32, Request), Rejected>;
 /// Where a connection's answers go.
 type AnswerSink = FramedWrite<ClosableWrite<OwnedWriteHalf>, ServerCodec>;
 
-/// Before a request waits, the answers already queued leave.
-impl BeforeWait for AnswerSink {
+/// Where a connection's requests come from.
+type RequestSource = FramedRead<ClosableRead<OwnedReadHalf>, ServerCodec>;
+
+/// A connection as the caller of a long request: its answer sink, and its
+/// socket's reading side watched for the client leaving.
+struct Serving<'a> {
+    writer: &'a mut AnswerSink,
+    reader: &'a RequestSource,
+}
+
+impl Caller for Serving<'_> {
+    /// The answers already queued leave.
     async fn before_wait(&mut self) {
         // A failed flush shows again at the next send, which closes the
         // connection.
-        let _ = self.flush().await;
+        let _ = self.writer.flush().await;
+    }
+
+    fn left(&self) -> bool {
+        self.reader.get_ref().peer_left()
     }
 }
 
@@ -137,7 +151,7 @@ struct Unfinished {
 
 /// The state of one connection.
 struct Connection<H: Handler> {
-    reader: FramedRead<ClosableRead<OwnedReadHalf>, ServerCodec>,
+    reader: RequestSource,
     writer: AnswerSink,
     shared: Shared<H>,
     /// This connection's own state; ends with it.
@@ -250,20 +264,33 @@ impl<H: Handler> Connection<H> {
     /// The answer to a request its first slice left unfinished, served
     /// slice by slice. The answers already queued leave before the request
     /// waits for something outside the handler: a pipelining client is not
-    /// kept waiting for them behind it. When the connection is closed
-    /// (idle, evicted, stopping) before the request is done, the rest of it
-    /// is dropped and the connection ends.
+    /// kept waiting for them behind it. When the server closes the
+    /// connection (stopping) before the request is done, the rest of it is
+    /// dropped, the request is answered `Stopped` and the connection ends;
+    /// when the client has left, the rest is dropped and the connection
+    /// ends without an answer.
     async fn finish(&mut self, rest: Unfinished) -> (Reply, Then) {
         let by = if rest.by_session {
             By::Session(&mut self.session)
         } else {
             By::Shared(&self.shared)
         };
-        match to_the_end(by, rest.slice, &self.activity, &mut self.writer).await {
-            Some(ans) => (reply(rest.id, rest.op, ans), Then::GoOn),
-            None => {
-                let busy = Answer::Protocol(ProtocolError::Busy);
-                (reply(rest.id, rest.op, busy), Then::Close)
+        let mut caller = Serving {
+            writer: &mut self.writer,
+            reader: &self.reader,
+        };
+        match to_the_end(by, rest.slice, &self.activity, &mut caller).await {
+            Ok(ans) => (reply(rest.id, rest.op, ans), Then::GoOn),
+            Err(Cut::Left) => {
+                debug!(peer = %self.gate.peer, "client left during a request: stopped it");
+                // Nobody reads the answer; it is sent all the same, and the
+                // connection ends.
+                let stopped = Answer::Protocol(ProtocolError::Stopped);
+                (reply(rest.id, rest.op, stopped), Then::Close)
+            }
+            Err(Cut::Closed(_)) => {
+                let stopped = Answer::Protocol(ProtocolError::Stopped);
+                (reply(rest.id, rest.op, stopped), Then::Close)
             }
         }
     }

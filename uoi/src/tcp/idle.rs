@@ -6,8 +6,8 @@
 //! them all. When the server is full, it names the connection quiet
 //! longest, and closes it to make room ([`Watchdog::evict`]).
 //!
-//! Progress is a complete request read, or a batch of answers written out
-//! in full. A client that takes its answers a few bytes at a time does not
+//! Progress is a complete request read, a slice of a request served, or a
+//! batch of answers written out in full. A client that takes its answers a few bytes at a time does not
 //! hold its place: its batch must leave within the write timeout.
 //!
 //! A connection holds its place ([`Seat`]) until it is closed: a close
@@ -96,8 +96,9 @@ impl Activity {
         Self::new(None)
     }
 
-    /// Records progress: a complete request read. Only the connection's
-    /// own task moves the count, so a plain load and store do (no locked
+    /// Records progress: a complete request read, or a slice of a request
+    /// served (a request being served is never idle). Only the
+    /// connection's own task moves the count, so a plain load and store do (no locked
     /// read-modify-write per request).
     pub(crate) fn progress(&self) {
         let seen = self.progress.load(Ordering::Relaxed);
