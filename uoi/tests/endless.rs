@@ -195,7 +195,10 @@ fn a_request_stopped_by_shutdown_is_answered_stopped_with_its_op_and_id() {
     let (addr, stop) = serve_with(cfg, Endless);
     let mut s = connect(addr);
     let mut f = BytesMut::new();
-    let req = Request::Read(ObjectAddress::new(7, 0, 0, UNTIL_STOP as u16), ValueType::I32);
+    let req = Request::Read(
+        ObjectAddress::new(7, 0, 0, UNTIL_STOP as u16),
+        ValueType::I32,
+    );
     encode_request(77, &req, &mut f);
     s.write_all(&f).expect("send");
     while SLICES[UNTIL_STOP].load(Ordering::Relaxed) == 0 {

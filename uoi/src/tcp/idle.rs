@@ -72,6 +72,10 @@ pub(crate) struct Activity {
     stuck: AtomicBool,
     /// [`OPEN`], or why the connection is closed ([`Closed`]).
     state: AtomicU8,
+    /// The connection has presented the access token or completed a
+    /// request: it is never closed to make room for a new one (while its
+    /// answers are not stuck).
+    trusted: AtomicBool,
     /// The connection's task while it waits for input.
     waker: AtomicWaker,
     /// Its place among the server's, given back when it is closed (or,
@@ -85,6 +89,7 @@ impl Activity {
             progress: AtomicU64::new(0),
             stuck: AtomicBool::new(false),
             state: AtomicU8::new(OPEN),
+            trusted: AtomicBool::new(false),
             waker: AtomicWaker::new(),
             seat: Mutex::new(seat),
         }
@@ -103,6 +108,18 @@ impl Activity {
     pub(crate) fn progress(&self) {
         let seen = self.progress.load(Ordering::Relaxed);
         self.progress.store(seen.wrapping_add(1), Ordering::Relaxed);
+    }
+
+    /// Records that the connection has presented the access token or
+    /// completed a request: a newcomer may not take its place.
+    pub(crate) fn trust(&self) {
+        self.trusted.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether a newcomer may take its place: not if it is trusted and
+    /// takes its answers.
+    fn evictable(&self) -> bool {
+        !self.trusted.load(Ordering::Relaxed) || self.stuck.load(Ordering::Relaxed)
     }
 
     /// Records that a write found the socket full: the answers wait.
@@ -278,8 +295,9 @@ impl Entries {
     }
 
     /// Closes the open connection quiet longest, if for `grace` at least,
-    /// among those from `within` (all when `None`); of those quiet equally
-    /// long (as far as the looks tell), the oldest.
+    /// among those from `within` (all when `None`) that may be evicted
+    /// (not trusted, or with answers stuck); of those quiet equally long
+    /// (as far as the looks tell), the oldest.
     fn evict(&self, within: Option<IpAddr>, grace: Duration, now: Instant) -> Option<Evicted> {
         let entries = self.lock();
         // Oldest first; `max_by_key` keeps the last of equals.
@@ -289,7 +307,7 @@ impl Entries {
             .filter(|e| within.is_none_or(|ip| e.peer == ip))
             .filter_map(|e| {
                 let conn = e.conn.upgrade()?;
-                if conn.closed().is_some() {
+                if conn.closed().is_some() || !conn.evictable() {
                     return None;
                 }
                 let quiet = e.quiet_for(&conn, now)?;
