@@ -152,7 +152,10 @@ fn frame(id: u32, req: &uoi::wire::Request) -> Vec<u8> {
 /// leaves without its answer; again and again until `stop`. How many it
 /// abandoned.
 fn abandoner(addr: SocketAddr, stop: &AtomicBool) -> usize {
-    let hello = frame(1, &uoi::wire::Request::Hello(Bytes::from_static(TOKEN.as_bytes())));
+    let hello = frame(
+        1,
+        &uoi::wire::Request::Hello(Bytes::from_static(TOKEN.as_bytes())),
+    );
     let exec = frame(2, &Request::Exec(Some(u64::MAX - 1)).to_wire());
     let mut abandoned = 0;
     while !stop.load(Ordering::Relaxed) {
@@ -231,7 +234,10 @@ fn a_flood_and_abandoned_execs_cost_the_polling_client_nothing() {
         "soak: {opened} flood connections, {abandoned} abandoned EXECs, \
          {answered} polls answered, CPU {busy:.2} under load, {idle:.2} after"
     );
-    assert!(lost.is_empty(), "the polling client lost requests: {lost:?}");
+    assert!(
+        lost.is_empty(),
+        "the polling client lost requests: {lost:?}"
+    );
     assert!(answered > 0);
     assert!(abandoned >= ABANDONERS, "only {abandoned} EXECs abandoned");
     assert!(opened > FLOOD_HELD, "the flood opened only {opened}");
