@@ -11,6 +11,12 @@
 //! * time: a chunk must arrive whole within [`Limits::chunk_time`], a
 //!   silent client is closed after [`Limits::idle`], and a client that
 //!   does not take its answers within [`Limits::write_stall`] is closed;
+//! * sessions: a client must have sent [`ACTIVATED_MSGS`] final message
+//!   chunks (`CreateSession` and `ActivateSession`, the least a working
+//!   client sends after opening its channel) within [`Limits::activation`]
+//!   of connecting, or it is closed: a connection whose session is created
+//!   but never activated holds a place for seconds, not minutes (the door
+//!   sees only chunk headers, encrypted or not, so it counts messages);
 //! * back-pressure: while an answer waits for the client, no further
 //!   request is read from it, so answers cannot pile up.
 //!
@@ -31,6 +37,10 @@ const HEADER: usize = 8;
 /// Pause after a failed accept.
 const ACCEPT_PAUSE: Duration = Duration::from_millis(100);
 
+/// Final message chunks (`MSG` … `F`) a client sends to create and
+/// activate a session.
+pub const ACTIVATED_MSGS: u32 = 2;
+
 /// What one client may make the face hold.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Limits {
@@ -46,6 +56,9 @@ pub struct Limits {
     pub idle: Duration,
     /// A client that takes no answer bytes this long is closed.
     pub write_stall: Duration,
+    /// A client that has not sent [`ACTIVATED_MSGS`] messages this long
+    /// after connecting (no session activated) is closed.
+    pub activation: Duration,
 }
 
 impl Limits {
@@ -58,6 +71,7 @@ impl Limits {
             chunk_time: Duration::from_secs(30),
             idle: Duration::from_secs(300),
             write_stall: Duration::from_secs(30),
+            activation: Duration::from_secs(10),
         }
     }
 }
@@ -110,6 +124,8 @@ struct Chunks {
     have: usize,
     left: usize,
     started: Option<Instant>,
+    /// Final message chunks seen whole.
+    messages: u32,
 }
 
 impl Chunks {
@@ -142,7 +158,11 @@ impl Chunks {
                 bytes = &bytes[n..];
             }
             if self.have == HEADER && self.left == 0 {
-                *self = Chunks::default();
+                let message = u32::from(self.header[..4] == *b"MSGF");
+                *self = Chunks {
+                    messages: self.messages.saturating_add(message),
+                    ..Chunks::default()
+                };
             }
         }
         Ok(())
@@ -163,12 +183,16 @@ async fn relay(
     let mut chunks = Chunks::default();
     let mut from_client = vec![0u8; 16 * 1024];
     let mut from_server = vec![0u8; 16 * 1024];
+    let activate_by = Instant::now() + limits.activation;
     loop {
         let now = Instant::now();
         let idle_end = now + limits.idle;
-        let end = chunks
+        let mut end = chunks
             .deadline(limits)
             .map_or(idle_end, |d| d.min(idle_end));
+        if chunks.messages < ACTIVATED_MSGS {
+            end = end.min(activate_by);
+        }
         tokio::select! {
             read = client.read(&mut from_client) => {
                 let n = read.map_err(|e| e.to_string())?;
@@ -194,7 +218,9 @@ async fn relay(
                     .map_err(|e| e.to_string())?;
             }
             () = tokio::time::sleep_until(end) => {
-                return Err(if end < idle_end {
+                return Err(if end == activate_by && chunks.messages < ACTIVATED_MSGS {
+                    "no session activated in time".into()
+                } else if end < idle_end {
                     "a chunk did not arrive in time".into()
                 } else {
                     "the client was silent too long".into()
@@ -308,6 +334,29 @@ mod tests {
         }
         assert!(again.is_some());
         assert!(round(&mut kept[0], &hello).await.is_some());
+    }
+
+    /// Issue 20, point 8: a client that opens a channel and creates a
+    /// session but never activates it (one message) is closed after the
+    /// activation time; one that sends both messages stays.
+    #[tokio::test]
+    async fn a_session_never_activated_does_not_hold_a_place() {
+        let limits = Limits {
+            activation: Duration::from_millis(300),
+            ..Limits::new(1024)
+        };
+        let addr = door(limits).await;
+        let mut lazy = TcpStream::connect(addr).await.unwrap();
+        let mut busy = TcpStream::connect(addr).await.unwrap();
+        let mut start = chunk(b"HELF", 20);
+        start.extend(chunk(b"OPNF", 40));
+        start.extend(chunk(b"MSGF", 40));
+        assert!(round(&mut lazy, &start).await.is_some());
+        assert!(round(&mut busy, &start).await.is_some());
+        assert!(round(&mut busy, &chunk(b"MSGF", 40)).await.is_some());
+        sleep(Duration::from_millis(600)).await;
+        assert_eq!(round(&mut lazy, &chunk(b"MSGF", 40)).await, None);
+        assert!(round(&mut busy, &chunk(b"MSGF", 40)).await.is_some());
     }
 
     #[tokio::test]

@@ -1,8 +1,10 @@
 //! A request that never ends (a huge `EXEC` with a per-cycle model, in the
 //! emulator) is served slice by slice, by the shared handler or by a
-//! connection's session: other clients are served meanwhile, and
-//! once its connection is closed (here by the idle timeout) no further
-//! slice of it runs.
+//! connection's session: other clients are served meanwhile; a request
+//! being served is progress (the idle timeout does not cut it off); once
+//! its client closes the connection no further slice of it runs; and a
+//! request stopped by the server's shutdown is answered `Stopped` with its
+//! own op and id (issue 20, points 5 and 6).
 
 // Test helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
@@ -21,12 +23,15 @@ use uoi::wire::{encode_request, Answer, Request};
 use uoi::{ObjectAddress, Value, ValueType};
 
 /// Slices run of the endless request, per test (each test its own index).
-static SLICES: [AtomicU64; 2] = [AtomicU64::new(0), AtomicU64::new(0)];
+static SLICES: [AtomicU64; 3] = [AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0)];
 
 /// The slot of the endless request the shared handler serves.
 const SHARED: usize = 0;
 /// The slot of the endless request a session serves.
 const SESSION: usize = 1;
+/// The slot of the endless request the shared handler serves until the
+/// server stops.
+const UNTIL_STOP: usize = 2;
 
 /// A READ of index 0, sub 0 never ends in the shared handler: every slice
 /// hands back the rest. Any other READ is answered with its index.
@@ -50,22 +55,27 @@ impl Handler for Endless {
     }
 }
 
-/// Takes READs of index 0, sub 1 and 3: those of sub 1 never end; those
-/// of sub 3 take as many more slices as their device number, then answer
-/// 42.
+/// Takes READs of index 0, sub 1, 3 and 4: those of sub 1 never end;
+/// those of sub 3 take as many more slices as their device number, then
+/// answer 42; those of sub 4 too, each slice taking 20 ms.
 struct EndlessSession;
 
 impl Session for EndlessSession {
     fn takes(&self, req: &Request) -> bool {
-        matches!(req, Request::Read(a, _) if a.index == 0 && (a.sub == 1 || a.sub == 3))
+        matches!(req, Request::Read(a, _) if a.index == 0 && matches!(a.sub, 1 | 3 | 4))
     }
 
     fn serve(&mut self, req: Request) -> Slice {
         match req {
-            Request::Read(a, ty) if a.sub == 3 => match a.device {
-                0 => Slice::Done(Answer::Value(Value::I32(42))),
-                n => Slice::More(Request::Read(ObjectAddress::new(7, n - 1, 0, 3), ty)),
-            },
+            Request::Read(a, ty) if a.sub == 3 || a.sub == 4 => {
+                if a.sub == 4 {
+                    std::thread::sleep(Duration::from_millis(20));
+                }
+                match a.device {
+                    0 => Slice::Done(Answer::Value(Value::I32(42))),
+                    n => Slice::More(Request::Read(ObjectAddress::new(7, n - 1, 0, a.sub), ty)),
+                }
+            }
             req => {
                 SLICES[SESSION].fetch_add(1, Ordering::Relaxed);
                 Slice::More(req)
@@ -84,14 +94,30 @@ fn serve() -> (SocketAddr, tokio::sync::oneshot::Sender<()>) {
 }
 
 fn read(s: &mut TcpStream, index: u16, sub: u16) {
+    read_of(s, 0, index, sub);
+}
+
+/// Sends a READ of (7, `device`, `index`, `sub`) as request 1.
+fn read_of(s: &mut TcpStream, device: u16, index: u16, sub: u16) {
     let mut f = BytesMut::new();
-    let req = Request::Read(ObjectAddress::new(7, 0, index, sub), ValueType::I32);
+    let req = Request::Read(ObjectAddress::new(7, device, index, sub), ValueType::I32);
     encode_request(1, &req, &mut f);
     s.write_all(&f).expect("send");
 }
 
+/// Whether the count of slices of `slot` comes to rest (it would grow
+/// forever if the rest of the request kept running).
+fn comes_to_rest(slot: usize) -> bool {
+    (0..50).any(|_| {
+        let before = SLICES[slot].load(Ordering::Relaxed);
+        std::thread::sleep(Duration::from_millis(100));
+        SLICES[slot].load(Ordering::Relaxed) == before
+    })
+}
+
 /// The endless request of `slot` runs while another client is answered,
-/// and stops for good once its connection is closed.
+/// is not cut off by the idle timeout, and stops for good once its client
+/// closes the connection.
 fn endless_request_stops_with_its_connection(slot: usize) {
     let (addr, _stop) = serve();
     let mut hog = connect(addr);
@@ -108,17 +134,19 @@ fn endless_request_stops_with_its_connection(slot: usize) {
         SLICES[slot].load(Ordering::Relaxed) > 0,
         "the endless request runs"
     );
-    // The idle timeout closes the hog (no complete request for 300 ms).
-    let mut rest = Vec::new();
-    let _ = hog.read_to_end(&mut rest);
-    // Then its request stops: the count of slices comes to rest (it
-    // would grow forever if the rest of the request kept running).
-    let stopped = (0..50).any(|_| {
-        let before = SLICES[slot].load(Ordering::Relaxed);
-        std::thread::sleep(Duration::from_millis(100));
-        SLICES[slot].load(Ordering::Relaxed) == before
-    });
-    assert!(stopped, "slices still run after the connection closed");
+    // Served slice by slice, the request is progress: three idle
+    // timeouts later the hog is still open and has no answer.
+    std::thread::sleep(Duration::from_millis(900));
+    hog.set_nonblocking(true).expect("nonblocking");
+    let mut b = [0u8; 1];
+    let waiting = matches!(hog.read(&mut b), Err(e) if e.kind() == std::io::ErrorKind::WouldBlock);
+    assert!(waiting, "the idle timeout cut the request off");
+    // The client leaves: its request stops at the next slice boundary.
+    drop(hog);
+    assert!(
+        comes_to_rest(slot),
+        "slices still run after the client left"
+    );
 }
 
 #[test]
@@ -144,4 +172,41 @@ fn a_session_answers_a_request_of_many_slices() {
 #[test]
 fn a_session_serves_a_long_request_in_slices_and_stops_with_its_connection() {
     endless_request_stops_with_its_connection(SESSION);
+}
+
+#[test]
+fn a_request_longer_than_the_idle_timeout_is_answered() {
+    let (addr, _stop) = serve();
+    let mut s = connect(addr);
+    // 40 slices of 20 ms: 800 ms, beyond the idle timeout of 300 ms.
+    read_of(&mut s, 40, 0, 4);
+    let mut a = [0u8; 28];
+    s.read_exact(&mut a).expect("answered");
+    assert_eq!(a[12..16], [0, 0, 0, 0], "status {a:?}");
+    assert_eq!(i32::from_le_bytes([a[20], a[21], a[22], a[23]]), 42);
+}
+
+#[test]
+fn a_request_stopped_by_shutdown_is_answered_stopped_with_its_op_and_id() {
+    let cfg = ServerConfig {
+        idle_timeout: Duration::from_secs(3600),
+        ..local()
+    };
+    let (addr, stop) = serve_with(cfg, Endless);
+    let mut s = connect(addr);
+    let mut f = BytesMut::new();
+    let req = Request::Read(
+        ObjectAddress::new(7, 0, 0, UNTIL_STOP as u16),
+        ValueType::I32,
+    );
+    encode_request(77, &req, &mut f);
+    s.write_all(&f).expect("send");
+    while SLICES[UNTIL_STOP].load(Ordering::Relaxed) == 0 {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    drop(stop);
+    let (id, op, status) = common::read_head(&mut s);
+    assert_eq!((id, op), (77, 0x01));
+    assert_eq!(status, uoi::wire::ProtocolError::Stopped.code());
+    assert!(common::is_closed(&mut s));
 }

@@ -20,7 +20,7 @@ use std::thread::JoinHandle;
 use std::time::Duration;
 
 use common::{connect, connect_from, flood_until_blocked, local, read_frame, serve, try_read_head};
-use uoi::tcp::ServerConfig;
+use uoi::tcp::{AcceptRate, AccessPolicy, AccessToken, ServerConfig};
 
 const BUSY: u32 = 0xE000_0007;
 const HOUR: Duration = Duration::from_secs(3600);
@@ -95,10 +95,10 @@ impl InUse {
 }
 
 /// Issue 8, point 6: 8 places held by clients that never read their
-/// answers (one flooding until the server's writes block) or stay silent;
-/// fresh clients from the same address are served each in the place of
-/// one of them, and every one of them is closed (the close wakes a
-/// blocked read or write).
+/// answers (one flooding until the server's writes block), never complete
+/// a request (half a frame) or stay silent; fresh clients from the same
+/// address are served each in the place of one of them, and every one of
+/// them is closed (the close wakes a blocked read or write).
 #[test]
 fn clients_that_never_read_or_stay_silent_make_room_for_fresh_ones() {
     let (addr, _stop) = serve(full_at(8, 200));
@@ -108,7 +108,7 @@ fn clients_that_never_read_or_stay_silent_make_room_for_fresh_ones() {
     hogs.push(flooder);
     for k in 0..4 {
         let mut s = connect(addr);
-        s.write_all(&read_frame(k)).expect("write");
+        s.write_all(&read_frame(k)[..10]).expect("write");
         hogs.push(s);
     }
     hogs.extend((0..3).map(|_| connect(addr)));
@@ -197,4 +197,93 @@ fn sixty_four_local_clients_with_default_limits_are_all_served() {
             );
         }
     }
+}
+
+/// Issue 20, point 7: a client polling slower than the eviction grace,
+/// which has presented the token (`token`) or only completed requests, is
+/// never closed to make room for the connections a flood from its own
+/// address opens and holds: it loses no request while the flood runs.
+fn a_polling_client_loses_nothing_to_a_flood(token: bool) {
+    const TOKEN: &str = "0123456789abcdef0123";
+    let access = if token {
+        AccessPolicy {
+            token: Some(AccessToken::new(TOKEN).expect("token")),
+            on_loopback: true,
+        }
+    } else {
+        AccessPolicy::default()
+    };
+    let (addr, _stop) = serve(ServerConfig {
+        access,
+        accept_rate_per_peer: None,
+        ..full_at(4, 20)
+    });
+    let mut poller = connect(addr);
+    if token {
+        let mut f = bytes::BytesMut::new();
+        let hello = uoi::wire::Request::Hello(bytes::Bytes::from_static(TOKEN.as_bytes()));
+        uoi::wire::encode_request(9, &hello, &mut f);
+        poller.write_all(&f).expect("hello");
+        assert_eq!(try_read_head(&mut poller), Some((9, 3, 0)));
+    } else {
+        assert_eq!(ask(&mut poller, 1), Some(0));
+    }
+    let stop = Arc::new(AtomicBool::new(false));
+    let flooding = Arc::clone(&stop);
+    let flood = std::thread::spawn(move || {
+        let mut opened = 0usize;
+        let mut held = std::collections::VecDeque::new();
+        while !flooding.load(Ordering::Relaxed) {
+            if let Ok(s) = TcpStream::connect(addr) {
+                opened += 1;
+                held.push_back(s);
+                if held.len() > 8 {
+                    held.pop_front();
+                }
+            }
+        }
+        opened
+    });
+    // Each poll comes after several graces of quiet.
+    for k in 0..20 {
+        std::thread::sleep(Duration::from_millis(60));
+        assert_eq!(ask(&mut poller, 10 + k), Some(0), "poll {k} lost");
+    }
+    stop.store(true, Ordering::Relaxed);
+    let opened = flood.join().expect("flood");
+    assert!(opened > 20, "the flood opened {opened} connections");
+}
+
+#[test]
+fn a_client_that_showed_the_token_is_not_evicted_by_a_flood() {
+    a_polling_client_loses_nothing_to_a_flood(true);
+}
+
+#[test]
+fn a_client_that_completed_requests_is_not_evicted_by_a_flood() {
+    a_polling_client_loses_nothing_to_a_flood(false);
+}
+
+/// Issue 20, point 7: connections from one address beyond its burst of
+/// new connections are answered `Busy` at once and closed, though places
+/// are free; those within it are served.
+#[test]
+fn new_connections_beyond_the_rate_of_their_address_are_refused() {
+    let (addr, _stop) = serve(ServerConfig {
+        accept_rate_per_peer: Some(AcceptRate {
+            per_second: 0.001,
+            burst: 3,
+        }),
+        ..local()
+    });
+    let mut served: Vec<TcpStream> = (0..3).map(|_| connect(addr)).collect();
+    let mut over = connect(addr);
+    assert_eq!(try_read_head(&mut over), Some((0, 0, BUSY)));
+    assert!(closed_by_server(&mut over));
+    for (k, s) in served.iter_mut().enumerate() {
+        assert_eq!(ask(s, k as u16), Some(0), "connection {k}");
+    }
+    // Another address has a burst of its own.
+    let mut other = connect_from([127, 0, 0, 2], addr);
+    assert_eq!(ask(&mut other, 5), Some(0));
 }

@@ -54,6 +54,15 @@ impl AccessToken {
     }
 }
 
+/// Whether `payload` is a well-formed HELLO payload: empty (a client
+/// with no token to show), or shaped like a token — [`MIN_TOKEN_LEN`] to
+/// [`MAX_TOKEN_LEN`] printable ASCII characters without spaces.
+pub fn is_hello_payload(payload: &[u8]) -> bool {
+    payload.is_empty()
+        || ((MIN_TOKEN_LEN..=MAX_TOKEN_LEN).contains(&payload.len())
+            && payload.iter().all(u8::is_ascii_graphic))
+}
+
 impl fmt::Debug for AccessToken {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str("AccessToken(..)")
@@ -131,6 +140,18 @@ mod tests {
             on_loopback: true,
         };
         assert!(everyone.needs_token(ip("127.0.0.1")));
+    }
+
+    #[test]
+    fn a_hello_payload_is_empty_or_shaped_like_a_token() {
+        assert!(is_hello_payload(b""));
+        assert!(is_hello_payload(b"0123456789abcdef"));
+        assert!(is_hello_payload("x".repeat(MAX_TOKEN_LEN).as_bytes()));
+        assert!(!is_hello_payload(b"short"));
+        assert!(!is_hello_payload(b"0123456789 abcdef"));
+        assert!(!is_hello_payload(&[0xFF; 20]));
+        assert!(!is_hello_payload("x".repeat(MAX_TOKEN_LEN + 1).as_bytes()));
+        assert!(!is_hello_payload(&vec![b'a'; 60_000]));
     }
 
     #[test]

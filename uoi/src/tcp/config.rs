@@ -6,6 +6,7 @@ use std::net::SocketAddr;
 use std::time::Duration;
 
 use super::access::AccessPolicy;
+use super::arrivals::AcceptRate;
 
 /// Server settings.
 #[derive(Debug, Clone)]
@@ -28,9 +29,16 @@ pub struct ServerConfig {
     pub per_peer_limit_on_loopback: bool,
     /// When the server is full, a connection without progress for this
     /// long may be closed to make room for a new one, which waits at most
-    /// one and a half times this for a place. `None`: no eviction, a new
-    /// connection finding the server full is refused at once.
+    /// one and a half times this for a place — unless it has presented
+    /// the access token or completed a request (and takes its answers):
+    /// such a connection is never closed to make room. `None`: no
+    /// eviction, a new connection finding the server full is refused at
+    /// once.
     pub evict_after: Option<Duration>,
+    /// How fast one peer address (loopback too) may open new connections;
+    /// those over the rate are answered `Busy` and closed at once.
+    /// `None`: no limit.
+    pub accept_rate_per_peer: Option<AcceptRate>,
     /// A connection with no complete request read and no batch of answers
     /// written for this long is closed.
     pub idle_timeout: Duration,
@@ -56,6 +64,7 @@ impl Default for ServerConfig {
             max_connections_per_peer: 16,
             per_peer_limit_on_loopback: false,
             evict_after: Some(Duration::from_secs(1)),
+            accept_rate_per_peer: Some(AcceptRate::default()),
             idle_timeout: Duration::from_secs(300),
             write_timeout: Duration::from_secs(30),
             accept_pause: Duration::from_millis(10),

@@ -15,12 +15,13 @@ use tokio::net::TcpStream;
 use tokio_util::codec::{Encoder, FramedRead, FramedWrite};
 use tracing::{debug, warn};
 
-use super::access::AccessToken;
+use super::access::{is_hello_payload, AccessToken};
+use super::floods::FloodLogs;
 use super::halves::{ClosableRead, ClosableWrite};
 use super::handler::{Handler, Session, Slice};
 use super::idle::{Activity, Closed};
 use super::shared::Shared;
-use super::slices::{to_the_end, BeforeWait, By};
+use super::slices::{to_the_end, By, Caller, Cut};
 use crate::wire::{
     Answer, CodecError, Op, ProtocolError, Rejected, Reply, Request, ServerCodec, MAX_FRAME,
     PREFIX_LEN,
@@ -35,12 +36,26 @@ type Incoming = Result<(u32, Request), Rejected>;
 /// Where a connection's answers go.
 type AnswerSink = FramedWrite<ClosableWrite<OwnedWriteHalf>, ServerCodec>;
 
-/// Before a request waits, the answers already queued leave.
-impl BeforeWait for AnswerSink {
+/// Where a connection's requests come from.
+type RequestSource = FramedRead<ClosableRead<OwnedReadHalf>, ServerCodec>;
+
+/// A connection as the caller of a long request: its answer sink, and its
+/// socket's reading side watched for the client leaving.
+struct Serving<'a> {
+    writer: &'a mut AnswerSink,
+    reader: &'a RequestSource,
+}
+
+impl Caller for Serving<'_> {
+    /// The answers already queued leave.
     async fn before_wait(&mut self) {
         // A failed flush shows again at the next send, which closes the
         // connection.
-        let _ = self.flush().await;
+        let _ = self.writer.flush().await;
+    }
+
+    fn left(&self) -> bool {
+        self.reader.get_ref().peer_left()
     }
 }
 
@@ -58,6 +73,8 @@ pub(crate) struct Gatekeeper {
     authorized: bool,
     /// The peer, for the log.
     peer: SocketAddr,
+    /// The server's limits on lines a client can make it repeat.
+    logs: Arc<FloodLogs>,
 }
 
 /// Whether a connection goes on after an answer.
@@ -68,23 +85,37 @@ enum Then {
 }
 
 impl Gatekeeper {
-    /// A gate for `peer`, `authorized` already or to present `token`.
-    pub(crate) fn new(token: Option<AccessToken>, authorized: bool, peer: SocketAddr) -> Self {
+    /// A gate for `peer`, `authorized` already or to present `token`;
+    /// its log lines limited by `logs`.
+    pub(crate) fn new(
+        token: Option<AccessToken>,
+        authorized: bool,
+        peer: SocketAddr,
+        logs: Arc<FloodLogs>,
+    ) -> Self {
         Self {
             token,
             authorized,
             peer,
+            logs,
         }
     }
 
-    /// HELLO: `Ok` for the server's token, or any token when the server
-    /// asks none; `Unauthorized`, and the connection closed, for a wrong
-    /// one (also from a peer that needs none: its client is misconfigured).
+    /// HELLO: `Ok` for the server's token, or, when the server asks none,
+    /// for a well-formed payload (empty, or shaped like a token), else
+    /// `BadPayload` (the connection stays open); `Unauthorized`, and the
+    /// connection closed, for a wrong token (also from a peer that needs
+    /// none: its client is misconfigured).
     fn hello(&mut self, presented: &[u8]) -> (Answer, Then) {
         match &self.token {
             Some(t) if !t.matches(presented) => {
-                warn!(peer = %self.peer, "wrong access token, closing");
+                if let Some(suppressed) = self.logs.wrong_token.allow() {
+                    warn!(peer = %self.peer, suppressed, "wrong access token, closing");
+                }
                 (Answer::Protocol(ProtocolError::Unauthorized), Then::Close)
+            }
+            None if !is_hello_payload(presented) => {
+                (Answer::Protocol(ProtocolError::BadPayload), Then::GoOn)
             }
             _ => {
                 self.authorized = true;
@@ -137,7 +168,7 @@ struct Unfinished {
 
 /// The state of one connection.
 struct Connection<H: Handler> {
-    reader: FramedRead<ClosableRead<OwnedReadHalf>, ServerCodec>,
+    reader: RequestSource,
     writer: AnswerSink,
     shared: Shared<H>,
     /// This connection's own state; ends with it.
@@ -180,7 +211,9 @@ impl<H: Handler> Connection<H> {
                 Some(item)
             }
             Some(Err(CodecError::FrameTooLarge(len))) => {
-                warn!(len, "frame too large, closing");
+                if let Some(suppressed) = self.gate.logs.too_large.allow() {
+                    warn!(peer = %self.gate.peer, len, suppressed, "frame too large, closing");
+                }
                 let ans = Answer::Protocol(ProtocolError::FrameTooLarge);
                 let _ = self.writer.send(reply(0, 0, ans)).await;
                 None
@@ -207,15 +240,24 @@ impl<H: Handler> Connection<H> {
         let (out, then) = match item {
             Ok((id, Request::Hello(token))) => {
                 let (ans, then) = self.gate.hello(&token);
+                if ans == Answer::Ok && self.gate.token.is_some() {
+                    // It has shown the token: a newcomer may not take its
+                    // place.
+                    self.activity.trust();
+                }
                 (reply(id, Op::Hello.code(), ans), then)
             }
             Ok((id, req)) if !self.gate.authorized => {
-                warn!(peer = %self.gate.peer, "request before the access token, closing");
+                if let Some(suppressed) = self.gate.logs.before_token.allow() {
+                    warn!(peer = %self.gate.peer, suppressed, "request before the access token, closing");
+                }
                 let ans = Answer::Protocol(ProtocolError::Unauthorized);
                 (reply(id, req.op().code(), ans), Then::Close)
             }
             Err(r) if !self.gate.authorized => {
-                warn!(peer = %self.gate.peer, "bad frame before the access token, closing");
+                if let Some(suppressed) = self.gate.logs.before_token.allow() {
+                    warn!(peer = %self.gate.peer, suppressed, "bad frame before the access token, closing");
+                }
                 let ans = Answer::Protocol(ProtocolError::Unauthorized);
                 (reply(r.id, r.op, ans), Then::Close)
             }
@@ -228,7 +270,10 @@ impl<H: Handler> Connection<H> {
                     self.shared.serve(req)
                 };
                 match slice {
-                    Slice::Done(ans) => (reply(id, op, ans), Then::GoOn),
+                    Slice::Done(ans) => {
+                        self.activity.trust();
+                        (reply(id, op, ans), Then::GoOn)
+                    }
                     slice => {
                         return Answered::Later(Unfinished {
                             id,
@@ -250,20 +295,36 @@ impl<H: Handler> Connection<H> {
     /// The answer to a request its first slice left unfinished, served
     /// slice by slice. The answers already queued leave before the request
     /// waits for something outside the handler: a pipelining client is not
-    /// kept waiting for them behind it. When the connection is closed
-    /// (idle, evicted, stopping) before the request is done, the rest of it
-    /// is dropped and the connection ends.
+    /// kept waiting for them behind it. When the server closes the
+    /// connection (stopping) before the request is done, the rest of it is
+    /// dropped, the request is answered `Stopped` and the connection ends;
+    /// when the client has left, the rest is dropped and the connection
+    /// ends without an answer.
     async fn finish(&mut self, rest: Unfinished) -> (Reply, Then) {
         let by = if rest.by_session {
             By::Session(&mut self.session)
         } else {
             By::Shared(&self.shared)
         };
-        match to_the_end(by, rest.slice, &self.activity, &mut self.writer).await {
-            Some(ans) => (reply(rest.id, rest.op, ans), Then::GoOn),
-            None => {
-                let busy = Answer::Protocol(ProtocolError::Busy);
-                (reply(rest.id, rest.op, busy), Then::Close)
+        let mut caller = Serving {
+            writer: &mut self.writer,
+            reader: &self.reader,
+        };
+        match to_the_end(by, rest.slice, &self.activity, &mut caller).await {
+            Ok(ans) => {
+                self.activity.trust();
+                (reply(rest.id, rest.op, ans), Then::GoOn)
+            }
+            Err(Cut::Left) => {
+                debug!(peer = %self.gate.peer, "client left during a request: stopped it");
+                // Nobody reads the answer; it is sent all the same, and the
+                // connection ends.
+                let stopped = Answer::Protocol(ProtocolError::Stopped);
+                (reply(rest.id, rest.op, stopped), Then::Close)
+            }
+            Err(Cut::Closed(_)) => {
+                let stopped = Answer::Protocol(ProtocolError::Stopped);
+                (reply(rest.id, rest.op, stopped), Then::Close)
             }
         }
     }

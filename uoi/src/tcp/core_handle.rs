@@ -30,11 +30,11 @@ impl<H: Handler> Submit for (Shared<H>, Activity) {
     fn submit(&self, req: Request) -> Pending<'_> {
         let (shared, activity) = self;
         Box::pin(async move {
-            // Never `None`: nothing closes the activity of no connection.
+            // Never cut: nothing closes the activity of no connection.
             let first = shared.serve(req);
             to_the_end(By::Shared(shared), first, activity, &mut ())
                 .await
-                .unwrap_or(Answer::Protocol(ProtocolError::Busy))
+                .unwrap_or(Answer::Protocol(ProtocolError::Stopped))
         })
     }
 

@@ -25,8 +25,10 @@ use tokio_util::codec::FramedWrite;
 use tracing::{debug, info, warn};
 
 use super::access::AccessPolicy;
+use super::arrivals::Arrivals;
 use super::config::ServerConfig;
 use super::connection::{reply, serve_connection, Gatekeeper};
+use super::floods::FloodLogs;
 use super::handler::Handler;
 use super::idle::Watchdog;
 use super::places::{Full, Limits, Places, Seat};
@@ -63,6 +65,10 @@ pub(crate) struct Gate<H> {
     max_waiting: usize,
     /// Who must present the access token.
     access: AccessPolicy,
+    /// How fast each address opens connections.
+    arrivals: Arrivals,
+    /// The limits on log lines a client can make the server repeat.
+    pub(crate) logs: Arc<FloodLogs>,
     shared: Shared<H>,
     /// The connections' tasks, and those answering `Busy`.
     pub(crate) tasks: JoinSet<()>,
@@ -88,6 +94,8 @@ impl<H: Handler> Gate<H> {
             waiting: VecDeque::new(),
             max_waiting: cfg.max_connections,
             access: cfg.access.clone(),
+            arrivals: Arrivals::new(cfg.accept_rate_per_peer),
+            logs: Arc::new(FloodLogs::default()),
             shared,
             tasks: JoinSet::new(),
         })
@@ -105,10 +113,16 @@ impl<H: Handler> Gate<H> {
         !self.waiting.is_empty()
     }
 
-    /// Serves an accepted connection, or lets it wait for a place.
+    /// Serves an accepted connection, or lets it wait for a place; one
+    /// over its address's rate of new connections is refused at once.
     pub(crate) fn arrive(&mut self, stream: TcpStream, peer: SocketAddr) {
         let _ = stream.set_nodelay(true);
-        if let Some(seat) = self.place_for(peer) {
+        if !self.arrivals.admit(peer.ip(), Instant::now()) {
+            if let Some(suppressed) = self.logs.too_fast.allow() {
+                warn!(%peer, suppressed, "new connections from this address too fast, refusing");
+            }
+            self.tasks.spawn(refuse(stream));
+        } else if let Some(seat) = self.place_for(peer) {
             self.serve(stream, peer, seat);
         } else if self.grace.is_some() && self.waiting.len() < self.max_waiting {
             debug!(%peer, "server full, waiting for a place");
@@ -119,7 +133,9 @@ impl<H: Handler> Gate<H> {
                 since,
             });
         } else {
-            warn!(%peer, "connection limit reached, refusing");
+            if let Some(suppressed) = self.logs.refused.allow() {
+                warn!(%peer, suppressed, "connection limit reached, refusing");
+            }
             self.tasks.spawn(refuse(stream));
         }
     }
@@ -137,7 +153,9 @@ impl<H: Handler> Gate<H> {
             if let Some(seat) = self.place_for(w.peer) {
                 self.serve(w.stream, w.peer, seat);
             } else if now.saturating_duration_since(w.since) >= patience {
-                warn!(peer = %w.peer, "connection limit reached and no connection quiet, refusing");
+                if let Some(suppressed) = self.logs.refused.allow() {
+                    warn!(peer = %w.peer, suppressed, "connection limit reached and no connection quiet, refusing");
+                }
                 self.tasks.spawn(refuse(w.stream));
             } else {
                 self.waiting.push_back(w);
@@ -158,13 +176,16 @@ impl<H: Handler> Gate<H> {
             Full::All => None,
         };
         let evicted = self.watchdog.evict(within, self.grace?)?;
-        info!(
-            %peer,
-            evicted = %evicted.peer,
-            quiet_ms = u64::try_from(evicted.quiet.as_millis()).unwrap_or(u64::MAX),
-            limit = %full,
-            "connection limit reached: closed the connection quiet longest to make room"
-        );
+        if let Some(suppressed) = self.logs.evicted.allow() {
+            info!(
+                %peer,
+                evicted = %evicted.peer,
+                quiet_ms = u64::try_from(evicted.quiet.as_millis()).unwrap_or(u64::MAX),
+                limit = %full,
+                suppressed,
+                "connection limit reached: closed the connection quiet longest to make room"
+            );
+        }
         self.places.take(peer.ip()).ok()
     }
 
@@ -174,13 +195,14 @@ impl<H: Handler> Gate<H> {
         let activity = self.watchdog.watch(seat);
         let token = self.access.token.clone();
         let authorized = !self.access.needs_token(peer.ip());
+        let logs = Arc::clone(&self.logs);
         self.tasks.spawn(async move {
             debug!(%peer, authorized, "connected");
             serve_connection(
                 stream,
                 shared,
                 activity,
-                Gatekeeper::new(token, authorized, peer),
+                Gatekeeper::new(token, authorized, peer, logs),
             )
             .await;
             debug!(%peer, "disconnected");

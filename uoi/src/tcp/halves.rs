@@ -1,7 +1,9 @@
 //! The socket halves as a connection's codecs see them.
 //!
 //! * [`ClosableRead`] ends, as at end of stream, once the watchdog has
-//!   closed its connection (idle, evicted, or the server stopping):
+//!   closed its connection (idle, evicted, or the server stopping), and
+//!   tells, without reading, whether its client has gone (while a long
+//!   request is served, nothing is read):
 //!   nothing more is read from the socket, though frames already in the
 //!   connection's read buffer are still taken and answered. The close is a flag looked at
 //!   before a read and a waker woken by the close, so the connection needs
@@ -18,7 +20,9 @@ use std::pin::Pin;
 use std::sync::Arc;
 use std::task::{Context, Poll};
 
-use tokio::io::{AsyncRead, AsyncWrite, ReadBuf};
+use futures_util::FutureExt;
+use tokio::io::{AsyncRead, AsyncWrite, Interest, ReadBuf};
+use tokio::net::tcp::OwnedReadHalf;
 
 use super::idle::Activity;
 
@@ -33,6 +37,21 @@ impl<R> ClosableRead<R> {
     /// Reads `inner` until `activity` is closed.
     pub(crate) fn new(inner: R, activity: Arc<Activity>) -> Self {
         Self { inner, activity }
+    }
+}
+
+impl ClosableRead<OwnedReadHalf> {
+    /// Whether the client has gone: its socket has reached end of stream
+    /// (the client closed it, or shut down its sending side) or reports an
+    /// error, as far as the runtime has seen so far. Looks without reading,
+    /// so requests it already sent stay where they are; never waits.
+    pub(crate) fn peer_left(&self) -> bool {
+        let interest = Interest::READABLE | Interest::ERROR;
+        match self.inner.ready(interest).now_or_never() {
+            Some(Ok(ready)) => ready.is_read_closed() || ready.is_error(),
+            Some(Err(_)) => true,
+            None => false,
+        }
     }
 }
 

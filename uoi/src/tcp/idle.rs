@@ -6,8 +6,8 @@
 //! them all. When the server is full, it names the connection quiet
 //! longest, and closes it to make room ([`Watchdog::evict`]).
 //!
-//! Progress is a complete request read, or a batch of answers written out
-//! in full. A client that takes its answers a few bytes at a time does not
+//! Progress is a complete request read, a slice of a request served, or a
+//! batch of answers written out in full. A client that takes its answers a few bytes at a time does not
 //! hold its place: its batch must leave within the write timeout.
 //!
 //! A connection holds its place ([`Seat`]) until it is closed: a close
@@ -72,6 +72,10 @@ pub(crate) struct Activity {
     stuck: AtomicBool,
     /// [`OPEN`], or why the connection is closed ([`Closed`]).
     state: AtomicU8,
+    /// The connection has presented the access token or completed a
+    /// request: it is never closed to make room for a new one (while its
+    /// answers are not stuck).
+    trusted: AtomicBool,
     /// The connection's task while it waits for input.
     waker: AtomicWaker,
     /// Its place among the server's, given back when it is closed (or,
@@ -85,6 +89,7 @@ impl Activity {
             progress: AtomicU64::new(0),
             stuck: AtomicBool::new(false),
             state: AtomicU8::new(OPEN),
+            trusted: AtomicBool::new(false),
             waker: AtomicWaker::new(),
             seat: Mutex::new(seat),
         }
@@ -96,12 +101,25 @@ impl Activity {
         Self::new(None)
     }
 
-    /// Records progress: a complete request read. Only the connection's
-    /// own task moves the count, so a plain load and store do (no locked
+    /// Records progress: a complete request read, or a slice of a request
+    /// served (a request being served is never idle). Only the
+    /// connection's own task moves the count, so a plain load and store do (no locked
     /// read-modify-write per request).
     pub(crate) fn progress(&self) {
         let seen = self.progress.load(Ordering::Relaxed);
         self.progress.store(seen.wrapping_add(1), Ordering::Relaxed);
+    }
+
+    /// Records that the connection has presented the access token or
+    /// completed a request: a newcomer may not take its place.
+    pub(crate) fn trust(&self) {
+        self.trusted.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether a newcomer may take its place: not if it is trusted and
+    /// takes its answers.
+    fn evictable(&self) -> bool {
+        !self.trusted.load(Ordering::Relaxed) || self.stuck.load(Ordering::Relaxed)
     }
 
     /// Records that a write found the socket full: the answers wait.
@@ -277,8 +295,9 @@ impl Entries {
     }
 
     /// Closes the open connection quiet longest, if for `grace` at least,
-    /// among those from `within` (all when `None`); of those quiet equally
-    /// long (as far as the looks tell), the oldest.
+    /// among those from `within` (all when `None`) that may be evicted
+    /// (not trusted, or with answers stuck); of those quiet equally long
+    /// (as far as the looks tell), the oldest.
     fn evict(&self, within: Option<IpAddr>, grace: Duration, now: Instant) -> Option<Evicted> {
         let entries = self.lock();
         // Oldest first; `max_by_key` keeps the last of equals.
@@ -288,7 +307,7 @@ impl Entries {
             .filter(|e| within.is_none_or(|ip| e.peer == ip))
             .filter_map(|e| {
                 let conn = e.conn.upgrade()?;
-                if conn.closed().is_some() {
+                if conn.closed().is_some() || !conn.evictable() {
                     return None;
                 }
                 let quiet = e.quiet_for(&conn, now)?;

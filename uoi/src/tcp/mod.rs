@@ -2,10 +2,12 @@
 //! client (async, plus a blocking wrapper). Frames as in [`crate::wire`].
 
 mod access;
+mod arrivals;
 mod client;
 mod config;
 mod connection;
 mod core_handle;
+mod floods;
 mod gate;
 mod halves;
 mod handler;
@@ -16,8 +18,10 @@ mod shared;
 mod slices;
 
 pub use access::{
-    is_loopback_peer, AccessPolicy, AccessToken, BadToken, MAX_TOKEN_LEN, MIN_TOKEN_LEN,
+    is_hello_payload, is_loopback_peer, AccessPolicy, AccessToken, BadToken, MAX_TOKEN_LEN,
+    MIN_TOKEN_LEN,
 };
+pub use arrivals::AcceptRate;
 pub use client::{answer_error, BlockingClient, Client, ClientError, ClientOptions, Waited};
 pub use config::{Refused, ServerConfig};
 pub use core_handle::CoreHandle;

@@ -86,7 +86,9 @@ impl<H: Handler> Server<H> {
                 accepted = listener.accept() => match accepted {
                     Ok((stream, peer)) => gate.arrive(stream, peer),
                     Err(e) => {
-                        warn!(error = %e, "accept failed");
+                        if let Some(suppressed) = gate.logs.accept_failed.allow() {
+                            warn!(error = %e, suppressed, "accept failed");
+                        }
                         tokio::time::sleep(cfg.accept_pause).await;
                     }
                 },

@@ -7,14 +7,16 @@
 //!
 //! Between two slices other tasks run (and, for the shared handler, the
 //! requests waiting for its lock first), and the request stops once its
-//! connection is closed, so a long request neither starves the others nor
-//! outlives its connection. A request that waits ([`Slice::Wait`]) is
-//! awaited without holding the handler.
+//! connection is closed — by the server (stopping) or by its client (end
+//! of stream or an error on the socket) — so a long request neither
+//! starves the others nor outlives its connection. Each slice served is
+//! progress: a request being served is never idle. A request that waits
+//! ([`Slice::Wait`]) is awaited without holding the handler.
 
 use std::future::Future;
 
 use super::handler::{Handler, Session, Slice, Wait};
-use super::idle::Activity;
+use super::idle::{Activity, Closed};
 use super::shared::Shared;
 use crate::wire::{Answer, Request};
 
@@ -62,36 +64,59 @@ impl<H: Handler> By<'_, H> {
     }
 }
 
-/// What a request's caller does before the request waits for something
-/// outside the handler: a connection sends the answers it already has.
-pub(crate) trait BeforeWait: Send {
+/// What a request's caller does for it: a connection sends the answers
+/// it already has before the request waits, and says when its client has
+/// left.
+pub(crate) trait Caller: Send {
     /// Done before each wait.
     fn before_wait(&mut self) -> impl Future<Output = ()> + Send;
+
+    /// Whether the client has gone (end of stream, or an error, on its
+    /// socket): nobody is left to take the answer.
+    fn left(&self) -> bool;
 }
 
-/// Nothing to do before a wait.
-impl BeforeWait for () {
+/// Nothing to do before a wait, and nobody who could leave.
+impl Caller for () {
     async fn before_wait(&mut self) {}
+
+    fn left(&self) -> bool {
+        false
+    }
+}
+
+/// Why a request was not served to its end.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Cut {
+    /// The server closed its connection (stopping, or the answers stuck).
+    Closed(Closed),
+    /// Its client left.
+    Left,
 }
 
 /// Serves a request to its end with `by`, from what its last slice left
-/// (`slice`); `caller` is told before the request waits. `None` when
-/// `activity` is closed (idle, evicted, stopping) before the request is
-/// done: the rest of it is dropped, so a closed connection never keeps the
-/// handler busy.
+/// (`slice`); `caller` is told before the request waits. Every slice is
+/// progress of `activity`. Cut short when `activity` is closed (stopping)
+/// or the caller's client has left before the request is done: the rest of
+/// it is dropped at the next slice boundary, so a closed connection never
+/// keeps the handler busy.
 pub(crate) async fn to_the_end<H: Handler>(
     mut by: By<'_, H>,
     mut slice: Slice,
     activity: &Activity,
-    caller: &mut impl BeforeWait,
-) -> Option<Answer> {
+    caller: &mut impl Caller,
+) -> Result<Answer, Cut> {
     loop {
         slice = match slice {
-            Slice::Done(answer) => return Some(answer),
+            Slice::Done(answer) => return Ok(answer),
             Slice::More(rest) => {
+                activity.progress();
                 by.let_others_run().await;
-                if activity.closed().is_some() {
-                    return None;
+                if let Some(why) = activity.closed() {
+                    return Err(Cut::Closed(why));
+                }
+                if caller.left() {
+                    return Err(Cut::Left);
                 }
                 by.serve(rest)
             }

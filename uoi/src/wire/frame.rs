@@ -107,11 +107,17 @@ crate::code_enum! {
         FrameTooLarge = 0xE000_0005 => "frame too large",
         /// The length prefix is smaller than a header.
         FrameTooShort = 0xE000_0006 => "frame too short",
-        /// The server has no room for another connection; it is closed.
+        /// The server has no room for another connection (or its address
+        /// opens new ones too fast); it is closed. Id 0, op 0.
         Busy = 0xE000_0007 => "server busy",
         /// The connection must present the access token in a HELLO
         /// frame first, or the token it presented is wrong; it is closed.
         Unauthorized = 0xE000_0008 => "access token missing or wrong",
+        /// The request was stopped before its end: the server is
+        /// shutting down (or closed the connection). What the request did
+        /// up to there stays done; answered with the request's op and id,
+        /// then the connection is closed.
+        Stopped = 0xE000_0009 => "request stopped: the server is shutting down",
     }
 }
 
