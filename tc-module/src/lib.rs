@@ -42,7 +42,6 @@ mod rotation;
 mod spooler;
 mod tool_table;
 
-
 pub use bits::{ErrorBits, StatusBits};
 pub use correction::TransitionMode;
 pub use cycle::{Cycle, CycleModel, NoModel, PathPart, MAX_PARTS};
@@ -53,7 +52,6 @@ pub use geometry::V2;
 pub use group::{CorrGroup, Side};
 pub use limits::{CycleTime, MAX_COORD};
 pub use module::{ExecLeft, TcModule, EXEC_SLICE_CYCLES};
-pub use tc_request::{ArcDir, Motion};
 pub use object_map::{TcKey, TcObject, GROUPS, GROUP_COUNT, TC_BUS, TC_OBJECTS};
 pub use plane::{AxisPos, MainAxes, PlaneAxes, TcPlane, AXES, AXIS_NAMES};
 pub use spooler::{
@@ -61,4 +59,5 @@ pub use spooler::{
     MAX_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY,
 };
 pub use tc_request::AxisWords;
+pub use tc_request::{ArcDir, Motion};
 pub use tool_table::{ToolEntry, ToolTable, WkzIndex, TOOL_ENTRIES};

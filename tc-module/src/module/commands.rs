@@ -13,10 +13,10 @@ use crate::element::{ContourNormal, NormalRule, Origin, SpoolElement};
 use crate::extension::{Groups, TcExtension};
 use crate::geometry::tolerance::MIN_RADIUS;
 use crate::geometry::Contour;
-use tc_request::{ArcDir, Motion, SSF_FLUSH};
 use crate::plane::AxisWords;
 use crate::plane::AXES;
 use crate::rotation::Rotation;
+use tc_request::{ArcDir, Motion, SSF_FLUSH};
 
 impl<E: TcExtension> TcModule<E> {
     /// Executes a motion command.

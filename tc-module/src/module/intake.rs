@@ -9,10 +9,10 @@ use super::TcModule;
 use crate::extension::TcExtension;
 use crate::geometry::V2;
 use crate::limits::{check_point, within_limit, MIN_STEP, RAPID_FEED};
-use tc_request::ArcDir;
 use crate::plane::AxisWords;
 use crate::plane::{AxisPos, TcPlane};
 use crate::rotation::Rotation;
+use tc_request::ArcDir;
 
 /// `Range` unless every given word is finite and within
 /// [`MAX_COORD`](crate::limits::MAX_COORD).
