@@ -11,7 +11,7 @@ traces (:class:`Range`, :class:`State`, ...) with their CANopen
 :class:`Timeout`, ...) with codes ``0xADD000xx``. See docs/python.md.
 """
 
-from typing import Dict, NamedTuple, Type
+from typing import Dict, NamedTuple, Optional, Tuple, Type
 
 from ._addipos import Handle, Machine, __version__, open
 
@@ -20,6 +20,7 @@ __all__ = [
     "Machine",
     "Handle",
     "Position",
+    "Element",
     "Error",
     "AccessError",
     "NoObject",
@@ -57,6 +58,29 @@ class Position(NamedTuple):
     C: float
     U: float
     V: float
+
+
+class Element(NamedTuple):
+    """One element the emulator spooled (``m.take_spooled()``): what the
+    correction made of the programmed path."""
+
+    #: ``"LIN"``, ``"RAP"`` or ``"CIR"``.
+    kind: str
+    #: Where it starts.
+    start: Position
+    #: Where it ends.
+    end: Position
+    #: Feed, units/min.
+    feed: float
+    #: Who spooled it: ``"Uncorrected"``, ``"Approach"``, ``"Corrected"``,
+    #: ``"Transition"`` (an outside corner) or ``"Departure"``.
+    origin: str
+    #: An arc: ``True`` counter-clockwise, ``False`` clockwise; a line:
+    #: ``None``.
+    ccw: Optional[bool]
+    #: An arc: its centre in its plane (horizontal, vertical axis of the
+    #: plane); a line: ``None``.
+    centre: Optional[Tuple[float, float]]
 
 
 class Error(Exception):

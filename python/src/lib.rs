@@ -16,6 +16,7 @@ mod handle;
 mod link;
 mod machine;
 mod pyside;
+mod spooled;
 mod words;
 
 use pyo3::prelude::*;

@@ -15,6 +15,7 @@ use crate::errors;
 use crate::handle::{self, Handle};
 use crate::link::Link;
 use crate::pyside;
+use crate::spooled;
 use crate::words::{self, Allowed};
 
 /// One connection to a TC module (from `addipos.open`).
@@ -269,6 +270,24 @@ impl Machine {
     /// with the held one.
     fn queue(&self, py: Python<'_>) -> PyResult<u64> {
         self.link.call(py, |m| m.queue())
+    }
+
+    // The spool log.
+
+    /// Keeps the elements every request spools from now on (`True`), for
+    /// `take_spooled`, or stops keeping them (`False`).
+    fn spool_log(&self, py: Python<'_>, on: bool) -> PyResult<()> {
+        self.link.call(py, move |m| {
+            m.set_spool_log(on);
+            Ok(())
+        })
+    }
+
+    /// The elements spooled since the last call while the spool log is on,
+    /// as `addipos.Element` tuples: the corrected path.
+    fn take_spooled(&self, py: Python<'_>) -> PyResult<Vec<Py<PyAny>>> {
+        let taken = self.link.call(py, |m| Ok(m.take_spooled()))?;
+        taken.iter().map(|e| spooled::element(py, e)).collect()
     }
 
     // Recording.

@@ -30,3 +30,12 @@ pub fn position(py: Python<'_>, p: [f64; 8]) -> PyResult<Py<PyAny>> {
     let class = POSITION.import(py, PACKAGE, "Position")?;
     Ok(class.call1(PyTuple::new(py, p)?)?.unbind())
 }
+
+static ELEMENT: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+
+/// `addipos.Element` built from its fields, in the order the class
+/// declares them.
+pub fn element<'py>(py: Python<'py>, fields: Bound<'py, PyTuple>) -> PyResult<Py<PyAny>> {
+    let class = ELEMENT.import(py, PACKAGE, "Element")?;
+    Ok(class.call1(fields)?.unbind())
+}
