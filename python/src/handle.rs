@@ -28,7 +28,12 @@ pub struct Handle {
 
 impl Handle {
     /// A handle of `link` to the object `descriptor` names, of type `ty`.
-    pub fn new(link: Arc<Link>, raw: addipos::Handle, descriptor: Descriptor, ty: ValueType) -> Self {
+    pub fn new(
+        link: Arc<Link>,
+        raw: addipos::Handle,
+        descriptor: Descriptor,
+        ty: ValueType,
+    ) -> Self {
         Self {
             link,
             raw,
@@ -51,9 +56,8 @@ pub fn read_double(link: &Link, py: Python<'_>, h: addipos::Handle) -> PyResult<
 /// Writes an i32 object through `h`; a Python int beyond i32 is
 /// `addipos.Argument`.
 pub fn write_int(link: &Link, py: Python<'_>, h: addipos::Handle, value: i64) -> PyResult<()> {
-    let v = i32::try_from(value).map_err(|_| {
-        errors::argument(py, format!("write_int: {value} is not a 32-bit integer"))
-    })?;
+    let v = i32::try_from(value)
+        .map_err(|_| errors::argument(py, format!("write_int: {value} is not a 32-bit integer")))?;
     link.call(py, |m| m.write_int(h, v))
 }
 

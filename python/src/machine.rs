@@ -139,7 +139,14 @@ impl Machine {
     /// A handle to the object `bus/device/index/subindex` (`uoi_init`);
     /// raises `addipos.NoObject` or `addipos.NoSubindex` when it does not
     /// exist.
-    fn init(&self, py: Python<'_>, bus: i64, device: i64, index: i64, subindex: i64) -> PyResult<Handle> {
+    fn init(
+        &self,
+        py: Python<'_>,
+        bus: i64,
+        device: i64,
+        index: i64,
+        subindex: i64,
+    ) -> PyResult<Handle> {
         // A number beyond i32 names no object, as one beyond 0..65535.
         let part = |n: i64| i32::try_from(n).unwrap_or(-1);
         let d = Descriptor {
@@ -189,7 +196,15 @@ impl Machine {
     /// (`X=50, Y=0`); `F` sets the modal feed (units/min).
     #[pyo3(signature = (**words))]
     fn lin(&self, py: Python<'_>, words: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
-        let w = words::read(py, "lin", words, Allowed { feed: true, centre: false })?;
+        let w = words::read(
+            py,
+            "lin",
+            words,
+            Allowed {
+                feed: true,
+                centre: false,
+            },
+        )?;
         self.motion(py, move |m| m.lin(w.axes, w.feed))
     }
 
@@ -197,16 +212,37 @@ impl Machine {
     /// feed).
     #[pyo3(signature = (**words))]
     fn rap(&self, py: Python<'_>, words: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
-        let w = words::read(py, "rap", words, Allowed { feed: true, centre: false })?;
+        let w = words::read(
+            py,
+            "rap",
+            words,
+            Allowed {
+                feed: true,
+                centre: false,
+            },
+        )?;
         self.motion(py, move |m| m.rap(w.axes, w.feed))
     }
 
     /// `CIR`: an arc in the main plane, `"CW"` or `"CCW"`, to the axes
     /// named, with the centre `I J K` seen from the start.
     #[pyo3(signature = (direction, **words))]
-    fn cir(&self, py: Python<'_>, direction: &str, words: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+    fn cir(
+        &self,
+        py: Python<'_>,
+        direction: &str,
+        words: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<()> {
         let dir = words::arc_dir(py, direction)?;
-        let w = words::read(py, "cir", words, Allowed { feed: true, centre: true })?;
+        let w = words::read(
+            py,
+            "cir",
+            words,
+            Allowed {
+                feed: true,
+                centre: true,
+            },
+        )?;
         self.motion(py, move |m| m.cir(dir, w.axes, w.centre, w.feed))
     }
 
@@ -214,7 +250,15 @@ impl Machine {
     /// spooler and the correction buffer.
     #[pyo3(signature = (**words))]
     fn ja(&self, py: Python<'_>, words: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
-        let w = words::read(py, "ja", words, Allowed { feed: false, centre: false })?;
+        let w = words::read(
+            py,
+            "ja",
+            words,
+            Allowed {
+                feed: false,
+                centre: false,
+            },
+        )?;
         self.motion(py, move |m| m.ja(w.axes))
     }
 

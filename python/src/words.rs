@@ -49,9 +49,9 @@ pub fn read(
         if value.is_none() {
             continue;
         }
-        let number: f64 = value.extract().map_err(|_| {
-            errors::argument(py, format!("{call}: {name}={value} is not a number"))
-        })?;
+        let number: f64 = value
+            .extract()
+            .map_err(|_| errors::argument(py, format!("{call}: {name}={value} is not a number")))?;
         let slot = word_slot(&mut w, &name, allowed).ok_or_else(|| {
             errors::argument(
                 py,
