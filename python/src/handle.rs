@@ -106,7 +106,12 @@ impl Handle {
                 })?;
                 self.write_int(py, v)
             }
-            ValueType::F64 => self.write_double(py, value.extract()?),
+            ValueType::F64 => {
+                let v: f64 = value
+                    .extract()
+                    .map_err(|_| errors::argument(py, format!("write: {value} is not a number")))?;
+                self.write_double(py, v)
+            }
         }
     }
 

@@ -37,6 +37,8 @@ def test_a_double_object_reads_and_writes_as_float(m):
     radius.write(1.25)
     assert m.read_double(radius) == 1.25
     assert radius.read() == 1.25 and radius.value_type == "double"
+    with pytest.raises(addipos.Argument):
+        radius.write("wide")
     index.write(3)
     assert radius.read_double() == 0.0, "another tool entry has its own radius"
 
