@@ -5,6 +5,7 @@ import os
 import subprocess
 import sys
 import threading
+import time
 
 import pytest
 
@@ -58,6 +59,10 @@ def test_close_from_another_thread_ends_a_wait():
     t = threading.Thread(target=wait)
     t.start()
     started.wait()
+    # Give the thread time to enter the wait (were it not in yet, close
+    # first would also give Connection: the check would be weaker, not
+    # wrong).
+    time.sleep(0.2)
     while t.is_alive() and not outcome:
         m.close()
         t.join(0.01)
