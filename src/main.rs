@@ -12,7 +12,9 @@ use cli::remote_args::RemoteArgs;
 use cli::replay::ReplayArgs;
 use cli::run::RunArgs;
 use cli::serve::ServeArgs;
-use cli::{exit, Outcome, EXIT_HELP};
+use cli::{
+    exit, Outcome, CALL_EXIT, EXIT_HELP, OBJECTS_EXIT, PLOT_EXIT, REPLAY_EXIT, RUN_EXIT, SERVE_EXIT,
+};
 
 /// Emulator of the ADDIPOS TC module (UOI bus 1300) with OTC wear compensation.
 #[derive(Parser)]
@@ -26,7 +28,7 @@ struct Cli {
 enum Command {
     /// Serve the emulator over TCP (UOI wire protocol, docs/protocol.md).
     /// Without --config the built-in settings apply (127.0.0.1:1300).
-    #[command(after_help = EXIT_HELP)]
+    #[command(after_help = SERVE_EXIT)]
     Serve {
         #[command(flatten)]
         args: ServeArgs,
@@ -36,7 +38,7 @@ enum Command {
     },
     /// Send one request to a server and print the answer, e.g.
     /// `addipos call 127.0.0.1:1300 R 1300/0/3/0 i`.
-    #[command(after_help = EXIT_HELP)]
+    #[command(after_help = CALL_EXIT)]
     Call {
         /// Server address: HOST:PORT, localhost:PORT, or a bare PORT (on
         /// 127.0.0.1).
@@ -49,7 +51,7 @@ enum Command {
     },
     /// Replay conformance traces (*.trace) against a fresh emulator each and
     /// report every mismatch; exits non-zero if any trace fails.
-    #[command(after_help = EXIT_HELP)]
+    #[command(after_help = REPLAY_EXIT)]
     Replay {
         #[command(flatten)]
         args: ReplayArgs,
@@ -59,7 +61,7 @@ enum Command {
     /// V.G. wear values; warnings and errors (with line and block) go to
     /// stderr. The supported NC subset, with a worked example: docs/nc.md.
     /// Exits 1 on a parse error, a run error or an OTC error.
-    #[command(after_help = EXIT_HELP)]
+    #[command(after_help = RUN_EXIT)]
     Run {
         #[command(flatten)]
         args: RunArgs,
@@ -70,7 +72,7 @@ enum Command {
     /// path and the executed path cycle by cycle (OTC offset included);
     /// rapids dashed, the block of each piece on hover. Exits 1 when the
     /// program failed (the picture is still written).
-    #[command(after_help = EXIT_HELP)]
+    #[command(after_help = PLOT_EXIT)]
     Plot {
         #[command(flatten)]
         args: PlotArgs,
@@ -78,6 +80,7 @@ enum Command {
     /// Print the object reference of bus 1300 (Markdown): every object with
     /// its address, type, access, range and meaning, the access errors and
     /// the register bits. `docs/objects.md` is this output.
+    #[command(after_help = OBJECTS_EXIT)]
     Objects,
     /// Show, export or import the tool data a server keeps in its data
     /// directory (offline, on the tool files themselves).

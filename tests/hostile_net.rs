@@ -46,26 +46,30 @@ fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
 }
 
-/// Issue 8, point 9: against a listener that accepts (the kernel does)
-/// but never answers, both commands give up after `--timeout` with a
-/// message naming the address and the time.
+/// Issue 8, point 9 (and issue 21): against a listener that accepts (the
+/// kernel does) but never answers, both commands give up after
+/// `--timeout` with a message naming the address and the time, and exit 2
+/// (no UOI server could be reached).
 #[test]
 fn call_and_replay_give_up_on_a_server_that_never_answers() {
     let silent = std::net::TcpListener::bind("127.0.0.1:0").expect("bind");
     let addr = silent.local_addr().expect("addr").to_string();
-    let want = format!("no answer from {addr} within 1 s");
+    let reach = format!("could not reach a UOI server at {addr}");
+    let want = "got no UOI answer within 1 s";
 
     let out = run(bin().args(["call", &addr, "--timeout", "1", "R", "1300/0/3/0", "i"]));
-    assert!(!out.status.success());
-    assert!(text(&out.stderr).contains(&want), "{}", text(&out.stderr));
+    assert_eq!(out.status.code(), Some(2));
+    let said = text(&out.stderr);
+    assert!(said.contains(&reach) && said.contains(want), "{said}");
 
     let trace = temp_dir("silent").join("one.trace");
     std::fs::write(&trace, "R 1300/0/3/0 i => 17\n").expect("trace");
     let out = run(bin()
         .args(["replay", "--server", &addr, "--timeout", "1"])
         .arg(&trace));
-    assert!(!out.status.success());
-    assert!(text(&out.stdout).contains(&want), "{}", text(&out.stdout));
+    assert_eq!(out.status.code(), Some(2));
+    let said = text(&out.stderr);
+    assert!(said.contains(&reach) && said.contains(want), "{said}");
 }
 
 /// Issue 8, point 13, end to end: `serve` generates the token file

@@ -27,11 +27,43 @@ const EXIT_FAILED: u8 = 1;
 /// connect to (clap's usage errors exit with 2 as well).
 const EXIT_TROUBLE: u8 = 2;
 
-/// Exit statuses, for `--help`.
+/// Exit statuses of the whole program, for the top-level `--help` (each
+/// command's `--help` says its own).
 pub const EXIT_HELP: &str = "Exit status: 0 success; 1 ran and found a failure (a trace differs, \
 an error answer, the server failed while serving); 2 could not start (bad arguments or \
 settings, no traces found, a path that does not exist, an address that cannot be listened \
-on or connected to).";
+on or connected to). Each command's --help gives its own.";
+
+/// Exit statuses of `serve`.
+pub const SERVE_EXIT: &str = "Exit status: 0 stopped by Ctrl-C or SIGTERM after a clean \
+shutdown; 1 the server failed while serving; 2 could not start (bad arguments or settings, \
+an address that cannot be listened on, the tool data locked by another server or unreadable).";
+
+/// Exit statuses of `call`.
+pub const CALL_EXIT: &str = "Exit status: 0 the server answered ok or a value; 1 it answered \
+an error (err NAME: meaning, or a protocol error) or the connection failed during the request; \
+2 could not start (bad arguments, a request that does not parse, a server that cannot be \
+reached or gives no UOI answer).";
+
+/// Exit statuses of `replay`.
+pub const REPLAY_EXIT: &str = "Exit status: 0 every trace passed (an empty --shard part \
+too); 1 a trace differs or could not be read or parsed; 2 nothing could be replayed (bad \
+arguments such as --shard 4/3, a path that does not exist, a folder without *.trace files, a \
+server that cannot be reached, gives no UOI answer or cannot set up a fresh emulator, a \
+--junit file that cannot be written).";
+
+/// Exit statuses of `run`.
+pub const RUN_EXIT: &str = "Exit status: 0 the program ran to its end; 1 a parse error, a \
+run error or an OTC error (reported on stderr with line and block); 2 could not start (the \
+program or the tool file cannot be read, a tool file with bad lines, bad arguments).";
+
+/// Exit statuses of `plot`.
+pub const PLOT_EXIT: &str = "Exit status: 0 the picture is written; 1 the program or trace \
+failed (the picture is still written, up to the failure); 2 could not start (the input \
+cannot be read or parsed, the output cannot be written, bad arguments).";
+
+/// Exit statuses of `objects`.
+pub const OBJECTS_EXIT: &str = "Exit status: 0 the reference is printed; 2 bad arguments.";
 
 /// Why a command did not succeed: its exit status and what it says.
 #[derive(Debug)]
