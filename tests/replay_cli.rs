@@ -108,8 +108,9 @@ fn exit_codes_are_in_the_help() {
         .output()
         .expect("run addipos");
     let help = String::from_utf8_lossy(&out.stdout);
-    assert!(help.contains("Exit status: 0 success; 1 "), "{help}");
-    assert!(help.contains("2 could not start"), "{help}");
+    assert!(help.contains("Exit status: 0 every trace passed"), "{help}");
+    assert!(help.contains("1 a trace differs"), "{help}");
+    assert!(help.contains("2 nothing could be replayed"), "{help}");
 }
 
 #[test]
