@@ -1,6 +1,9 @@
 //! Every command's `--help` states the exit statuses of that command
 //! (issue 21), not one text shared by all.
 
+// Test helpers may stop loudly on a broken setup.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
 use std::process::Command;
 
 /// The `--help` text of `addipos ARGS... --help`.

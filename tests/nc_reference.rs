@@ -88,3 +88,35 @@ fn readme_commands_redraw_the_committed_pictures() {
     }
     assert_eq!(drawn, 3, "the README draws wzkg25, wzkg26 and otc_general");
 }
+
+/// The small grinding program of the `#OTC` section runs with the tool
+/// file it names, with no error, and books radius wear.
+#[test]
+fn the_otc_example_runs_and_books_wear() {
+    let doc = std::fs::read_to_string("docs/nc.md").expect("docs/nc.md");
+    let program = block(&doc, "## OTC: `#OTC`", "nc");
+    let dir = std::env::temp_dir().join(format!("addipos-ncotc-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("otc.nc");
+    std::fs::write(&path, program).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_addipos"))
+        .arg("run")
+        .arg(&path)
+        .args(["--tools", "docs/nc/disc.wz"])
+        .output()
+        .expect("run addipos");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let wear: f64 = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("V.G.WZ_AKT.WEAR_RADIUS = "))
+        .expect("WEAR_RADIUS printed")
+        .parse()
+        .expect("a number");
+    assert!(wear > 0.0, "{stdout}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
