@@ -74,6 +74,7 @@ impl ExecWaits {
     }
 
     /// Waits going on.
+    #[cfg(test)]
     pub fn len(&self) -> usize {
         self.pending.len()
     }
