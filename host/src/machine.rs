@@ -131,8 +131,16 @@ impl Machine {
     /// `localhost:PORT` or a bare `PORT`): `Connection` when none answers
     /// there within 5 s.
     pub fn served(addr: &str) -> Result<Self> {
-        let link = Served::connect(addr, DEFAULT_TIMEOUT)?;
-        Ok(Self::with_link(Box::new(link)))
+        Self::served_within(addr, DEFAULT_TIMEOUT)
+    }
+
+    /// As [`served`](Self::served), every request (the first, `INFO`,
+    /// included) waiting at most `timeout` for its answer.
+    pub fn served_within(addr: &str, timeout: Duration) -> Result<Self> {
+        let link = Served::connect(addr, timeout)?;
+        let m = Self::with_link(Box::new(link));
+        m.lock().timeout = timeout;
+        Ok(m)
     }
 
     /// A fresh emulator inside this process.

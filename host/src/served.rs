@@ -246,7 +246,7 @@ impl Link for Served {
                    what an emulator of the library's own with the server's settings spooled on \
                    the same requests, and EXEC n lines the cycles the server ran beside them. It \
                    replays when this connection was the server's only client since its start \
-                   (serve --no-persist); a WARNING comment says where it did not"
+                   (serve --no-persist); a warning comment says where it did not"
                 .into(),
         }
     }
