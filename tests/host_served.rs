@@ -160,7 +160,10 @@ fn two_clients(a: &Machine, b: &Machine) {
             sub_index: 8,
         })
         .unwrap();
-    assert_eq!(b.write_int(tool, 1024).unwrap_err().code(), ErrorCode::Range);
+    assert_eq!(
+        b.write_int(tool, 1024).unwrap_err().code(),
+        ErrorCode::Range
+    );
     b.position().unwrap();
 }
 
@@ -279,7 +282,9 @@ fn through_library(m: &Machine, req: &Request) -> Got {
             Ok(h) if *ty == uoi::ValueType::I32 => {
                 m.read_int(h).map_or_else(|e| Got::Err(e.code()), Got::Int)
             }
-            Ok(h) => m.read_double(h).map_or_else(|e| Got::Err(e.code()), Got::Double),
+            Ok(h) => m
+                .read_double(h)
+                .map_or_else(|e| Got::Err(e.code()), Got::Double),
         },
         Request::Write(a, v) => match m.handle(&Descriptor::of(*a)) {
             Err(e) => Got::Err(e.code()),

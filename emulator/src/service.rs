@@ -271,7 +271,10 @@ impl<E: TcExtension + Default> EmulatorService<E> {
             Until::Cycle(c) => clock.passed() >= c,
             Until::Empty => self.emu.queue_len() == 0,
         };
-        self.journal_note(&format!("{} (real time: waited for the clock)", Request::Exec(cycles)));
+        self.journal_note(&format!(
+            "{} (real time: waited for the clock)",
+            Request::Exec(cycles)
+        ));
         if over {
             return Some(Slice::Done(Answer::Ok));
         }
@@ -429,7 +432,12 @@ mod tests {
         let mut s = EmulatorService::new([0.0; 8], CycleTime::DEFAULT);
         let lines = Lines::default();
         s.set_journal(Box::new(lines.clone()));
-        for text in ["LIN X1 F600", "R 1300/0/3/0 i", "EXEC 7", "W 1300/0/1/0 i 2"] {
+        for text in [
+            "LIN X1 F600",
+            "R 1300/0/3/0 i",
+            "EXEC 7",
+            "W 1300/0/1/0 i 2",
+        ] {
             answer(&mut s, parse_request(text).unwrap().to_wire());
         }
         answer(&mut s, crate::info_op::info_request());

@@ -188,14 +188,14 @@ impl Handles {
     /// The error of handle `h` to `target`, voided by a Clean.
     pub fn voided(h: Handle, target: Target, call: &str) -> Error {
         Error::new(
-                ErrorCode::StaleHandle,
-                format!(
-                    "{call}: handle {h} ({}) was initialised before a Clean ({} = 1): \
+            ErrorCode::StaleHandle,
+            format!(
+                "{call}: handle {h} ({}) was initialised before a Clean ({} = 1): \
                      Clean rejects every TC object, so every handle issued before it is void; \
                      initialise the object again with uoi_init",
-            target.addr,
-            tc_objects::TcObject::Clean.address()
-        ),
+                target.addr,
+                tc_objects::TcObject::Clean.address()
+            ),
         )
     }
 

@@ -21,10 +21,10 @@ use uoi::Value;
 
 use crate::error::{Error, ErrorCode, Result};
 use crate::handles::{Handle, Handles};
-use crate::served::Served;
 use crate::link::{Embedded, Limits, Link};
 use crate::objects::{find_object, Descriptor};
 use crate::record::Recorder;
+use crate::served::Served;
 use crate::target::{EmbeddedOptions, Target};
 
 /// How long a wait (`exec`) may last by default: the request timeout of
@@ -513,7 +513,12 @@ impl Session {
     }
 
     /// What [`request`](Self::request) does once the reply is in.
-    fn answered(&mut self, req: &Request, reply: Reply, what: impl FnOnce() -> String) -> Result<Reply> {
+    fn answered(
+        &mut self,
+        req: &Request,
+        reply: Reply,
+        what: impl FnOnce() -> String,
+    ) -> Result<Reply> {
         self.requests += 1;
         if let (Request::Read(addr, ty), Some(_)) = (req, &self.recorder) {
             self.record(|r| r.read(*addr, *ty, &reply));

@@ -149,7 +149,9 @@ impl Served {
             ),
             other => (
                 ErrorCode::Protocol,
-                format!("{what}: the server at {at} answered what the library cannot read: {other}"),
+                format!(
+                    "{what}: the server at {at} answered what the library cannot read: {other}"
+                ),
             ),
         };
         if code != ErrorCode::Protocol {
@@ -355,9 +357,7 @@ impl Link for Served {
     }
 
     fn axis_nr(&mut self) -> [u8; 3] {
-        self.shadow
-            .as_ref()
-            .map_or([0, 1, 2], |s| s.tc().axis_nr())
+        self.shadow.as_ref().map_or([0, 1, 2], |s| s.tc().axis_nr())
     }
 
     fn take_warning(&mut self) -> Option<String> {

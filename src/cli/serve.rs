@@ -5,8 +5,8 @@
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 
-use emulator::tools::open::open_tools;
 use addipos::{RecordHeader, ServeRecorder};
+use emulator::tools::open::open_tools;
 use emulator::{parse_address, Config, ConfigError, EmulatorService, DEFAULT_CONFIG};
 use opcua_face::{Face, FaceConfig};
 use tokio_util::sync::CancellationToken;
@@ -162,7 +162,10 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
         let recorder = ServeRecorder::create(path, &record_header(&cfg, service.realtime()))
             .map_err(|e| format!("--record {}: cannot create: {e}", path.display()))?;
         service.set_journal(Box::new(recorder));
-        tracing::info!("recording every request carried out into {}", path.display());
+        tracing::info!(
+            "recording every request carried out into {}",
+            path.display()
+        );
     }
     Ok(ServeSettings {
         server,
