@@ -95,6 +95,13 @@ pub trait Link: Send {
         None
     }
 
+    /// Cycles the target ran beside this connection's requests, found
+    /// while carrying out the last one (a server in real time), which the
+    /// recording writes as `EXEC n` before it.
+    fn take_beside(&mut self) -> u64 {
+        0
+    }
+
     /// `tc_exec`: `cycles` cycles, or until the spooler is empty
     /// (`None`); stepped, or waited for in real time. Hands `ran` every
     /// request it carried out on the emulator, as a trace would repeat

@@ -520,6 +520,10 @@ impl Session {
         what: impl FnOnce() -> String,
     ) -> Result<Reply> {
         self.requests += 1;
+        let beside = self.link.take_beside();
+        if beside > 0 {
+            self.record(|r| r.ran(&Request::Exec(Some(beside))));
+        }
         if let (Request::Read(addr, ty), Some(_)) = (req, &self.recorder) {
             self.record(|r| r.read(*addr, *ty, &reply));
             self.recorded = true;

@@ -19,7 +19,12 @@
 //!   shadow emulator of its own with the server's settings (from `INFO`)
 //!   on the same requests and writes the elements *it* spools as `<`
 //!   lines; the cycles the server ran beside this connection's requests
-//!   (its clock, other clients) as `EXEC n`. An answer of the server that
+//!   (its clock, other clients) as `EXEC n`, counted from `INFO` before
+//!   each call; in real time a read is sent between two `INFO`s until
+//!   both name the same cycle, so it lands after exactly the cycles it
+//!   followed (a motion or write, which cannot be sent twice, after an
+//!   `INFO` in the same write: a tick of the server's clock may fall
+//!   between them). An answer of the server that
 //!   the shadow does not give is written as a warning comment: the trace
 //!   then does not replay (the server had other clients, or did not start
 //!   fresh).
@@ -57,7 +62,17 @@ pub struct Served {
     warning: Option<String>,
     /// Whether the recording has been warned already.
     warned: bool,
+    /// The server's executor cycles the recording has accounted for
+    /// (as this connection's `EXEC` or as `EXEC n` beside it).
+    accounted: u64,
+    /// Cycles beside this connection's requests run on the shadow and not
+    /// yet handed to the recording.
+    beside: u64,
 }
+
+/// Most times a read in a real-time recording is sent again to pin it to
+/// one cycle of the server's clock.
+const PIN_TRIES: usize = 8;
 
 impl std::fmt::Debug for Served {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -88,6 +103,8 @@ impl Served {
             shadow: None,
             warning: None,
             warned: false,
+            accounted: 0,
+            beside: 0,
         };
         s.refresh()?;
         Ok(s)
@@ -217,15 +234,54 @@ impl Served {
     /// The cycles the server ran since the last look (its clock, other
     /// clients): run on the shadow and returned, for the recording.
     fn cycles_beside(&mut self) -> Result<u64> {
-        let before = self.info.cycles;
         let now = self.refresh()?.cycles;
-        let n = now.saturating_sub(before);
+        self.account(now);
+        Ok(std::mem::take(&mut self.beside))
+    }
+
+    /// The server's executor has run `cycles`: those not accounted for
+    /// yet are run on the shadow and kept for the recording.
+    fn account(&mut self, cycles: u64) {
+        let n = cycles.saturating_sub(self.accounted);
+        self.accounted = self.accounted.max(cycles);
         if n > 0 {
             if let Some(shadow) = self.shadow.as_mut() {
                 shadow.exec(Some(n));
             }
+            self.beside += n;
         }
-        Ok(n)
+    }
+
+    /// Sends `req`, with an `INFO` before it when `info` asks for one or
+    /// a real-time recording needs the cycle it was served at. There a
+    /// read (`READ`, `POS`, `QUEUE`, which change nothing) goes as `INFO`,
+    /// the read, `INFO`, again until both `INFO`s name the same cycle (at
+    /// most [`PIN_TRIES`] times), so that the recording puts it after
+    /// exactly the cycles it followed.
+    fn send(&mut self, req: &Request, info: bool) -> Result<(Option<EmulatorInfo>, Answer)> {
+        let pin = self.shadow.is_some() && self.info.realtime.is_some();
+        let what = req.to_string();
+        if !pin && !info {
+            let mut ans = self.exchange(&[req.to_wire()], &what)?;
+            return Ok((None, ans.swap_remove(0)));
+        }
+        let reads = matches!(req, Request::Read(..) | Request::Pos | Request::Queue);
+        let mut reqs = vec![info_request(), req.to_wire()];
+        if pin && reads {
+            reqs.push(info_request());
+        }
+        for tries in 1.. {
+            let mut ans = self.exchange(&reqs, &what)?;
+            let before = self.keep_info(&ans[0])?;
+            let after = ans.get(2).and_then(EmulatorInfo::from_wire);
+            if after.is_none_or(|a| a.cycles == before.cycles) || tries >= PIN_TRIES {
+                if pin {
+                    self.account(before.cycles);
+                }
+                return Ok((Some(before), ans.swap_remove(1)));
+            }
+        }
+        Err(Error::new(ErrorCode::Internal, "no try"))
     }
 }
 
@@ -265,12 +321,12 @@ impl Link for Served {
     }
 
     fn call(&mut self, req: &Request) -> Result<Reply> {
-        let ans = self.exchange(&[req.to_wire()], &req.to_string())?;
-        let reply = self.reply(req, &ans[0])?;
+        let (_, ans) = self.send(req, false)?;
+        let reply = self.reply(req, &ans)?;
         self.follow(req, &reply);
         if self.shadow.is_some() && matches!(req, Request::Exec(_)) {
             // The cycles our own EXEC ran are not the server's beside it.
-            self.refresh()?;
+            self.accounted = self.refresh()?.cycles;
         }
         Ok(reply)
     }
@@ -282,11 +338,11 @@ impl Link for Served {
             }
             return self.call(req).map(Some);
         }
-        let ans = self.exchange(&[info_request(), req.to_wire()], &req.to_string())?;
-        if self.keep_info(&ans[0])?.cleans != epoch {
+        let (info, ans) = self.send(req, true)?;
+        if info.is_some_and(|i| i.cleans != epoch) {
             return Ok(None);
         }
-        let reply = self.reply(req, &ans[1])?;
+        let reply = self.reply(req, &ans)?;
         self.follow(req, &reply);
         Ok(Some(reply))
     }
@@ -338,6 +394,8 @@ impl Link for Served {
             return true;
         }
         if self.shadow.is_none() {
+            // The server as it is now (a failure leaves the last look).
+            let _ = self.refresh();
             let i = self.info;
             let cycle = CycleTime::from_secs(i.cycle_s).unwrap_or(CycleTime::DEFAULT);
             let capacity = tc_module::check_capacity(i.spool_capacity)
@@ -345,6 +403,7 @@ impl Link for Served {
             let mut shadow = Emulator::new(i.start, cycle).with_spool_capacity(capacity);
             shadow.set_spool_log(true);
             self.shadow = Some(shadow);
+            self.accounted = i.cycles;
         }
         true
     }
@@ -362,5 +421,9 @@ impl Link for Served {
 
     fn take_warning(&mut self) -> Option<String> {
         self.warning.take()
+    }
+
+    fn take_beside(&mut self) -> u64 {
+        std::mem::take(&mut self.beside)
     }
 }
