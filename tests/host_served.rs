@@ -115,6 +115,14 @@ fn a_server_that_never_answers_gives_timeout() {
     assert_eq!(e.code(), ErrorCode::Timeout, "{e}");
     assert!(e.message().contains("did not answer"), "{e}");
 
+    // Nobody listens: refused at open.
+    let free = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let gone = free.local_addr().unwrap().to_string();
+    drop(free);
+    let e = Machine::open(&gone).unwrap_err();
+    assert_eq!(e.code(), ErrorCode::Connection, "{e}");
+    assert!(e.message().contains(&gone), "{e}");
+
     // A server that stops answering in the middle of a session.
     let server = ServeProcess::start(&["--listen", "127.0.0.1:0"], &[]);
     let m = Machine::served_within(&server.addr, Duration::from_millis(300)).unwrap();
