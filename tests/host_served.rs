@@ -370,3 +370,21 @@ fn the_whole_corpus_through_the_library_answers_as_traced_and_its_recordings_rep
     let want = format!("{} passed, 0 failed", files.len());
     assert!(out.status.success() && said.contains(&want), "{said}");
 }
+
+#[test]
+fn serve_refuses_a_bad_factor_and_a_record_file_it_cannot_create() {
+    for (args, says) in [
+        (vec!["--realtime", "0"], "--realtime 0"),
+        (vec!["--realtime", "20000"], "--realtime 20000"),
+        (vec!["--record", "/no/such/dir/x.trace"], "--record /no/such/dir/x.trace"),
+    ] {
+        let out = common::bin()
+            .args(["serve", "--no-persist", "--listen", "127.0.0.1:0"])
+            .args(&args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?}");
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
+}

@@ -121,6 +121,7 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
     }
     cfg.persist &= !args.no_persist;
     if let Some(f) = args.realtime {
+        emulator::RealTimeFactor::new(f).map_err(|e| format!("--realtime {f}: {e}"))?;
         cfg.realtime = f;
     }
     cfg.ignore_bad_tools |= args.ignore_bad_tools;
@@ -133,10 +134,7 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
         }
     }
     let mut server = cfg.server().map_err(in_source)?;
-    let mut service = cfg.service().map_err(|e| match args.realtime {
-        Some(f) if e.0.starts_with("realtime") => format!("--realtime {f}: {e}"),
-        _ => in_source(e),
-    })?;
+    let mut service = cfg.service().map_err(in_source)?;
     let mut opcua = cfg.opcua().map_err(in_source)?;
     if cfg.wants_token() {
         let token = server_token(&cfg.data_dir).map_err(|e| format!("access token: {e}"))?;
