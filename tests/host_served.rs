@@ -376,7 +376,10 @@ fn serve_refuses_a_bad_factor_and_a_record_file_it_cannot_create() {
     for (args, says) in [
         (vec!["--realtime", "0"], "--realtime 0"),
         (vec!["--realtime", "20000"], "--realtime 20000"),
-        (vec!["--record", "/no/such/dir/x.trace"], "--record /no/such/dir/x.trace"),
+        (
+            vec!["--record", "/no/such/dir/x.trace"],
+            "--record /no/such/dir/x.trace",
+        ),
     ] {
         let out = common::bin()
             .args(["serve", "--no-persist", "--listen", "127.0.0.1:0"])
@@ -387,4 +390,64 @@ fn serve_refuses_a_bad_factor_and_a_record_file_it_cannot_create() {
         assert!(!out.status.success(), "{args:?}");
         assert!(err.contains(says), "{args:?}: {err}");
     }
+}
+
+#[test]
+fn requests_of_another_face_are_in_the_servers_recording_in_their_place() {
+    // The OPC UA face submits through the server's CoreHandle, as here.
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("core.trace");
+    let header = addipos::RecordHeader {
+        name: "core".into(),
+        start: [0.0; 8],
+        cycle_ms: 1.0,
+        spool_capacity: 100_000,
+        note: String::new(),
+    };
+    let mut service = emulator::EmulatorService::new([0.0; 8], tc_module::CycleTime::DEFAULT);
+    service.set_journal(Box::new(
+        addipos::ServeRecorder::create(&file, &header).unwrap(),
+    ));
+    let rt = tokio::runtime::Runtime::new().unwrap();
+    let server = rt
+        .block_on(uoi::tcp::Server::bind(
+            uoi::tcp::ServerConfig {
+                listen: "127.0.0.1:0".parse().unwrap(),
+                ..uoi::tcp::ServerConfig::default()
+            },
+            service,
+        ))
+        .unwrap();
+    let addr = server.local_addr().unwrap().to_string();
+    let core = server.core();
+    let stop = tokio_util::sync::CancellationToken::new();
+    let halt = stop.clone();
+    let running = rt.spawn(async move { server.run(halt.cancelled_owned()).await });
+    let m = Machine::open(&addr).unwrap();
+    m.lin(x(4.0), Some(600.0)).unwrap();
+    let plane = uoi::ObjectAddress::new(1300, 0, 3, 0);
+    let face = rt.block_on(core.call(uoi::wire::Request::Read(plane, uoi::ValueType::I32)));
+    assert_eq!(face, uoi::wire::Answer::Value(uoi::Value::I32(17)));
+    m.exec(None).unwrap();
+    drop(m);
+    stop.cancel();
+    rt.block_on(running).unwrap().unwrap();
+    drop(core);
+    drop(rt);
+    let text = std::fs::read_to_string(&file).unwrap();
+    let lines: Vec<&str> = text
+        .lines()
+        .filter(|l| !l.starts_with(['@', '#']))
+        .collect();
+    assert_eq!(
+        lines,
+        [
+            "LIN X4 F600 => ok",
+            "< LIN X4 Y0",
+            "R 1300/0/3/0 i => 17",
+            "EXEC => ok"
+        ],
+        "{text}"
+    );
+    replay_passes(&file);
 }
