@@ -185,6 +185,13 @@ fn no_misuse_crashes_or_hangs() {
     let said = text(&out.stdout);
     assert!(out.status.success(), "{said}{}", text(&out.stderr));
     assert!(said.ends_with(" passed, 0 failed\n"), "{said}");
+    // The same checks with the connection under test on a server.
+    let server = common::ServeProcess::start(&["--listen", "127.0.0.1:0"], &[]);
+    let out = run(&exe, &[&server.addr], &[]);
+    let said = text(&out.stdout);
+    assert!(out.status.success(), "{said}{}", text(&out.stderr));
+    assert!(said.ends_with(" passed, 0 failed\n"), "{said}");
+    server.stop();
 }
 
 #[test]
