@@ -135,6 +135,17 @@ fn a_server_that_never_answers_gives_timeout() {
         assert!(ok.success());
     };
     signal("-STOP");
+    // Stopped once its state says so (a signal is not taken at once).
+    let stat = format!("/proc/{}/stat", server.id());
+    let t0 = Instant::now();
+    while !std::fs::read_to_string(&stat)
+        .unwrap_or_default()
+        .rsplit_once(')')
+        .is_some_and(|(_, rest)| rest.trim_start().starts_with('T'))
+    {
+        assert!(t0.elapsed() < Duration::from_secs(10), "never stopped");
+        std::thread::sleep(Duration::from_millis(5));
+    }
     let e = m.read_int(plane).unwrap_err();
     signal("-CONT");
     assert_eq!(e.code(), ErrorCode::Timeout, "{e}");
