@@ -98,19 +98,9 @@ struct ServeSettings {
     _tools_lock: Option<std::fs::File>,
 }
 
-/// The settings file (or the built-in settings) with the command line
-/// applied, checked, and the tool data opened; every error names where
-/// the bad value came from.
-fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
-    let (config, listen) = (args.config.as_deref(), args.listen.as_deref());
-    let source = config.map_or_else(|| "built-in settings".into(), |p| p.display().to_string());
-    let text = match config {
-        None => DEFAULT_CONFIG.to_string(),
-        Some(p) => std::fs::read_to_string(p).map_err(|e| format!("cannot read {source}: {e}"))?,
-    };
-    let in_source = |e: ConfigError| format!("{source}: {e}");
-    let mut cfg = Config::parse(&text).map_err(in_source)?;
-    if let Some(l) = listen {
+/// The command line over the settings; a bad value names its option.
+fn apply_args(cfg: &mut Config, args: &ServeArgs) -> Result<(), String> {
+    if let Some(l) = &args.listen {
         cfg.listen = parse_address(l)
             .map_err(|e| format!("--listen: {e}"))?
             .to_string();
@@ -133,6 +123,22 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
                 .to_string();
         }
     }
+    Ok(())
+}
+
+/// The settings file (or the built-in settings) with the command line
+/// applied, checked, and the tool data opened; every error names where
+/// the bad value came from.
+fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
+    let config = args.config.as_deref();
+    let source = config.map_or_else(|| "built-in settings".into(), |p| p.display().to_string());
+    let text = match config {
+        None => DEFAULT_CONFIG.to_string(),
+        Some(p) => std::fs::read_to_string(p).map_err(|e| format!("cannot read {source}: {e}"))?,
+    };
+    let in_source = |e: ConfigError| format!("{source}: {e}");
+    let mut cfg = Config::parse(&text).map_err(in_source)?;
+    apply_args(&mut cfg, args)?;
     let mut server = cfg.server().map_err(in_source)?;
     let mut service = cfg.service().map_err(in_source)?;
     let mut opcua = cfg.opcua().map_err(in_source)?;
@@ -153,18 +159,7 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
         tracing::info!("tool data kept in memory only (--no-persist)");
         None
     };
-    if let Some(f) = service.realtime() {
-        tracing::info!("real time: the executor runs with the wall clock, {f} times faster");
-    }
-    if let Some(path) = &args.record {
-        let recorder = ServeRecorder::create(path, &record_header(&cfg, service.realtime()))
-            .map_err(|e| format!("--record {}: cannot create: {e}", path.display()))?;
-        service.set_journal(Box::new(recorder));
-        tracing::info!(
-            "recording every request carried out into {}",
-            path.display()
-        );
-    }
+    time_and_recording(&mut service, &cfg, args.record.as_deref())?;
     Ok(ServeSettings {
         server,
         service,
@@ -172,6 +167,27 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
         serial_number: cfg.opcua.serial_number.clone(),
         _tools_lock: lock,
     })
+}
+
+/// Logs real time, and starts `--record`'s recording.
+fn time_and_recording(
+    service: &mut EmulatorService,
+    cfg: &Config,
+    record: Option<&Path>,
+) -> Result<(), String> {
+    if let Some(f) = service.realtime() {
+        tracing::info!("real time: the executor runs with the wall clock, {f} times faster");
+    }
+    if let Some(path) = record {
+        let recorder = ServeRecorder::create(path, &record_header(cfg, service.realtime()))
+            .map_err(|e| format!("--record {}: cannot create: {e}", path.display()))?;
+        service.set_journal(Box::new(recorder));
+        tracing::info!(
+            "recording every request carried out into {}",
+            path.display()
+        );
+    }
+    Ok(())
 }
 
 /// The header of `--record`'s trace: the emulator's settings, and what
