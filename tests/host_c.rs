@@ -1,11 +1,14 @@
 //! The C side of the host library: the example of examples/c (the
 //! manual's "Using TC" sequence) and the failure-path program built with
 //! the system C compiler against libaddipos and run on an embedded
-//! emulator, stepped and in real time; a recorded run of the example
-//! replayed with `addipos replay`.
+//! emulator, stepped and in real time, and against a running `addipos
+//! serve` (stepped and in real time): the same spooled path and final
+//! position; recorded runs of the example replayed with `addipos replay`.
 
 // Setups may stop loudly.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
+mod common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -182,4 +185,42 @@ fn no_misuse_crashes_or_hangs() {
     let said = text(&out.stdout);
     assert!(out.status.success(), "{said}{}", text(&out.stderr));
     assert!(said.ends_with(" passed, 0 failed\n"), "{said}");
+    // The same checks with the connection under test on a server.
+    let server = common::ServeProcess::start(&["--listen", "127.0.0.1:0"], &[]);
+    let out = run(&exe, &[&server.addr], &[]);
+    let said = text(&out.stdout);
+    assert!(out.status.success(), "{said}{}", text(&out.stderr));
+    assert!(said.ends_with(" passed, 0 failed\n"), "{said}");
+    server.stop();
+}
+
+#[test]
+fn against_a_server_the_example_gives_the_same_path_and_position() {
+    let dir = tempfile::tempdir().unwrap();
+    let exe = build("using_tc", dir.path());
+    for realtime in [None, Some("20")] {
+        let served = dir.path().join("served.trace");
+        let lib = dir.path().join("lib.trace");
+        let mut args = vec!["--listen", "127.0.0.1:0", "--record"];
+        args.push(served.to_str().unwrap());
+        if let Some(f) = realtime {
+            args.extend(["--realtime", f]);
+        }
+        let server = common::ServeProcess::start(&args, &[]);
+        let port = server.addr.rsplit_once(':').unwrap().1.to_string();
+        let out = run(&exe, &[&port], &[("ADDIPOS_RECORD", &lib)]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        assert_eq!(text(&out.stdout), OUTPUT, "{realtime:?}");
+        let (status, log) = server.terminate(std::time::Duration::from_secs(20));
+        assert!(status.success(), "{log}");
+        // The server's own recording: what its emulator spooled.
+        let trace = std::fs::read_to_string(&served).unwrap();
+        assert_eq!(spooled(&trace), PATH, "{trace}");
+        replay_passes(&served);
+        // The library's recording of the same run.
+        let trace = std::fs::read_to_string(&lib).unwrap();
+        assert_eq!(spooled(&trace), PATH, "{trace}");
+        assert!(!trace.contains("# WARNING"), "{trace}");
+        replay_passes(&lib);
+    }
 }

@@ -13,6 +13,7 @@ use tc_module::{CycleTime, AXES};
 use uoi::tcp::{AccessPolicy, ServerConfig};
 
 use crate::address::parse_address;
+use crate::clock::RealTimeFactor;
 
 use crate::service::EmulatorService;
 
@@ -65,6 +66,9 @@ pub struct Config {
     pub spool_capacity: u64,
     /// Machine position at start.
     pub start: [f64; AXES],
+    /// Real time: the executor runs with the wall clock, this many times
+    /// faster (0.01 to 10000); 0: stepped (`EXEC` runs the cycles).
+    pub realtime: f64,
     /// The OPC UA face.
     pub opcua: OpcuaSettings,
 }
@@ -115,6 +119,7 @@ impl Default for Config {
             cycle_ms: 1.0,
             spool_capacity: DEFAULT_SPOOL_CAPACITY as u64,
             start: [0.0; AXES],
+            realtime: 0.0,
             opcua: OpcuaSettings::default(),
         }
     }
@@ -208,14 +213,30 @@ impl Config {
             .map_err(|e| ConfigError(format!("cycle_ms = {}: {e}", self.cycle_ms)))
     }
 
-    /// The emulator to serve (start, cycle, spooler capacity), checked.
+    /// The real-time factor, checked; `None`: stepped (`realtime = 0`).
+    pub fn realtime(&self) -> Result<Option<RealTimeFactor>, ConfigError> {
+        if self.realtime == 0.0 {
+            return Ok(None);
+        }
+        RealTimeFactor::new(self.realtime)
+            .map(Some)
+            .map_err(|e| ConfigError(format!("realtime = {}: {e} (0: stepped)", self.realtime)))
+    }
+
+    /// The emulator to serve (start, cycle, spooler capacity, real time),
+    /// checked.
     pub fn service(&self) -> Result<EmulatorService, ConfigError> {
+        let realtime = self.realtime()?;
         let cycle = self.cycle()?;
         let capacity = check_capacity(self.spool_capacity)
             .map_err(|e| ConfigError(format!("spool_capacity = {}: {e}", self.spool_capacity)))?;
         check_point(&self.start)
             .map_err(|_| ConfigError(format!("start: every axis must lie within ±{MAX_COORD}")))?;
-        Ok(EmulatorService::new(self.start, cycle).with_spool_capacity(capacity))
+        let mut service = EmulatorService::new(self.start, cycle).with_spool_capacity(capacity);
+        if let Some(f) = realtime {
+            service.set_realtime(f);
+        }
+        Ok(service)
     }
 }
 
@@ -291,5 +312,16 @@ mod tests {
         assert!(c.server().unwrap_err().0.contains("evict_after_ms"));
         let c = Config::parse("evict_after_ms = 0").unwrap();
         assert_eq!(c.server().unwrap().evict_after, None);
+        for bad in ["-1", "0.001", "10001", "nan"] {
+            let c = Config::parse(&format!("realtime = {bad}")).unwrap();
+            assert!(c.service().unwrap_err().0.contains("realtime"), "{bad}");
+        }
+    }
+
+    #[test]
+    fn realtime_is_off_by_default_and_a_factor_turns_it_on() {
+        assert_eq!(Config::default().service().unwrap().realtime(), None);
+        let c = Config::parse("realtime = 10").unwrap();
+        assert_eq!(c.service().unwrap().realtime(), Some(10.0));
     }
 }

@@ -35,6 +35,9 @@ mod address;
 pub mod clock;
 mod config;
 mod emulator;
+mod exec_waits;
+pub mod info_op;
+pub mod journal;
 #[cfg(feature = "opcua")]
 pub mod opcua;
 mod reference;
@@ -50,6 +53,9 @@ pub use config::{
     OPCUA_PKI_DIR,
 };
 pub use emulator::{Emulator, Tc};
+pub use exec_waits::MAX_EXEC_WAITS;
+pub use info_op::{EmulatorInfo, INFO_OP};
+pub use journal::Journal;
 pub use reference::{bits_without_meaning, devices_without_section, object_reference};
 pub use service::EmulatorService;
 pub use session::{ConformanceSession, LOG_CAPACITY, MAX_SESSIONS, MAX_SESSION_SPOOL};

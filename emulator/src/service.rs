@@ -6,14 +6,29 @@
 //! ([`crate::session`]), which the service opens for each connection and
 //! counts: the emulator all connections share is never reset or logged by
 //! a client.
+//!
+//! In real time ([`EmulatorService::set_realtime`]) the clock's cycles are
+//! run before every request and at every [`tick`](EmulatorService::tick)
+//! (the server calls it a few hundred times a second), and `EXEC` waits
+//! for the clock ([`crate::exec_waits`]). With a [`Journal`] every request
+//! carried out is recorded ([`crate::journal`]). `INFO` ([`crate::info_op`])
+//! is answered here, never journaled.
+
+use std::collections::HashMap;
+use std::time::Instant;
 
 use otc_ext::OtcExtension;
 use tc_module::{AxisPos, CycleTime, TcExtension};
+use tc_request::{Reply, Request};
 use uoi::tcp::{Handler, Slice};
 use uoi::wire::ProtocolError;
 use uoi::wire::{Answer, Request as WireRequest};
 use uoi::AccessError;
 
+use crate::clock::{RealTimeClock, RealTimeFactor};
+use crate::exec_waits::{ExecWaits, Until, EXEC_WAIT_BIT};
+use crate::info_op::{is_info, EmulatorInfo};
+use crate::journal::Journal;
 use crate::serving::serve_slice;
 use crate::session::{ConformanceSession, SessionPlaces};
 use crate::tools::durable::ToolPersistence;
@@ -28,22 +43,57 @@ pub struct EmulatorService<E: TcExtension = OtcExtension> {
     tools: Option<Tools<E>>,
     /// The conformance sessions open on this service's connections.
     sessions: SessionPlaces,
+    /// Start, cycle and spooler, for `INFO`.
+    settings: Settings,
+    /// Real time: the clock; `None`: stepped.
+    clock: Option<RealTimeClock>,
+    /// `EXEC` requests waiting for the clock.
+    waits: ExecWaits,
+    /// The recording, while one goes on.
+    journal: Option<Box<dyn Journal>>,
+    /// Tool writes waiting for the disk, by token, to be journaled when
+    /// answered.
+    journal_pending: HashMap<u64, WireRequest>,
+}
+
+/// What `INFO` reports of the settings.
+#[derive(Debug, Clone, Copy)]
+struct Settings {
+    start: AxisPos,
+    cycle: CycleTime,
+    spool_capacity: usize,
 }
 
 impl EmulatorService {
     /// Serves a fresh emulator at `start` with cycle `cycle`.
     pub fn new(start: AxisPos, cycle: CycleTime) -> Self {
-        Self::with_emulator(Emulator::new(start, cycle))
+        let mut s = Self::with_emulator(Emulator::new(start, cycle));
+        s.settings = Settings {
+            start,
+            cycle,
+            spool_capacity: tc_module::DEFAULT_SPOOL_CAPACITY,
+        };
+        s
     }
 }
 
 impl<E: TcExtension + Default> EmulatorService<E> {
     /// Serves `emu`.
     pub fn with_emulator(emu: Emulator<E>) -> Self {
+        let settings = Settings {
+            start: emu.position(),
+            cycle: CycleTime::DEFAULT,
+            spool_capacity: tc_module::DEFAULT_SPOOL_CAPACITY,
+        };
         Self {
             emu,
             tools: None,
             sessions: SessionPlaces::default(),
+            settings,
+            clock: None,
+            waits: ExecWaits::default(),
+            journal: None,
+            journal_pending: HashMap::new(),
         }
     }
 
@@ -66,10 +116,172 @@ impl<E: TcExtension + Default> EmulatorService<E> {
     /// The same service with a spooler of `capacity` elements (checked by
     /// `check_capacity` where it comes from outside).
     pub fn with_spool_capacity(self, capacity: usize) -> Self {
+        let mut settings = self.settings;
+        settings.spool_capacity = capacity;
         Self {
             emu: self.emu.with_spool_capacity(capacity),
+            settings,
             ..self
         }
+    }
+
+    /// Runs the executor with the wall clock from now on, `factor` times
+    /// faster (the cycle is the one the service was made with).
+    pub fn set_realtime(&mut self, factor: RealTimeFactor) {
+        self.clock = Some(RealTimeClock::new(factor, self.settings.cycle));
+    }
+
+    /// The real-time factor; `None`: stepped.
+    pub fn realtime(&self) -> Option<f64> {
+        self.clock.as_ref().map(RealTimeClock::factor)
+    }
+
+    /// Records every request carried out from now on into `journal`.
+    pub fn set_journal(&mut self, journal: Box<dyn Journal>) {
+        self.emu.set_spool_log(true);
+        let _ = self.emu.take_spool_log();
+        self.journal = Some(journal);
+    }
+
+    /// Ends the recording: what it holds goes to its file.
+    pub fn finish_journal(&mut self) {
+        if let Some(mut j) = self.journal.take() {
+            if let Err(e) = j.finish() {
+                tracing::error!("recording: {e}");
+            }
+        }
+        self.emu.set_spool_log(false);
+    }
+
+    /// Whether a recording goes on.
+    pub fn recording(&self) -> bool {
+        self.journal.is_some()
+    }
+
+    /// What `INFO` answers.
+    pub fn info(&self) -> EmulatorInfo {
+        EmulatorInfo {
+            cleans: self.emu.clean_epoch(),
+            realtime: self.realtime(),
+            cycles: self.emu.tc().executor().cycles(),
+            cycle_s: self.settings.cycle.secs(),
+            // A capacity is at most 1,000,000.
+            spool_capacity: self.settings.spool_capacity as u64,
+            start: self.settings.start,
+        }
+    }
+
+    /// Real time: runs the cycles the clock owes (at most one `EXEC`
+    /// slice), journals them as `EXEC n`, and ends the `EXEC` waits that
+    /// are over. Stepped: nothing. Returns the cycles run.
+    pub fn tick(&mut self) -> u64 {
+        let Some(clock) = self.clock.as_mut() else {
+            return 0;
+        };
+        let ran = clock.catch_up(&mut self.emu, Instant::now());
+        let passed = clock.passed();
+        if ran > 0 {
+            self.journal_reply(&Request::Exec(Some(ran)), &Reply::Ok);
+        }
+        self.waits.fire(passed, self.emu.queue_len() == 0);
+        ran
+    }
+}
+
+/// Recording.
+impl<E: TcExtension + Default> EmulatorService<E> {
+    /// Hands the journal one request with its reply and what it spooled;
+    /// a journal that fails is dropped (logged), never the server.
+    fn journal_reply(&mut self, req: &Request, reply: &Reply) {
+        let Some(j) = self.journal.as_mut() else {
+            return;
+        };
+        let spooled = self.emu.take_spool_log();
+        let axis_nr = self.emu.tc().axis_nr();
+        if let Err(e) = j.exchange(req, reply, &spooled, axis_nr) {
+            self.journal_failed(&e);
+        }
+    }
+
+    /// A comment in the journal.
+    fn journal_note(&mut self, text: &str) {
+        if let Some(j) = self.journal.as_mut() {
+            if let Err(e) = j.note(text) {
+                self.journal_failed(&e);
+            }
+        }
+    }
+
+    fn journal_failed(&mut self, why: &str) {
+        tracing::error!("recording stopped ({why}); the server goes on serving");
+        self.journal = None;
+        self.emu.set_spool_log(false);
+    }
+
+    /// Journals one slice of `req` served with `slice`; `before`: the
+    /// executor's cycles before it (an `EXEC` cut into slices is written
+    /// as the cycles each slice ran, so that requests of other
+    /// connections served in between keep their place).
+    fn journal_slice(&mut self, req: &WireRequest, slice: &Slice, before: u64) {
+        if self.journal.is_none() {
+            return;
+        }
+        let tc = match Request::from_wire(req) {
+            Ok(r) => r,
+            Err(e) => return self.journal_note(&format!("a request refused: {e}")),
+        };
+        let ran = || self.emu.tc().executor().cycles().saturating_sub(before);
+        match (slice, &tc) {
+            (Slice::Done(_), Request::Setup { .. } | Request::SpoolLog { .. }) => {
+                self.journal_note(&format!("{tc}: refused on the shared emulator (State)"));
+            }
+            (Slice::Done(a), _) => match Reply::from_wire(req.op(), a) {
+                Some(reply) => self.journal_reply(&tc, &reply),
+                None => self.journal_note(&format!("{tc}: answered {a:?}")),
+            },
+            (Slice::More(rest), Request::Exec(Some(n))) => {
+                let rest = match Request::from_wire(rest) {
+                    Ok(Request::Exec(Some(r))) => r,
+                    _ => 0,
+                };
+                self.journal_reply(&Request::Exec(Some(n.saturating_sub(rest))), &Reply::Ok);
+            }
+            (Slice::More(_), _) => {
+                let n = ran();
+                self.journal_reply(&Request::Exec(Some(n)), &Reply::Ok);
+            }
+            (Slice::Wait(_), _) => {}
+        }
+    }
+}
+
+/// Real time.
+impl<E: TcExtension + Default> EmulatorService<E> {
+    /// `EXEC` in real time: a wait for the clock (`None`: not an `EXEC`).
+    fn exec_wait(&mut self, req: &WireRequest) -> Option<Slice> {
+        let clock = self.clock.as_ref()?;
+        let Ok(Request::Exec(cycles)) = Request::from_wire(req) else {
+            return None;
+        };
+        let until = match cycles {
+            Some(n) => Until::Cycle(clock.passed().saturating_add(n)),
+            None => Until::Empty,
+        };
+        let over = match until {
+            Until::Cycle(c) => clock.passed() >= c,
+            Until::Empty => self.emu.queue_len() == 0,
+        };
+        self.journal_note(&format!(
+            "{} (real time: waited for the clock)",
+            Request::Exec(cycles)
+        ));
+        if over {
+            return Some(Slice::Done(Answer::Ok));
+        }
+        Some(match self.waits.add(until) {
+            Some(w) => Slice::Wait(w),
+            None => Slice::Done(Answer::Protocol(ProtocolError::Busy)),
+        })
     }
 }
 
@@ -103,21 +315,54 @@ impl<E: TcExtension + Default> Handler for EmulatorService<E> {
     /// `SETUP`, which a connection's session always takes first) is
     /// refused with `State`: only a conformance session has a spool log.
     fn serve(&mut self, req: WireRequest) -> Slice {
+        self.tick();
+        if is_info(&req) {
+            return Slice::Done(match &req {
+                WireRequest::Ext(_, p) if p.is_empty() => self.info().to_wire(),
+                _ => Answer::Protocol(ProtocolError::BadPayload),
+            });
+        }
+        if let Some(wait) = self.exec_wait(&req) {
+            return wait;
+        }
         let tools = self.tools.as_mut().and_then(|t| t.0.as_mut());
         if let (Some(t), WireRequest::Write(a, v)) = (tools, &req) {
             if let Some(slice) = t.serve(&mut self.emu, *a, *v) {
+                match &slice {
+                    Slice::Wait(w) if self.journal.is_some() => {
+                        self.journal_pending.insert(w.token, req.clone());
+                    }
+                    _ => self.journal_slice(&req, &slice, 0),
+                }
                 return slice;
             }
         }
-        serve_slice(&mut self.emu, req).unwrap_or(Slice::Done(Answer::Access(AccessError::State)))
+        let before = self.emu.tc().executor().cycles();
+        let slice = serve_slice(&mut self.emu, req.clone())
+            .unwrap_or(Slice::Done(Answer::Access(AccessError::State)));
+        self.journal_slice(&req, &slice, before);
+        slice
     }
 
-    /// A tool write is on disk (or refused): applied and answered.
+    /// A tool write is on disk (or refused): applied and answered. An
+    /// `EXEC` wait is over: answered.
     fn resume(&mut self, token: u64, ok: bool) -> Slice {
-        match self.tools.as_mut().and_then(|t| t.0.as_mut()) {
+        if token & EXEC_WAIT_BIT != 0 {
+            self.tick();
+            return Slice::Done(if ok {
+                Answer::Ok
+            } else {
+                Answer::Protocol(ProtocolError::Busy)
+            });
+        }
+        let slice = match self.tools.as_mut().and_then(|t| t.0.as_mut()) {
             Some(t) => t.resume(&mut self.emu, token, ok),
             None => Slice::Done(Answer::Protocol(ProtocolError::Busy)),
+        };
+        if let Some(req) = self.journal_pending.remove(&token) {
+            self.journal_slice(&req, &slice, 0);
         }
+        slice
     }
 }
 
@@ -125,11 +370,112 @@ impl<E: TcExtension + Default> Handler for EmulatorService<E> {
 mod tests {
     use super::*;
     use tc_request::text::parse_request;
-    use tc_request::Request;
 
     /// The answer of the shared service to `req`, served to its end.
     fn answer(s: &mut EmulatorService, req: WireRequest) -> Answer {
         s.serve(req).finish(|rest| s.serve(rest))
+    }
+
+    /// A journal that keeps its lines.
+    #[derive(Debug, Default, Clone)]
+    struct Lines(std::sync::Arc<std::sync::Mutex<Vec<String>>>);
+
+    impl Journal for Lines {
+        fn exchange(
+            &mut self,
+            req: &Request,
+            reply: &Reply,
+            spooled: &[tc_request::SpoolRecord],
+            _axis_nr: [u8; 3],
+        ) -> Result<(), String> {
+            let mut l = self.0.lock().unwrap();
+            l.push(format!("{req} => {reply:?}"));
+            l.extend(spooled.iter().map(|_| "<".to_string()));
+            Ok(())
+        }
+        fn note(&mut self, text: &str) -> Result<(), String> {
+            self.0.lock().unwrap().push(format!("# {text}"));
+            Ok(())
+        }
+        fn finish(&mut self) -> Result<(), String> {
+            Err("disk gone".into())
+        }
+    }
+
+    #[test]
+    fn info_reports_cleans_settings_and_cycles() {
+        let mut s = EmulatorService::new([1.0; 8], CycleTime::DEFAULT).with_spool_capacity(64);
+        let info = |s: &mut EmulatorService| {
+            EmulatorInfo::from_wire(&answer(s, crate::info_op::info_request())).unwrap()
+        };
+        let first = info(&mut s);
+        assert_eq!((first.cleans, first.realtime, first.cycles), (0, None, 0));
+        assert_eq!((first.spool_capacity, first.start), (64, [1.0; 8]));
+        let clean = parse_request("W 1300/0/1/0 i 1").unwrap().to_wire();
+        assert_eq!(answer(&mut s, clean), Answer::Ok);
+        let lin = parse_request("LIN X11 F6000").unwrap().to_wire();
+        assert_eq!(answer(&mut s, lin), Answer::Ok);
+        let exec = Request::Exec(None).to_wire();
+        assert_eq!(answer(&mut s, exec), Answer::Ok);
+        let after = info(&mut s);
+        assert_eq!(after.cleans, 1);
+        assert_eq!(after.cycles, 100, "10 mm at 100 mm/s in 1 ms cycles");
+        let junk = WireRequest::Ext(crate::INFO_OP, bytes::Bytes::from_static(&[1]));
+        assert_eq!(
+            answer(&mut s, junk),
+            Answer::Protocol(ProtocolError::BadPayload)
+        );
+    }
+
+    #[test]
+    fn the_journal_gets_every_request_with_its_answer_and_spooled_elements() {
+        let mut s = EmulatorService::new([0.0; 8], CycleTime::DEFAULT);
+        let lines = Lines::default();
+        s.set_journal(Box::new(lines.clone()));
+        for text in [
+            "LIN X1 F600",
+            "R 1300/0/3/0 i",
+            "EXEC 7",
+            "W 1300/0/1/0 i 2",
+        ] {
+            answer(&mut s, parse_request(text).unwrap().to_wire());
+        }
+        answer(&mut s, crate::info_op::info_request());
+        let got = lines.0.lock().unwrap().clone();
+        assert_eq!(
+            got,
+            [
+                "LIN X1 F600 => Ok",
+                "<",
+                "R 1300/0/3/0 i => Value(I32(17))",
+                "EXEC 7 => Ok",
+                "W 1300/0/1/0 i 2 => Access(Range)",
+            ]
+        );
+        s.finish_journal();
+        assert!(!s.recording());
+    }
+
+    #[test]
+    fn exec_in_real_time_waits_for_the_clock() {
+        let mut s = EmulatorService::new([0.0; 8], CycleTime::DEFAULT);
+        s.set_realtime(RealTimeFactor::new(10_000.0).unwrap());
+        let lin = parse_request("LIN X1000 F60000").unwrap().to_wire();
+        assert_eq!(answer(&mut s, lin), Answer::Ok);
+        let Slice::Wait(mut w) = s.serve(Request::Exec(None).to_wire()) else {
+            panic!("EXEC waits in real time");
+        };
+        // 1000 mm at 1000 mm/s: 1 s of machine time, 0.1 ms of wall time.
+        let mut ticks = 0;
+        while w.done.try_recv().is_err() {
+            std::thread::sleep(std::time::Duration::from_millis(1));
+            s.tick();
+            ticks += 1;
+            assert!(ticks < 10_000, "the wait never ended");
+        }
+        assert!(matches!(s.resume(w.token, true), Slice::Done(Answer::Ok)));
+        assert_eq!(s.emu.position()[0], 1000.0);
+        assert!(s.info().cycles >= 1000);
     }
 
     #[test]

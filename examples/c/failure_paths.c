@@ -4,8 +4,12 @@
  * pointers, unknown objects, wrong types, the null handle, handles made
  * stale by a Clean, handles of another connection, axes out of range, a
  * closed connection, huge cycle counts, a wait that runs into its
- * timeout. Prints one line per check that failed and "N passed, M
- * failed"; exits 0 only when all passed.
+ * timeout, a server that is not there. Prints one line per check that
+ * failed and "N passed, M failed"; exits 0 only when all passed.
+ *
+ *   ./failure_paths            the checks on an embedded emulator
+ *   ./failure_paths 1300       the same on a running `addipos serve`
+ *                              (started with --no-persist: it is changed)
  */
 #include <math.h>
 #include <stdio.h>
@@ -156,6 +160,9 @@ static void connections(addipos *a)
     truth("bad target", addipos_open("plc:") == NULL);
     truth("bad target explained", strlen(addipos_open_error()) > 0);
     truth("bad factor", addipos_open("embedded:realtime=0") == NULL);
+    /* Nobody listens on port 1: refused at open, said why. */
+    truth("no server there", addipos_open("127.0.0.1:1") == NULL);
+    truth("no server explained", strstr(addipos_open_error(), "127.0.0.1:1") != NULL);
 
     /* A real-time wait runs into its timeout instead of blocking. */
     addipos *rt = addipos_open("embedded:realtime=1");
@@ -171,10 +178,11 @@ static void connections(addipos *a)
     addipos_close(rt);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
     truth("version", strlen(addipos_version()) > 0);
-    addipos *a = addipos_open("embedded");
+    /* The connection under test: embedded, or the target given (a server). */
+    addipos *a = addipos_open(argc > 1 ? argv[1] : "embedded");
     if (a == NULL) {
         printf("addipos_open: %s\n", addipos_open_error());
         return 1;

@@ -3,6 +3,11 @@
 //! recording them (goal: at most 1.5 times the time without). The
 //! recording goes to `/dev/null`: what is measured is the library's work
 //! (formatting, buffering, writing), not the disk's speed.
+//!
+//! Group `served`: reads through the library to a server (an in-process
+//! `addipos serve` on loopback) beside the Rust client's own sequential
+//! reads (`uoi::tcp::BlockingClient::read`) to the same server, in the
+//! same run (goal: at least 0.9 times the client's rate).
 
 // The bench calls the C ABI as a C program does: its functions are
 // `unsafe extern "C"` (they write through the pointers they are given).
@@ -78,5 +83,57 @@ fn c_abi(c: &mut Criterion) {
     addipos_close(recorded);
 }
 
-criterion_group!(benches, c_abi);
+/// An `addipos serve` in this process, on a loopback port of its own.
+fn serve() -> String {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let rt = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(1)
+            .enable_all()
+            .build()
+            .unwrap();
+        rt.block_on(async move {
+            let cfg = uoi::tcp::ServerConfig {
+                listen: "127.0.0.1:0".parse().unwrap(),
+                ..uoi::tcp::ServerConfig::default()
+            };
+            let service = emulator::EmulatorService::new([0.0; 8], tc_module::CycleTime::DEFAULT);
+            let server = uoi::tcp::Server::bind(cfg, service).await.unwrap();
+            tx.send(server.local_addr().unwrap().to_string()).unwrap();
+            let _ = server.run(std::future::pending()).await;
+        });
+    });
+    rx.recv_timeout(Duration::from_secs(10)).unwrap()
+}
+
+/// Reads per iteration over the wire.
+const SERVED_BATCH: u64 = 100;
+
+fn served(c: &mut Criterion) {
+    let addr = serve();
+    let m = Machine::open(&addr).unwrap();
+    let h = m.handle(&PLANE).unwrap();
+    let mut client = uoi::tcp::BlockingClient::connect(&addr).unwrap();
+    let plane = uoi::ObjectAddress::new(1300, 0, 3, 0);
+    let mut g = c.benchmark_group("served");
+    g.throughput(Throughput::Elements(SERVED_BATCH));
+    g.measurement_time(Duration::from_secs(4));
+    g.bench_function("library", |b| {
+        b.iter(|| {
+            for _ in 0..SERVED_BATCH {
+                black_box(m.read_int(h).unwrap());
+            }
+        })
+    });
+    g.bench_function("rust_client", |b| {
+        b.iter(|| {
+            for _ in 0..SERVED_BATCH {
+                black_box(client.read(plane, uoi::ValueType::I32).unwrap());
+            }
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, c_abi, served);
 criterion_main!(benches);

@@ -97,22 +97,24 @@
 #define ADDIPOS_E_ARGUMENT 2916089859
 
 /**
- * The connection is closed (or was never opened), lost, timed out or
- * refused.
+ * The connection is closed (or was never opened); a server target
+ * that refused the connection, went away or cannot be reached within
+ * 5 s (the next call connects again).
  * (Code 0xADD00004.)
  */
 #define ADDIPOS_E_CONNECTION 2916089860
 
 /**
- * The target cannot be opened by this version of the library (a
- * running `addipos serve`: a later version).
+ * The target cannot be opened by this version of the library
+ * (reserved: every target form of docs/host-api.md opens).
  * (Code 0xADD00005.)
  */
 #define ADDIPOS_E_NOT_SUPPORTED 2916089861
 
 /**
  * `tc_exec` waited longer than the connection's timeout (30 s unless
- * `addipos_set_timeout` says otherwise); what ran stays run.
+ * `addipos_set_timeout` says otherwise), or a server target did not
+ * answer a request within it; what ran stays run.
  * (Code 0xADD00006.)
  */
 #define ADDIPOS_E_TIMEOUT 2916089862
@@ -138,7 +140,8 @@
 #define ADDIPOS_E_RECORD 2916089865
 
 /**
- * The server refused a request as malformed.
+ * A server target refused a request as malformed, or answered what
+ * the library cannot read (not an `addipos serve` of this version).
  * (Code 0xADD0000A.)
  */
 #define ADDIPOS_E_PROTOCOL 2916089866
@@ -159,6 +162,11 @@
  * Machine axes: X Y Z A B C U V, the length of every position array.
  */
 #define ADDIPOS_AXES 8
+
+/**
+ * Chunks that may wait for the writer thread.
+ */
+#define QUEUE_CHUNKS 64
 
 /**
  * One connection (opaque): what `addipos_open` returns.

@@ -38,10 +38,11 @@ uoi::code_list! {
         Argument = 0xADD0_0003,
         /// The connection is closed, lost, timed out or refused.
         Connection = 0xADD0_0004,
-        /// The target cannot be opened by this version of the library.
+        /// The target cannot be opened by this version of the library
+        /// (reserved).
         NotSupported = 0xADD0_0005,
-        /// A wait (`tc_exec`) took longer than the connection's timeout;
-        /// what ran stays run.
+        /// A wait (`tc_exec`), or a server's answer, took longer than the
+        /// connection's timeout; what ran stays run.
         Timeout = 0xADD0_0006,
         /// Not a handle of this connection.
         BadHandle = 0xADD0_0007,

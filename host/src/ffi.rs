@@ -74,16 +74,18 @@ pub const ADDIPOS_E_NULL_HANDLE: u32 = 0xADD00002;
 /// path text.
 /// (Code 0xADD00003.)
 pub const ADDIPOS_E_ARGUMENT: u32 = 0xADD00003;
-/// The connection is closed (or was never opened), lost, timed out or
-/// refused.
+/// The connection is closed (or was never opened); a server target
+/// that refused the connection, went away or cannot be reached within
+/// 5 s (the next call connects again).
 /// (Code 0xADD00004.)
 pub const ADDIPOS_E_CONNECTION: u32 = 0xADD00004;
-/// The target cannot be opened by this version of the library (a
-/// running `addipos serve`: a later version).
+/// The target cannot be opened by this version of the library
+/// (reserved: every target form of docs/host-api.md opens).
 /// (Code 0xADD00005.)
 pub const ADDIPOS_E_NOT_SUPPORTED: u32 = 0xADD00005;
 /// `tc_exec` waited longer than the connection's timeout (30 s unless
-/// `addipos_set_timeout` says otherwise); what ran stays run.
+/// `addipos_set_timeout` says otherwise), or a server target did not
+/// answer a request within it; what ran stays run.
 /// (Code 0xADD00006.)
 pub const ADDIPOS_E_TIMEOUT: u32 = 0xADD00006;
 /// The handle was not issued by this connection.
@@ -97,7 +99,8 @@ pub const ADDIPOS_E_TOO_MANY_HANDLES: u32 = 0xADD00008;
 /// connection has carried out requests already).
 /// (Code 0xADD00009.)
 pub const ADDIPOS_E_RECORD: u32 = 0xADD00009;
-/// The server refused a request as malformed.
+/// A server target refused a request as malformed, or answered what
+/// the library cannot read (not an `addipos serve` of this version).
 /// (Code 0xADD0000A.)
 pub const ADDIPOS_E_PROTOCOL: u32 = 0xADD0000A;
 /// A fault inside the library; the connection may be in an unknown

@@ -167,23 +167,36 @@ impl Handles {
         Ok(h.slot())
     }
 
+    /// What `h` names and the Clean epoch it was issued in, if it is one
+    /// of this connection's live handles.
+    pub fn lookup(&self, h: Handle, call: &str) -> Result<(Target, u64)> {
+        let slot = self.slots[self.slot_of(h, call)?];
+        Ok((slot.target, slot.epoch))
+    }
+
     /// What `h` names, if it is live and was issued in Clean epoch
     /// `epoch` (the emulator's count now).
+    #[cfg(test)]
     pub fn resolve(&self, h: Handle, epoch: u64, call: &str) -> Result<Target> {
-        let slot = self.slots[self.slot_of(h, call)?];
-        if slot.epoch != epoch {
-            return Err(Error::new(
-                ErrorCode::StaleHandle,
-                format!(
-                    "{call}: handle {h} ({}) was initialised before a Clean ({} = 1): \
+        let (target, issued) = self.lookup(h, call)?;
+        if issued != epoch {
+            return Err(Self::voided(h, target, call));
+        }
+        Ok(target)
+    }
+
+    /// The error of handle `h` to `target`, voided by a Clean.
+    pub fn voided(h: Handle, target: Target, call: &str) -> Error {
+        Error::new(
+            ErrorCode::StaleHandle,
+            format!(
+                "{call}: handle {h} ({}) was initialised before a Clean ({} = 1): \
                      Clean rejects every TC object, so every handle issued before it is void; \
                      initialise the object again with uoi_init",
-                    slot.target.addr,
-                    tc_objects::TcObject::Clean.address()
-                ),
-            ));
-        }
-        Ok(slot.target)
+                target.addr,
+                tc_objects::TcObject::Clean.address()
+            ),
+        )
     }
 
     /// Releases `h`; its slot may be given out again.

@@ -32,14 +32,19 @@ mod handles;
 mod link;
 mod machine;
 mod objects;
-mod record;
+pub mod record;
 mod registry;
+mod serve_record;
+mod served;
 pub mod target;
 
 pub use error::{Error, ErrorCode, Result};
 pub use handles::{Handle, MAX_HANDLES};
 pub use machine::{Machine, DEFAULT_TIMEOUT, RECORD_ENV};
 pub use objects::{find_object, Descriptor};
+pub use record::RecordHeader;
+pub use serve_record::ServeRecorder;
+pub use served::CONNECT_TIMEOUT;
 pub use target::{EmbeddedOptions, Target};
 
 pub use emulator::RealTimeFactor;

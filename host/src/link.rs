@@ -1,7 +1,7 @@
 //! What a connection talks to: the [`Link`] trait, and its embedded
 //! emulator ([`Embedded`]), stepped or in real time. A server target
-//! (a running `addipos serve`, over `trace::remote::RemoteTarget`) is a
-//! second implementation of the same trait.
+//! (a running `addipos serve`, `crate::served::Served`) is the second
+//! implementation of the same trait.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -72,6 +72,35 @@ pub trait Link: Send {
 
     /// How many Cleans the emulator has carried out.
     fn clean_epoch(&mut self) -> Result<u64>;
+
+    /// Carries out `req` if the emulator's Clean count is still `epoch`
+    /// (that of the handle it goes through); `None`: a Clean came since,
+    /// and nothing was carried out that changes anything.
+    fn call_in_epoch(&mut self, req: &Request, epoch: u64) -> Result<Option<Reply>> {
+        if self.clean_epoch()? != epoch {
+            return Ok(None);
+        }
+        self.call(req).map(Some)
+    }
+
+    /// How long one request may take (a server target; an embedded one
+    /// answers at once).
+    fn set_timeout(&mut self, _timeout: Duration) -> Result<()> {
+        Ok(())
+    }
+
+    /// A warning for the recording, once (a server target whose answers
+    /// differ from a fresh emulator's).
+    fn take_warning(&mut self) -> Option<String> {
+        None
+    }
+
+    /// Cycles the target ran beside this connection's requests, found
+    /// while carrying out the last one (a server in real time), which the
+    /// recording writes as `EXEC n` before it.
+    fn take_beside(&mut self) -> u64 {
+        0
+    }
 
     /// `tc_exec`: `cycles` cycles, or until the spooler is empty
     /// (`None`); stepped, or waited for in real time. Hands `ran` every

@@ -24,6 +24,7 @@ use crate::handles::{Handle, Handles};
 use crate::link::{Embedded, Limits, Link};
 use crate::objects::{find_object, Descriptor};
 use crate::record::Recorder;
+use crate::served::Served;
 use crate::target::{EmbeddedOptions, Target};
 
 /// How long a wait (`exec`) may last by default: the request timeout of
@@ -120,13 +121,26 @@ impl Machine {
 
     /// Opens a target.
     pub fn open_target(target: &Target) -> Result<Self> {
-        if let Some(e) = target.unsupported() {
-            return Err(e);
-        }
         match target {
             Target::Embedded(opts) => Ok(Self::embedded(opts.clone())),
-            Target::Served(_) => Err(Error::new(ErrorCode::Internal, "unsupported target")),
+            Target::Served(addr) => Self::served(addr),
         }
+    }
+
+    /// A connection to a running `addipos serve` at `addr` (`HOST:PORT`,
+    /// `localhost:PORT` or a bare `PORT`): `Connection` when none answers
+    /// there within 5 s.
+    pub fn served(addr: &str) -> Result<Self> {
+        Self::served_within(addr, DEFAULT_TIMEOUT)
+    }
+
+    /// As [`served`](Self::served), every request (the first, `INFO`,
+    /// included) waiting at most `timeout` for its answer.
+    pub fn served_within(addr: &str, timeout: Duration) -> Result<Self> {
+        let link = Served::connect(addr, timeout)?;
+        let m = Self::with_link(Box::new(link));
+        m.lock().timeout = timeout;
+        Ok(m)
     }
 
     /// A fresh emulator inside this process.
@@ -205,9 +219,13 @@ impl Machine {
         f(&self.lock().failure)
     }
 
-    /// How long a wait ([`exec`](Self::exec)) may last.
+    /// How long a wait ([`exec`](Self::exec)) may last, and, on a server
+    /// target, any request (the TCP connection is made again with it at
+    /// the next call).
     pub fn set_timeout(&self, timeout: Duration) {
-        self.lock().timeout = timeout;
+        let mut s = self.lock();
+        s.timeout = timeout;
+        let _ = s.link.set_timeout(timeout);
     }
 
     /// Stops a wait in progress and makes every later wait end at once
@@ -267,10 +285,12 @@ impl Machine {
     fn read(&self, h: Handle, ty: uoi::ValueType, call: &str) -> Result<Value> {
         self.with(|s| {
             s.tick();
-            let epoch = s.link.clean_epoch()?;
-            let t = s.handles.resolve(h, epoch, call)?;
-            let reply = s.request(&Request::Read(t.addr, ty), || format!("{call} {}", t.addr))?;
-            match reply {
+            let (t, epoch) = s.handles.lookup(h, call)?;
+            let req = Request::Read(t.addr, ty);
+            let Some(reply) = s.link.call_in_epoch(&req, epoch)? else {
+                return Err(Handles::voided(h, t, call));
+            };
+            match s.answered(&req, reply, || format!("{call} {}", t.addr))? {
                 Reply::Value(v) => Ok(v),
                 other => Err(unexpected(&other)),
             }
@@ -280,12 +300,13 @@ impl Machine {
     fn write(&self, h: Handle, value: Value, call: &str) -> Result<()> {
         self.with(|s| {
             s.tick();
-            let epoch = s.link.clean_epoch()?;
-            let t = s.handles.resolve(h, epoch, call)?;
-            s.request(&Request::Write(t.addr, value), || {
-                format!("{call} {} = {value}", t.addr)
-            })
-            .map(|_| ())
+            let (t, epoch) = s.handles.lookup(h, call)?;
+            let req = Request::Write(t.addr, value);
+            let Some(reply) = s.link.call_in_epoch(&req, epoch)? else {
+                return Err(Handles::voided(h, t, call));
+            };
+            s.answered(&req, reply, || format!("{call} {} = {value}", t.addr))
+                .map(|_| ())
         })
     }
 }
@@ -488,7 +509,21 @@ impl Session {
     /// spooled; an access error explained with `what`.
     fn request(&mut self, req: &Request, what: impl FnOnce() -> String) -> Result<Reply> {
         let reply = self.link.call(req)?;
+        self.answered(req, reply, what)
+    }
+
+    /// What [`request`](Self::request) does once the reply is in.
+    fn answered(
+        &mut self,
+        req: &Request,
+        reply: Reply,
+        what: impl FnOnce() -> String,
+    ) -> Result<Reply> {
         self.requests += 1;
+        let beside = self.link.take_beside();
+        if beside > 0 {
+            self.record(|r| r.ran(&Request::Exec(Some(beside))));
+        }
         if let (Request::Read(addr, ty), Some(_)) = (req, &self.recorder) {
             self.record(|r| r.read(*addr, *ty, &reply));
             self.recorded = true;
@@ -504,6 +539,9 @@ impl Session {
                 let over = log.len().saturating_sub(SPOOL_LOG_LIMIT);
                 log.drain(..over);
             }
+        }
+        if let Some(w) = self.link.take_warning() {
+            self.note(&w);
         }
         match reply {
             Reply::Access(e) => Err(Error::access(e, what())),

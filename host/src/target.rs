@@ -11,8 +11,7 @@
 //!   `addipos serve`'s form: `cycle_ms`, `spool_capacity` and `start` are
 //!   used; a path without commas);
 //! * `HOST:PORT`, `localhost:PORT`, `[::1]:PORT` or a bare `PORT`: a
-//!   running `addipos serve`. This version cannot open it yet: it answers
-//!   [`ErrorCode::NotSupported`].
+//!   running `addipos serve` (`crate::served`).
 
 use std::path::PathBuf;
 
@@ -21,7 +20,7 @@ use tc_module::check_capacity;
 use tc_module::limits::check_point;
 use tc_module::{AxisPos, CycleTime};
 
-use crate::error::{Error, ErrorCode, Result};
+use crate::error::{Error, Result};
 
 /// The environment variable read when the target is empty.
 pub const TARGET_ENV: &str = "ADDIPOS_TARGET";
@@ -67,8 +66,9 @@ impl EmbeddedOptions {
             .map_err(|e| bad(format!("spool_capacity = {}: {e}", c.spool_capacity)))?;
         check_point(&c.start)
             .map_err(|_| bad("start: every axis must lie within ±1e9".to_string()))?;
+        let realtime = c.realtime().map_err(|e| bad(e.0))?;
         Ok(Self {
-            realtime: None,
+            realtime,
             start: c.start,
             cycle,
             cycle_ms: c.cycle_ms,
@@ -160,7 +160,9 @@ fn embedded(options: &str) -> Result<EmbeddedOptions> {
             }
         }
     }
-    opts.realtime = realtime;
+    if realtime.is_some() {
+        opts.realtime = realtime;
+    }
     Ok(opts)
 }
 
@@ -186,25 +188,10 @@ pub fn builtin_settings() -> Result<EmbeddedOptions> {
     EmbeddedOptions::from_config(DEFAULT_CONFIG)
 }
 
-impl Target {
-    /// A target that this version cannot open: why.
-    pub fn unsupported(&self) -> Option<Error> {
-        match self {
-            Target::Embedded(_) => None,
-            Target::Served(addr) => Some(Error::new(
-                ErrorCode::NotSupported,
-                format!(
-                    "target `{addr}`: a running addipos serve is reached from a later version \
-                     of this library; this one opens embedded targets only ({TARGET_FORMS})"
-                ),
-            )),
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::ErrorCode;
 
     #[test]
     fn the_builtin_settings_are_the_default_options() {
@@ -259,7 +246,7 @@ mod tests {
     }
 
     #[test]
-    fn server_addresses_are_recognised_and_not_opened_yet() {
+    fn server_addresses_are_recognised() {
         for t in [
             "127.0.0.1:1300",
             "localhost:1300",
@@ -269,9 +256,6 @@ mod tests {
         ] {
             let target = Target::parse(t).unwrap();
             assert_eq!(target, Target::Served(t.to_string()));
-            let e = target.unsupported().unwrap();
-            assert_eq!(e.code(), ErrorCode::NotSupported);
-            assert!(e.message().contains("later version"), "{e}");
         }
     }
 }

@@ -5,6 +5,7 @@
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 
+use addipos::{RecordHeader, ServeRecorder};
 use emulator::tools::open::open_tools;
 use emulator::{parse_address, Config, ConfigError, EmulatorService, DEFAULT_CONFIG};
 use opcua_face::{Face, FaceConfig};
@@ -67,7 +68,23 @@ pub struct ServeArgs {
     /// the `[opcua]` settings (127.0.0.1:4840).
     #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = "")]
     pub opcua: Option<String>,
+    /// Run the executor with the wall clock, FACTOR times faster (0.01 to
+    /// 10000, default 1): EXEC then waits for the clock. Overrides
+    /// `realtime` of the settings. Conformance sessions (SETUP) stay
+    /// stepped.
+    #[arg(long, value_name = "FACTOR", num_args = 0..=1, default_missing_value = "1")]
+    pub realtime: Option<f64>,
+    /// Record everything the shared emulator carries out (every
+    /// connection, the OPC UA face) as one trace into FILE, for `addipos
+    /// replay` (docs/host-api.md, "Recording").
+    #[arg(long, value_name = "FILE")]
+    pub record: Option<PathBuf>,
 }
+
+/// How often a server in real time runs its clock between requests (and
+/// ends the EXEC waits that are over), so that the OPC UA face sees the
+/// axes move.
+const REALTIME_TICK: std::time::Duration = std::time::Duration::from_millis(2);
 
 /// What `serve` runs with.
 struct ServeSettings {
@@ -81,19 +98,9 @@ struct ServeSettings {
     _tools_lock: Option<std::fs::File>,
 }
 
-/// The settings file (or the built-in settings) with the command line
-/// applied, checked, and the tool data opened; every error names where
-/// the bad value came from.
-fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
-    let (config, listen) = (args.config.as_deref(), args.listen.as_deref());
-    let source = config.map_or_else(|| "built-in settings".into(), |p| p.display().to_string());
-    let text = match config {
-        None => DEFAULT_CONFIG.to_string(),
-        Some(p) => std::fs::read_to_string(p).map_err(|e| format!("cannot read {source}: {e}"))?,
-    };
-    let in_source = |e: ConfigError| format!("{source}: {e}");
-    let mut cfg = Config::parse(&text).map_err(in_source)?;
-    if let Some(l) = listen {
+/// The command line over the settings; a bad value names its option.
+fn apply_args(cfg: &mut Config, args: &ServeArgs) -> Result<(), String> {
+    if let Some(l) = &args.listen {
         cfg.listen = parse_address(l)
             .map_err(|e| format!("--listen: {e}"))?
             .to_string();
@@ -103,6 +110,10 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
         cfg.data_dir = d.clone();
     }
     cfg.persist &= !args.no_persist;
+    if let Some(f) = args.realtime {
+        emulator::RealTimeFactor::new(f).map_err(|e| format!("--realtime {f}: {e}"))?;
+        cfg.realtime = f;
+    }
     cfg.ignore_bad_tools |= args.ignore_bad_tools;
     if let Some(addr) = &args.opcua {
         cfg.opcua.enabled = true;
@@ -112,6 +123,22 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
                 .to_string();
         }
     }
+    Ok(())
+}
+
+/// The settings file (or the built-in settings) with the command line
+/// applied, checked, and the tool data opened; every error names where
+/// the bad value came from.
+fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
+    let config = args.config.as_deref();
+    let source = config.map_or_else(|| "built-in settings".into(), |p| p.display().to_string());
+    let text = match config {
+        None => DEFAULT_CONFIG.to_string(),
+        Some(p) => std::fs::read_to_string(p).map_err(|e| format!("cannot read {source}: {e}"))?,
+    };
+    let in_source = |e: ConfigError| format!("{source}: {e}");
+    let mut cfg = Config::parse(&text).map_err(in_source)?;
+    apply_args(&mut cfg, args)?;
     let mut server = cfg.server().map_err(in_source)?;
     let mut service = cfg.service().map_err(in_source)?;
     let mut opcua = cfg.opcua().map_err(in_source)?;
@@ -132,6 +159,7 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
         tracing::info!("tool data kept in memory only (--no-persist)");
         None
     };
+    time_and_recording(&mut service, &cfg, args.record.as_deref())?;
     Ok(ServeSettings {
         server,
         service,
@@ -139,6 +167,77 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
         serial_number: cfg.opcua.serial_number.clone(),
         _tools_lock: lock,
     })
+}
+
+/// Logs real time, and starts `--record`'s recording.
+fn time_and_recording(
+    service: &mut EmulatorService,
+    cfg: &Config,
+    record: Option<&Path>,
+) -> Result<(), String> {
+    if let Some(f) = service.realtime() {
+        tracing::info!("real time: the executor runs with the wall clock, {f} times faster");
+    }
+    if let Some(path) = record {
+        let recorder = ServeRecorder::create(path, &record_header(cfg, service.realtime()))
+            .map_err(|e| format!("--record {}: cannot create: {e}", path.display()))?;
+        service.set_journal(Box::new(recorder));
+        tracing::info!(
+            "recording every request carried out into {}",
+            path.display()
+        );
+    }
+    Ok(())
+}
+
+/// The header of `--record`'s trace: the emulator's settings, and what
+/// kind of run it is.
+fn record_header(cfg: &Config, realtime: Option<f64>) -> RecordHeader {
+    let time = match realtime {
+        Some(f) => format!(
+            "real time (factor {f}): the cycles the clock ran between requests are written as \
+             EXEC n, and an EXEC of a client, which waits for the clock, as a comment"
+        ),
+        None => "stepped: EXEC lines are the clients' EXEC requests".into(),
+    };
+    let tools = if cfg.persist {
+        format!(
+            "; tool data was loaded from {} at the start and is not in this trace (record with \
+             --no-persist for a trace that replays from a fresh emulator)",
+            cfg.data_dir.display()
+        )
+    } else {
+        String::new()
+    };
+    RecordHeader {
+        name: format!("addipos serve --record, {}", cfg.listen),
+        start: cfg.start,
+        cycle_ms: cfg.cycle_ms,
+        // A checked capacity is at most 1,000,000.
+        spool_capacity: cfg.spool_capacity as usize,
+        note: format!(
+            "everything the shared emulator carried out, from every connection and the OPC UA \
+             face, in order; {time}{tools}"
+        ),
+    }
+}
+
+/// Runs the real-time clock of the shared emulator every
+/// [`REALTIME_TICK`] until the server stops.
+async fn tick_clock(core: uoi::tcp::CoreHandle) {
+    loop {
+        tokio::time::sleep(REALTIME_TICK).await;
+        let ticked = core
+            .inspect(|h| {
+                if let Some(s) = h.downcast_mut::<EmulatorService>() {
+                    s.tick();
+                }
+            })
+            .await;
+        if ticked.is_none() {
+            return;
+        }
+    }
 }
 
 /// The server's access token, read or generated; the log names its file
@@ -234,6 +333,7 @@ pub fn cmd_serve(args: &ServeArgs, print_default_config: bool) -> Outcome {
     let addr = settings.server.listen;
     // The server logs its one start line (address, limits) once bound.
     let lock = settings._tools_lock;
+    let realtime = settings.service.realtime().is_some();
     let server = rt
         .block_on(Server::bind(settings.server, settings.service))
         .map_err(|e| Failure::trouble(listen_error(addr, &e)))?;
@@ -247,9 +347,13 @@ pub fn cmd_serve(args: &ServeArgs, print_default_config: bool) -> Outcome {
         }
         None => None,
     };
+    let clock = realtime.then(|| rt.spawn(tick_clock(server.core())));
     let end = rt
         .block_on(serve_faces(server, face))
         .map_err(Failure::failed);
+    if let Some(c) = clock {
+        c.abort();
+    }
     // The emulator (and with it the tool writer, which compacts the
     // journal into the tool files) goes with the runtime; the lock after.
     drop(rt);

@@ -1,0 +1,31 @@
+//! The journal of the shared emulator (`addipos serve --record`): every
+//! request the emulator carried out, from every connection and the OPC
+//! UA face, in the order it carried them out, with its answer and the
+//! elements it spooled; in real time, the cycles the clock ran between
+//! requests as `EXEC n`. The service hands each of them to a [`Journal`];
+//! what writes it as a trace (and where) is the journal's business
+//! (`addipos::ServeRecorder` streams it to a file).
+
+use tc_request::{Reply, Request, SpoolRecord};
+
+/// Where the shared emulator's requests go while it is recorded. A
+/// journal that fails answers `Err` with the reason: the service then
+/// stops recording, logs the reason and goes on serving.
+pub trait Journal: Send + std::fmt::Debug {
+    /// A request carried out, with its reply and the elements it spooled
+    /// (`axis_nr`: the machine axes allocated as X, Y, Z, for the `I J K`
+    /// of arcs).
+    fn exchange(
+        &mut self,
+        req: &Request,
+        reply: &Reply,
+        spooled: &[SpoolRecord],
+        axis_nr: [u8; 3],
+    ) -> Result<(), String>;
+
+    /// A line of comment (what has no trace form).
+    fn note(&mut self, text: &str) -> Result<(), String>;
+
+    /// Everything so far on its way to the file (at shutdown).
+    fn finish(&mut self) -> Result<(), String>;
+}

@@ -1,0 +1,429 @@
+//! A connection to a running `addipos serve`: the second [`Link`], over
+//! the UOI wire (docs/protocol.md) with `uoi::tcp::BlockingClient`.
+//!
+//! * Every call is bounded in time: connecting by [`CONNECT_TIMEOUT`],
+//!   each request by the connection's timeout (30 s,
+//!   `addipos_set_timeout`). A server that does not answer in time gives
+//!   `Timeout`, one that went away (or refused) `Connection`, each with
+//!   the address and what to do; the TCP connection is dropped then and
+//!   the next call connects again (the shared emulator keeps its state).
+//! * Handles and Clean: `INFO` (op `0x23`) reports the emulator's Clean
+//!   count. A read goes out in one write together with an `INFO` before
+//!   it (one round trip); a write, a handle and a motion ask `INFO` first.
+//!   A Clean by any connection or face voids the handles issued before
+//!   it.
+//! * Time: the server's. `EXEC` on a stepped server runs the cycles
+//!   there; on a server in real time it waits for the server's clock.
+//! * Recording: the wire shows requests and answers, not what the shared
+//!   emulator spooled. While a recording goes on, the library runs a
+//!   shadow emulator of its own with the server's settings (from `INFO`)
+//!   on the same requests and writes the elements *it* spools as `<`
+//!   lines; the cycles the server ran beside this connection's requests
+//!   (its clock, other clients) as `EXEC n`, counted from `INFO` before
+//!   each call; in real time a read is sent between two `INFO`s until
+//!   both name the same cycle, so it lands after exactly the cycles it
+//!   followed (a motion or write, which cannot be sent twice, after an
+//!   `INFO` in the same write: a tick of the server's clock may fall
+//!   between them). An answer of the server that
+//!   the shadow does not give is written as a warning comment: the trace
+//!   then does not replay (the server had other clients, or did not start
+//!   fresh).
+
+use std::net::SocketAddr;
+use std::time::Duration;
+
+use emulator::info_op::info_request;
+use emulator::{parse_address, Emulator, EmulatorInfo};
+use tc_module::CycleTime;
+use tc_request::{Reply, Request, SpoolRecord};
+use uoi::tcp::{BlockingClient, ClientError, ClientOptions, Waited};
+use uoi::wire::{Answer, Request as WireRequest};
+
+use crate::error::{Error, ErrorCode, Result};
+use crate::link::{Limits, Link};
+use crate::record::RecordHeader;
+
+/// Longest wait for a server to accept a connection.
+pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(5);
+
+/// A running `addipos serve`.
+pub struct Served {
+    /// The address as the target string gave it.
+    name: String,
+    addr: SocketAddr,
+    client: Option<BlockingClient>,
+    timeout: Duration,
+    /// What `INFO` answered last.
+    info: EmulatorInfo,
+    /// While recording: the shadow emulator whose spool log gives the
+    /// `<` lines.
+    shadow: Option<Emulator>,
+    /// A warning for the recording (the shadow and the server differ).
+    warning: Option<String>,
+    /// Whether the recording has been warned already.
+    warned: bool,
+    /// The server's executor cycles the recording has accounted for
+    /// (as this connection's `EXEC` or as `EXEC n` beside it).
+    accounted: u64,
+    /// Cycles beside this connection's requests run on the shadow and not
+    /// yet handed to the recording.
+    beside: u64,
+}
+
+/// Most times a read in a real-time recording is sent again to pin it to
+/// one cycle of the server's clock.
+const PIN_TRIES: usize = 8;
+
+impl std::fmt::Debug for Served {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Served({})", self.name)
+    }
+}
+
+impl Served {
+    /// Connects to the server at `name` (`HOST:PORT`, `localhost:PORT`, a
+    /// bare `PORT`) and asks it `INFO`; every request waits at most
+    /// `timeout`.
+    pub fn connect(name: &str, timeout: Duration) -> Result<Self> {
+        let addr = parse_address(name)
+            .map_err(|e| Error::new(ErrorCode::Connection, format!("target `{name}`: {e}")))?;
+        let mut s = Self {
+            name: name.to_string(),
+            addr,
+            client: None,
+            timeout,
+            info: EmulatorInfo {
+                cleans: 0,
+                realtime: None,
+                cycles: 0,
+                cycle_s: CycleTime::DEFAULT.secs(),
+                spool_capacity: tc_module::DEFAULT_SPOOL_CAPACITY as u64,
+                start: [0.0; tc_module::AXES],
+            },
+            shadow: None,
+            warning: None,
+            warned: false,
+            accounted: 0,
+            beside: 0,
+        };
+        s.refresh()?;
+        Ok(s)
+    }
+
+    /// The client, connected now if the last call lost it.
+    fn client(&mut self) -> Result<&mut BlockingClient> {
+        if self.client.is_none() {
+            let opts = ClientOptions {
+                connect_timeout: CONNECT_TIMEOUT,
+                request_timeout: self.timeout,
+                token: None,
+            };
+            let c = BlockingClient::connect_with(&self.addr.to_string(), &opts)
+                .map_err(|e| self.failure(e, "connect"))?;
+            self.client = Some(c);
+        }
+        self.client
+            .as_mut()
+            .ok_or_else(|| Error::new(ErrorCode::Internal, "no client"))
+    }
+
+    /// The library error of a failed exchange; a lost or timed-out
+    /// connection is dropped, so that the next call connects again.
+    fn failure(&mut self, e: ClientError, what: &str) -> Error {
+        let at = &self.name;
+        let (code, text) = match &e {
+            ClientError::TimedOut {
+                waited: Waited::Answer,
+                after,
+                ..
+            } => (
+                ErrorCode::Timeout,
+                format!(
+                    "{what}: the server at {at} did not answer within {} s (the connection's \
+                     timeout, addipos_set_timeout); the request may still be carried out there. \
+                     The next call connects again",
+                    after.as_secs_f64()
+                ),
+            ),
+            ClientError::TimedOut { .. } => (
+                ErrorCode::Connection,
+                format!(
+                    "{what}: no connection to the server at {at} within {} s: is `addipos serve` \
+                     running there?",
+                    CONNECT_TIMEOUT.as_secs()
+                ),
+            ),
+            ClientError::Io(io) => (
+                ErrorCode::Connection,
+                format!(
+                    "{what}: the connection to the server at {at} failed ({io}): is `addipos \
+                     serve` running there? The next call connects again"
+                ),
+            ),
+            ClientError::Protocol(p) => (
+                ErrorCode::Protocol,
+                format!("{what}: the server at {at} refused the request: {p}"),
+            ),
+            other => (
+                ErrorCode::Protocol,
+                format!(
+                    "{what}: the server at {at} answered what the library cannot read: {other}"
+                ),
+            ),
+        };
+        if code != ErrorCode::Protocol {
+            self.client = None;
+        }
+        Error::new(code, text)
+    }
+
+    /// Asks `INFO` and keeps the answer.
+    fn refresh(&mut self) -> Result<EmulatorInfo> {
+        let ans = self.exchange(&[info_request()], "INFO")?;
+        self.keep_info(&ans[0])
+    }
+
+    fn keep_info(&mut self, ans: &Answer) -> Result<EmulatorInfo> {
+        let info = EmulatorInfo::from_wire(ans).ok_or_else(|| {
+            Error::new(
+                ErrorCode::Protocol,
+                format!(
+                    "the server at {} does not answer INFO ({ans:?}): it is not an addipos serve \
+                     of this version",
+                    self.name
+                ),
+            )
+        })?;
+        self.info = info;
+        Ok(info)
+    }
+
+    /// Sends `reqs` in one write and reads their answers.
+    fn exchange(&mut self, reqs: &[WireRequest], what: &str) -> Result<Vec<Answer>> {
+        let out = self.client()?.pipeline(reqs);
+        out.map_err(|e| self.failure(e, what))
+    }
+
+    /// The reply of the server to `req`, decoded.
+    fn reply(&mut self, req: &Request, ans: &Answer) -> Result<Reply> {
+        Reply::from_wire(req.wire_op(), ans).ok_or_else(|| {
+            Error::new(
+                ErrorCode::Protocol,
+                format!("{req}: the server at {} answered {ans:?}", self.name),
+            )
+        })
+    }
+
+    /// While recording: the shadow carries out `req` too; a different
+    /// answer becomes a warning.
+    fn follow(&mut self, req: &Request, reply: &Reply) {
+        let Some(shadow) = self.shadow.as_mut() else {
+            return;
+        };
+        let own = shadow.run(req);
+        if own != *reply && !self.warned {
+            self.warned = true;
+            self.warning = Some(format!(
+                "WARNING: the server answered {reply:?} where an emulator started fresh with its \
+                 settings answers {own:?}: it had other clients, ran in real time or did not start \
+                 fresh, so this trace does not replay as it stands"
+            ));
+        }
+    }
+
+    /// The cycles the server ran since the last look (its clock, other
+    /// clients): run on the shadow and returned, for the recording.
+    fn cycles_beside(&mut self) -> Result<u64> {
+        let now = self.refresh()?.cycles;
+        self.account(now);
+        Ok(std::mem::take(&mut self.beside))
+    }
+
+    /// The server's executor has run `cycles`: those not accounted for
+    /// yet are run on the shadow and kept for the recording.
+    fn account(&mut self, cycles: u64) {
+        let n = cycles.saturating_sub(self.accounted);
+        self.accounted = self.accounted.max(cycles);
+        if n > 0 {
+            if let Some(shadow) = self.shadow.as_mut() {
+                shadow.exec(Some(n));
+            }
+            self.beside += n;
+        }
+    }
+
+    /// Sends `req`, with an `INFO` before it when `info` asks for one or
+    /// a real-time recording needs the cycle it was served at. There a
+    /// read (`READ`, `POS`, `QUEUE`, which change nothing) goes as `INFO`,
+    /// the read, `INFO`, again until both `INFO`s name the same cycle (at
+    /// most [`PIN_TRIES`] times), so that the recording puts it after
+    /// exactly the cycles it followed.
+    fn send(&mut self, req: &Request, info: bool) -> Result<(Option<EmulatorInfo>, Answer)> {
+        let pin = self.shadow.is_some() && self.info.realtime.is_some();
+        let what = req.to_string();
+        if !pin && !info {
+            let mut ans = self.exchange(&[req.to_wire()], &what)?;
+            return Ok((None, ans.swap_remove(0)));
+        }
+        let reads = matches!(req, Request::Read(..) | Request::Pos | Request::Queue);
+        let mut reqs = vec![info_request(), req.to_wire()];
+        if pin && reads {
+            reqs.push(info_request());
+        }
+        for tries in 1.. {
+            let mut ans = self.exchange(&reqs, &what)?;
+            let before = self.keep_info(&ans[0])?;
+            let after = ans.get(2).and_then(EmulatorInfo::from_wire);
+            if after.is_none_or(|a| a.cycles == before.cycles) || tries >= PIN_TRIES {
+                if pin {
+                    self.account(before.cycles);
+                }
+                return Ok((Some(before), ans.swap_remove(1)));
+            }
+        }
+        Err(Error::new(ErrorCode::Internal, "no try"))
+    }
+}
+
+impl Link for Served {
+    fn describe(&self) -> String {
+        self.name.clone()
+    }
+
+    fn record_header(&self) -> RecordHeader {
+        RecordHeader {
+            name: format!(
+                "session recorded by libaddipos {} on the server at {}",
+                env!("CARGO_PKG_VERSION"),
+                self.name
+            ),
+            start: self.info.start,
+            cycle_ms: self.info.cycle_s * 1e3,
+            spool_capacity: usize::try_from(self.info.spool_capacity).unwrap_or(usize::MAX),
+            note: "a served target: requests and answers as the wire gave them; the < lines are \
+                   what an emulator of the library's own with the server's settings spooled on \
+                   the same requests, and EXEC n lines the cycles the server ran beside them. It \
+                   replays when this connection was the server's only client since its start \
+                   (serve --no-persist); a warning comment says where it did not"
+                .into(),
+        }
+    }
+
+    fn realtime(&self) -> Option<f64> {
+        self.info.realtime
+    }
+
+    fn tick(&mut self) -> u64 {
+        if self.shadow.is_none() {
+            return 0;
+        }
+        self.cycles_beside().unwrap_or(0)
+    }
+
+    fn call(&mut self, req: &Request) -> Result<Reply> {
+        let (_, ans) = self.send(req, false)?;
+        let reply = self.reply(req, &ans)?;
+        self.follow(req, &reply);
+        if self.shadow.is_some() && matches!(req, Request::Exec(_)) {
+            // The cycles our own EXEC ran are not the server's beside it.
+            self.accounted = self.refresh()?.cycles;
+        }
+        Ok(reply)
+    }
+
+    fn call_in_epoch(&mut self, req: &Request, epoch: u64) -> Result<Option<Reply>> {
+        if !matches!(req, Request::Read(..)) {
+            if self.refresh()?.cleans != epoch {
+                return Ok(None);
+            }
+            return self.call(req).map(Some);
+        }
+        let (info, ans) = self.send(req, true)?;
+        if info.is_some_and(|i| i.cleans != epoch) {
+            return Ok(None);
+        }
+        let reply = self.reply(req, &ans)?;
+        self.follow(req, &reply);
+        Ok(Some(reply))
+    }
+
+    fn clean_epoch(&mut self) -> Result<u64> {
+        Ok(self.refresh()?.cleans)
+    }
+
+    fn exec(
+        &mut self,
+        cycles: Option<u64>,
+        _limits: Limits<'_>,
+        ran: &mut dyn FnMut(&Request),
+    ) -> Result<()> {
+        let req = Request::Exec(cycles);
+        if self.info.realtime.is_none() {
+            self.call(&req)?;
+            ran(&req);
+            return Ok(());
+        }
+        // In real time the server waits for its clock; what ran meanwhile
+        // is the server's, written as the cycles it ran.
+        let ans = self.exchange(&[req.to_wire()], &req.to_string());
+        if self.shadow.is_some() {
+            let n = self.cycles_beside()?;
+            if n > 0 {
+                ran(&Request::Exec(Some(n)));
+            }
+        }
+        match self.reply(&req, &ans?[0])? {
+            Reply::Ok => Ok(()),
+            other => Err(Error::new(
+                ErrorCode::Protocol,
+                format!("{req}: the server at {} answered {other:?}", self.name),
+            )),
+        }
+    }
+
+    fn set_timeout(&mut self, timeout: Duration) -> Result<()> {
+        self.timeout = timeout;
+        // The client takes its request timeout when it connects.
+        self.client = None;
+        Ok(())
+    }
+
+    fn set_spool_log(&mut self, on: bool) -> bool {
+        if !on {
+            self.shadow = None;
+            return true;
+        }
+        if self.shadow.is_none() {
+            // The server as it is now (a failure leaves the last look).
+            let _ = self.refresh();
+            let i = self.info;
+            let cycle = CycleTime::from_secs(i.cycle_s).unwrap_or(CycleTime::DEFAULT);
+            let capacity = tc_module::check_capacity(i.spool_capacity)
+                .unwrap_or(tc_module::DEFAULT_SPOOL_CAPACITY);
+            let mut shadow = Emulator::new(i.start, cycle).with_spool_capacity(capacity);
+            shadow.set_spool_log(true);
+            self.shadow = Some(shadow);
+            self.accounted = i.cycles;
+        }
+        true
+    }
+
+    fn take_spooled(&mut self) -> Vec<SpoolRecord> {
+        self.shadow
+            .as_mut()
+            .map(Emulator::take_spool_log)
+            .unwrap_or_default()
+    }
+
+    fn axis_nr(&mut self) -> [u8; 3] {
+        self.shadow.as_ref().map_or([0, 1, 2], |s| s.tc().axis_nr())
+    }
+
+    fn take_warning(&mut self) -> Option<String> {
+        self.warning.take()
+    }
+
+    fn take_beside(&mut self) -> u64 {
+        std::mem::take(&mut self.beside)
+    }
+}
