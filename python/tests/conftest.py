@@ -15,13 +15,6 @@ import addipos
 #: The repository (python/tests/../..).
 REPO = Path(__file__).resolve().parents[2]
 
-#: Why the served runs are skipped: the host library of this version
-#: answers NotSupported for a server address (docs/host-api.md).
-SERVED_SKIP = (
-    "the host library cannot open a served target yet "
-    "(addipos.open('127.0.0.1:PORT') raises NotSupported); enabled when it can"
-)
-
 #: How long a started server may take to listen (a bound on the wait, not
 #: a measured time).
 SERVE_START_LIMIT_S = 30.0
@@ -78,7 +71,7 @@ def server(binary, tmp_path):
         proc.wait(timeout=10)
 
 
-@pytest.fixture(params=["embedded", pytest.param("served", marks=pytest.mark.skip(reason=SERVED_SKIP))])
+@pytest.fixture(params=["embedded", "served"])
 def target(request) -> str:
     """The target string of a test that runs against both: an embedded
     emulator, then a served one."""
