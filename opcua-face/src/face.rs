@@ -68,6 +68,23 @@ pub struct Face {
     limits: Limits,
 }
 
+/// Sets the library's limits the face needs (the sampling and publishing
+/// tick, arrays as long as the table, messages of `MAX_CHUNKS` chunks);
+/// the door's limits and the largest message.
+fn set_limits(builder: &mut ServerBuilder) -> (Limits, usize) {
+    let fastest = TICK.as_secs_f64() * 1e3;
+    let limits = builder.limits_mut();
+    limits.subscriptions.min_sampling_interval_ms = fastest;
+    limits.subscriptions.min_publishing_interval_ms = fastest;
+    // One Read (or Write, or CreateMonitoredItems) may name every
+    // object of the table: the library's arrays stop at 1,000.
+    limits.max_array_length = MAX_NODES_PER_REQUEST;
+    limits.max_chunk_count = MAX_CHUNKS;
+    limits.max_message_size = limits.receive_buffer_size * MAX_CHUNKS;
+    let door = Limits::new(u32::try_from(limits.receive_buffer_size).unwrap_or(u32::MAX));
+    (door, limits.max_message_size)
+}
+
 impl Face {
     /// Binds the listen address and prepares the server of `table`, whose
     /// values it reads and writes through `core`. A non-loopback address
@@ -95,24 +112,13 @@ impl Face {
             .with_authenticator(Arc::new(TokenGate::new(cfg.token.clone())));
         let (id, ep) = endpoint(guarded);
         builder = builder.add_endpoint(id, ep);
-        let fastest = TICK.as_secs_f64() * 1e3;
-        let limits = builder.limits_mut();
-        limits.subscriptions.min_sampling_interval_ms = fastest;
-        limits.subscriptions.min_publishing_interval_ms = fastest;
-        // One Read (or Write, or CreateMonitoredItems) may name every
-        // object of the table: the library's arrays stop at 1,000.
-        limits.max_array_length = MAX_NODES_PER_REQUEST;
-        limits.max_chunk_count = MAX_CHUNKS;
-        limits.max_message_size = limits.receive_buffer_size * MAX_CHUNKS;
-        let door = Limits::new(u32::try_from(limits.receive_buffer_size).unwrap_or(u32::MAX));
-        let limits = limits.clone();
+        let (door, largest) = set_limits(&mut builder);
         if pki::ensure_keypair(&cfg.pki_dir, &builder.config().application_description())? {
             let cert = pki::cert_path(&cfg.pki_dir);
             tracing::info!("made the OPC UA server certificate {}", cert.display());
         }
         // The library's own node managers (namespace 0 behind the size
         // check of `capped.rs`, diagnostics), then the face's.
-        let largest = limits.max_message_size;
         let builder = builder
             .without_node_managers()
             .with_node_manager(CappedCore { limit: largest })

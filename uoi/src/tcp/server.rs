@@ -60,18 +60,7 @@ impl<H: Handler> Server<H> {
             cfg,
             shared,
         } = self;
-        info!(
-            listen = %listener.local_addr()?,
-            max_connections = cfg.max_connections,
-            max_connections_per_peer = cfg.max_connections_per_peer,
-            per_peer_limit_on_loopback = cfg.per_peer_limit_on_loopback,
-            evict_after_ms = cfg
-                .evict_after
-                .map(|d| u64::try_from(d.as_millis()).unwrap_or(u64::MAX)),
-            token_from_remote = cfg.access.token.is_some(),
-            token_from_loopback = cfg.access.token.is_some() && cfg.access.on_loopback,
-            "serving UOI"
-        );
+        log_start(listener.local_addr()?, &cfg);
         let mut gate = Gate::new(&cfg, shared)?;
         // Newcomers wait for a place only where connections may be evicted.
         let mut retry = gate.retry_every().map(|every| {
@@ -101,19 +90,41 @@ impl<H: Handler> Server<H> {
                 Some(_) = tick(retry.as_mut()), if gate.has_waiting() => gate.retry_waiting(),
             }
         }
-        info!("shutting down: finishing open connections");
-        gate.close_all();
-        let drain = async { while gate.tasks.join_next().await.is_some() {} };
-        if tokio::time::timeout(cfg.shutdown_grace, drain)
-            .await
-            .is_err()
-        {
-            warn!(
-                grace_ms = u64::try_from(cfg.shutdown_grace.as_millis()).unwrap_or(u64::MAX),
-                "connections still open after the shutdown grace; closing them"
-            );
-        }
+        finish(gate, &cfg).await;
         Ok(())
+    }
+}
+
+/// The one start line: the address and the limits in force.
+fn log_start(listen: SocketAddr, cfg: &ServerConfig) {
+    info!(
+        listen = %listen,
+        max_connections = cfg.max_connections,
+        max_connections_per_peer = cfg.max_connections_per_peer,
+        per_peer_limit_on_loopback = cfg.per_peer_limit_on_loopback,
+        evict_after_ms = cfg
+            .evict_after
+            .map(|d| u64::try_from(d.as_millis()).unwrap_or(u64::MAX)),
+        token_from_remote = cfg.access.token.is_some(),
+        token_from_loopback = cfg.access.token.is_some() && cfg.access.on_loopback,
+        "serving UOI"
+    );
+}
+
+/// Shutdown: every connection is told to finish the request it is on;
+/// those still open after the grace are dropped with the gate.
+async fn finish<H: Handler>(mut gate: Gate<H>, cfg: &ServerConfig) {
+    info!("shutting down: finishing open connections");
+    gate.close_all();
+    let drain = async { while gate.tasks.join_next().await.is_some() {} };
+    if tokio::time::timeout(cfg.shutdown_grace, drain)
+        .await
+        .is_err()
+    {
+        warn!(
+            grace_ms = u64::try_from(cfg.shutdown_grace.as_millis()).unwrap_or(u64::MAX),
+            "connections still open after the shutdown grace; closing them"
+        );
     }
 }
 
