@@ -1,7 +1,7 @@
 //! `#` commands: `#OTC`, `#set/#get ToolParam`, `#KIN`, `#TRAFO`, `#HSC`.
 
 use winnow::ascii::{space0, space1, Caseless};
-use winnow::combinator::{alt, cut_err, delimited, opt, preceded, separated, terminated};
+use winnow::combinator::{alt, cut_err, delimited, opt, preceded, terminated};
 use winnow::error::{ContextError, ErrMode, StrContext, StrContextValue};
 use winnow::token::take_till;
 use winnow::{ModalResult, Parser};
@@ -55,19 +55,31 @@ fn otc(i: &mut &str) -> ModalResult<Item> {
     }))
 }
 
+/// What an `#OTC` option may be, for the error of an unknown one.
+const OTC_OPTIONS: &str = "an #OTC option (RADIUS, LENGTH, TOOL_DIR, SURF_NORM_DIR, DISC, \
+                           CONT, AUTO, WEAR_CONST=<v>, WEAR_CONST_TOOL, ACC_WEIGHT=<n>)";
+
+/// `[option, option ...]`: after a separator another option must follow,
+/// so an unknown one is named as such, not as a missing `]`.
 fn otc_options(i: &mut &str) -> ModalResult<Vec<OtcOption>> {
-    let separator = alt(((space0, ',', space0).void(), space1.void()));
-    delimited(
-        ('[', space0),
-        cut_err(separated(1.., otc_option, separator)),
-        cut_err((space0, ']')).context(expected("']' closing the #OTC options")),
-    )
-    .parse_next(i)
+    ('[', space0).parse_next(i)?;
+    let mut options = vec![cut_err(otc_option).parse_next(i)?];
+    let mut separator = alt(((space0, ',', space0).void(), space1.void()));
+    while opt(separator.by_ref()).parse_next(i)?.is_some() {
+        if i.starts_with(']') {
+            break;
+        }
+        options.push(cut_err(otc_option).parse_next(i)?);
+    }
+    cut_err((space0, ']'))
+        .context(expected("']' closing the #OTC options"))
+        .parse_next(i)?;
+    Ok(options)
 }
 
 fn otc_option(i: &mut &str) -> ModalResult<OtcOption> {
     alt((otc_valued, otc_keyword))
-        .context(expected("an #OTC option"))
+        .context(expected(OTC_OPTIONS))
         .parse_next(i)
 }
 

@@ -70,6 +70,27 @@ fn malformed_commands_and_statements() {
     }
 }
 
+/// A new user's `#OTC ON [RADIUS, FOO]` was told a `]` was missing; the
+/// unknown option is named, with the options there are.
+#[test]
+fn an_unknown_otc_option_is_named_after_a_separator() {
+    for bad in [
+        "#OTC ON [RADIUS, FOO]",
+        "#OTC ON [RADIUS FOO]",
+        "#OTC [FOO]",
+    ] {
+        let e = only(bad);
+        assert!(
+            e.message.contains("an #OTC option (RADIUS"),
+            "{bad}: {}",
+            e.message
+        );
+        assert!(!e.message.contains("']'"), "{bad}: {}", e.message);
+    }
+    assert!(errors("#OTC ON [RADIUS, CONT]").is_empty());
+    assert!(errors("#OTC ON [RADIUS CONT WEAR_CONST=5]").is_empty());
+}
+
 #[test]
 fn header_without_name() {
     assert_eq!(at(&only("%")), (1, None, 2));
