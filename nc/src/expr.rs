@@ -278,9 +278,23 @@ fn bracketed(open: char, close: char) -> impl FnMut(&mut &str) -> ModalResult<Ex
 }
 
 fn call(i: &mut &str) -> ModalResult<Expr> {
-    let name =
-        terminated(take_while(2..=5, |c: char| c.is_ascii_alphabetic()), '(').parse_next(i)?;
-    let func = func_of(name).ok_or_else(|| ErrMode::Backtrack(ContextError::new()))?;
+    let start = *i;
+    let name = take_while(2..=5, |c: char| c.is_ascii_alphabetic()).parse_next(i)?;
+    let Some(func) = func_of(name) else {
+        *i = start;
+        return Err(ErrMode::Backtrack(ContextError::new()));
+    };
+    if i.starts_with('[') {
+        // Square brackets group; a new user wrote `SIN[30]`.
+        return crate::words::refuse(
+            "function call: the argument is in round brackets, SIN(30), not SIN[30]",
+        );
+    }
+    let Some(rest) = i.strip_prefix('(') else {
+        *i = start;
+        return Err(ErrMode::Backtrack(ContextError::new()));
+    };
+    *i = rest;
     let arg = cut_err(terminated(
         delimited(space0, expr, space0),
         cut_err(')').context(expected("')' after the function argument")),

@@ -91,6 +91,16 @@ fn an_unknown_otc_option_is_named_after_a_separator() {
     assert!(errors("#OTC ON [RADIUS CONT WEAR_CONST=5]").is_empty());
 }
 
+/// A new user's `R1 = SIN[30]` was told the value was malformed; the
+/// message says that a function takes round brackets.
+#[test]
+fn a_function_with_square_brackets_is_told_the_round_ones() {
+    let e = only("R1 = SIN[30]");
+    assert!(e.message.contains("SIN(30), not SIN[30]"), "{}", e.message);
+    assert!(errors("R1 = SIN(30) + COS[0] * 0").len() == 1);
+    assert!(errors("R1 = SIN(30) + [2 * 3]").is_empty());
+}
+
 #[test]
 fn header_without_name() {
     assert_eq!(at(&only("%")), (1, None, 2));
