@@ -8,7 +8,7 @@ use winnow::{ModalResult, Parser};
 
 use crate::expr::{integer, var, word_value, Expr};
 use crate::model::{Item, OtcCommand, OtcKind, OtcMode, OtcOption};
-use crate::words::refuse;
+use crate::refusal::refuse;
 
 fn expected(text: &'static str) -> StrContext {
     StrContext::Expected(StrContextValue::Description(text))

@@ -8,7 +8,7 @@ use winnow::{ModalResult, Parser};
 
 use crate::expr::{expr, var};
 use crate::model::Item;
-use crate::words::refuse;
+use crate::refusal::refuse;
 
 fn expected(text: &'static str) -> StrContext {
     StrContext::Expected(StrContextValue::Description(text))

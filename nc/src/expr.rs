@@ -286,7 +286,7 @@ fn call(i: &mut &str) -> ModalResult<Expr> {
     };
     if i.starts_with('[') {
         // Square brackets group; a new user wrote `SIN[30]`.
-        return crate::words::refuse(
+        return crate::refusal::refuse(
             "function call: the argument is in round brackets, SIN(30), not SIN[30]",
         );
     }

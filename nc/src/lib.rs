@@ -56,6 +56,7 @@ mod expr;
 mod lines;
 mod model;
 mod plain;
+mod refusal;
 pub mod run;
 mod stream;
 mod words;

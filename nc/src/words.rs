@@ -2,23 +2,17 @@
 
 use winnow::ascii::space0;
 use winnow::combinator::{cut_err, preceded};
-use winnow::error::{ContextError, ErrMode, StrContext, StrContextValue};
+use winnow::error::{StrContext, StrContextValue};
 use winnow::token::any;
 use winnow::{ModalResult, Parser};
 
 use crate::expr::{expr, integer, var, word_value, Expr, Var};
 use crate::model::{Axis, CentreAxis, GCode, Item};
 use crate::plain::{plain_number, PlainNumber};
+use crate::refusal::refuse;
 
 fn expected(text: &'static str) -> StrContext {
     StrContext::Expected(StrContextValue::Description(text))
-}
-
-/// A failure with one message, cut so no alternative hides it.
-pub fn refuse<T>(message: &'static str) -> ModalResult<T> {
-    let mut e = ContextError::new();
-    e.push(StrContext::Label(message));
-    Err(ErrMode::Cut(e))
 }
 
 /// One address word or assignment at the input's start.
