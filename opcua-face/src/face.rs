@@ -164,14 +164,19 @@ impl Face {
             limits,
             ..
         } = self;
+        let public = listener.local_addr()?.port();
         let inner = TcpListener::bind((std::net::Ipv4Addr::LOCALHOST, 0)).await?;
+        let inner_port = inner.local_addr()?.port();
         let door = tokio::spawn(guard::serve(listener, inner.local_addr()?, limits));
         let _close_door = DropAbort(door);
         let run = server.run_with(inner);
         tokio::pin!(run);
         tokio::pin!(shutdown);
+        let advertise = advertise_door(&handle, inner_port, public);
+        tokio::pin!(advertise);
         let end = tokio::select! {
             end = &mut run => end,
+            end = &mut advertise => end,
             () = &mut shutdown => {
                 handle.cancel();
                 run.await
@@ -179,6 +184,23 @@ impl Face {
         };
         end.map_err(io::Error::other)
     }
+}
+
+/// The library advertises the port it listens on (the door's inner,
+/// loopback one) in every endpoint it describes: a client that connects
+/// to the endpoint GetEndpoints gave it (UaExpert, the async-opcua client)
+/// would go round the door, and a remote one would not reach the server
+/// at all. Once the library has stored its port, the door's public port is
+/// stored in its place; then this waits for ever (it never ends the
+/// server).
+async fn advertise_door(handle: &ServerHandle, inner: u16, public: u16) -> Result<(), String> {
+    use std::sync::atomic::Ordering;
+    let port = &handle.info().port;
+    while port.load(Ordering::Relaxed) != inner {
+        tokio::time::sleep(std::time::Duration::from_millis(1)).await;
+    }
+    port.store(public, Ordering::Relaxed);
+    std::future::pending().await
 }
 
 /// Stops the door's task when the face stops.

@@ -18,7 +18,10 @@
 //!   but never activated holds a place for seconds, not minutes (the door
 //!   sees only chunk headers, encrypted or not, so it counts messages);
 //! * back-pressure: while an answer waits for the client, no further
-//!   request is read from it, so answers cannot pile up.
+//!   request is read from it, so answers cannot pile up;
+//! * publishing intervals: a chunk is passed on once it is whole, and on a
+//!   channel without security a subscription's publishing interval above
+//!   ten minutes is lowered to it (`publishing.rs`).
 //!
 //! A failed accept (no file descriptors left) is logged at most once a
 //! second and retried after a pause, so it cannot flood the log.
@@ -30,6 +33,8 @@ use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
 use tokio::time::{sleep, timeout, Instant};
 use uoi::tcp::{PlaceLimits, Places};
+
+use crate::publishing::Channel;
 
 /// Size of an OPC UA TCP chunk header.
 const HEADER: usize = 8;
@@ -117,7 +122,8 @@ pub async fn serve(public: TcpListener, inner: SocketAddr, limits: Limits) {
     }
 }
 
-/// Follows the chunk headers of what a client sends.
+/// Follows the chunks of what a client sends; each is passed on once it
+/// is whole (at most the largest chunk is held).
 #[derive(Debug, Default)]
 struct Chunks {
     header: [u8; HEADER],
@@ -126,11 +132,16 @@ struct Chunks {
     started: Option<Instant>,
     /// Final message chunks seen whole.
     messages: u32,
+    /// The chunk under way, header included.
+    chunk: Vec<u8>,
+    /// The secure channel the chunks belong to.
+    channel: Channel,
 }
 
 impl Chunks {
-    /// Takes `bytes` from the client; an error names a chunk too large.
-    fn take(&mut self, mut bytes: &[u8], max: u32) -> Result<(), String> {
+    /// Takes `bytes` from the client and appends the chunks they complete
+    /// to `whole`; an error names a chunk too large.
+    fn take(&mut self, mut bytes: &[u8], max: u32, whole: &mut Vec<u8>) -> Result<(), String> {
         while !bytes.is_empty() {
             if self.started.is_none() {
                 self.started = Some(Instant::now());
@@ -138,6 +149,7 @@ impl Chunks {
             if self.have < HEADER {
                 let n = (HEADER - self.have).min(bytes.len());
                 self.header[self.have..self.have + n].copy_from_slice(&bytes[..n]);
+                self.chunk.extend_from_slice(&bytes[..n]);
                 self.have += n;
                 bytes = &bytes[n..];
                 if self.have == HEADER {
@@ -154,18 +166,26 @@ impl Chunks {
                 }
             } else {
                 let n = self.left.min(bytes.len());
+                self.chunk.extend_from_slice(&bytes[..n]);
                 self.left -= n;
                 bytes = &bytes[n..];
             }
             if self.have == HEADER && self.left == 0 {
-                let message = u32::from(self.header[..4] == *b"MSGF");
-                *self = Chunks {
-                    messages: self.messages.saturating_add(message),
-                    ..Chunks::default()
-                };
+                self.chunk_done(whole);
             }
         }
         Ok(())
+    }
+
+    /// A chunk is whole: counted, looked at, appended to `whole`; the
+    /// next one starts.
+    fn chunk_done(&mut self, whole: &mut Vec<u8>) {
+        let message = u32::from(self.header[..4] == *b"MSGF");
+        self.messages = self.messages.saturating_add(message);
+        self.channel.look(&mut self.chunk);
+        whole.append(&mut self.chunk);
+        self.have = 0;
+        self.started = None;
     }
 
     /// When the chunk under way must be whole, if one is.
@@ -181,6 +201,7 @@ async fn relay(
     limits: &Limits,
 ) -> Result<(), String> {
     let mut chunks = Chunks::default();
+    let mut whole = Vec::with_capacity(16 * 1024);
     let mut from_client = vec![0u8; 16 * 1024];
     let mut from_server = vec![0u8; 16 * 1024];
     let activate_by = Instant::now() + limits.activation;
@@ -199,8 +220,9 @@ async fn relay(
                 if n == 0 {
                     return Ok(());
                 }
-                chunks.take(&from_client[..n], limits.max_chunk)?;
-                timeout(limits.write_stall, server.write_all(&from_client[..n]))
+                whole.clear();
+                chunks.take(&from_client[..n], limits.max_chunk, &mut whole)?;
+                timeout(limits.write_stall, server.write_all(&whole))
                     .await
                     .map_err(|_| "the server takes no requests".to_string())?
                     .map_err(|e| e.to_string())?;
@@ -282,14 +304,32 @@ mod tests {
     }
 
     #[tokio::test]
-    async fn chunks_within_the_size_pass_in_any_pieces() {
+    async fn chunks_within_the_size_pass_whole_sent_in_any_pieces() {
         let addr = door(Limits::new(1024)).await;
         let mut s = TcpStream::connect(addr).await.unwrap();
         let mut two = chunk(b"HELF", 20);
         two.extend(chunk(b"MSGF", 1016));
-        for piece in [&two[..3], &two[3..30], &two[30..]] {
-            assert_eq!(round(&mut s, piece).await.as_deref(), Some(piece));
+        for piece in [&two[..3], &two[3..30]] {
+            s.write_all(piece).await.unwrap();
         }
+        // The first chunk is whole: it passes; the second waits for its rest.
+        let mut first = vec![0u8; 28];
+        let guard = Duration::from_secs(20);
+        timeout(guard, s.read_exact(&mut first))
+            .await
+            .unwrap()
+            .unwrap();
+        assert_eq!(first, two[..28]);
+        assert_eq!(
+            round(&mut s, &two[30..]).await.as_deref(),
+            Some(&two[28..two.len() - 2])
+        );
+        let mut last = [0u8; 2];
+        timeout(guard, s.read_exact(&mut last))
+            .await
+            .unwrap()
+            .unwrap();
+        assert_eq!(last, two[two.len() - 2..]);
     }
 
     #[tokio::test]
@@ -368,7 +408,7 @@ mod tests {
         let addr = door(limits).await;
         let mut s = TcpStream::connect(addr).await.unwrap();
         let half = &chunk(b"MSGF", 100)[..50];
-        assert!(round(&mut s, half).await.is_some());
+        s.write_all(half).await.unwrap();
         let mut rest = [0u8; 1];
         let read = timeout(Duration::from_secs(20), s.read(&mut rest));
         assert_eq!(read.await.expect("hang guard").unwrap_or(0), 0);

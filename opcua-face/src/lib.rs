@@ -36,6 +36,7 @@ mod manager;
 mod nodes;
 mod pki;
 mod points;
+mod publishing;
 mod sampler;
 mod security;
 mod space;

@@ -656,3 +656,44 @@ async fn a_read_too_large_for_a_response_is_refused_before_it_is_built() {
     ua.close().await;
     rig.stop().await;
 }
+
+/// Issue 20, point 10: a publishing interval of 1e12 ms (or an endless
+/// one) is revised to the door's bound on a channel without security; an
+/// ordinary one is kept. The client connects to the endpoint GetEndpoints
+/// describes: the revision shows that its session went through the door
+/// (the library advertised its inner port before, so such a client went
+/// round the door).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_endless_publishing_interval_is_revised_to_a_bound() {
+    use opcua::client::DataChangeCallback;
+    use std::time::Duration;
+    let rig = Rig::start(None).await;
+    let ua = Ua::open(&rig.url).await;
+    let mut revised = Vec::new();
+    for asked in [
+        Duration::from_secs(1_000_000_000),
+        Duration::from_millis(250),
+    ] {
+        let id = ua
+            .session
+            .create_subscription(
+                asked,
+                3000,
+                10,
+                0,
+                0,
+                true,
+                DataChangeCallback::new(|_, _| {}),
+            )
+            .await
+            .expect("subscription");
+        let state = ua.session.subscription_state().lock();
+        revised.push(state.get(id).expect("kept").publishing_interval());
+    }
+    assert_eq!(
+        revised,
+        [Duration::from_secs(600), Duration::from_millis(250)]
+    );
+    ua.close().await;
+    rig.stop().await;
+}
