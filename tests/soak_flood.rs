@@ -20,12 +20,10 @@ use std::time::{Duration, Instant};
 
 use bytes::{Bytes, BytesMut};
 use emulator::{Emulator, EmulatorService};
-use tc_module::NoKey;
-use tc_module::{AxisPos, Cycle, CycleTime, Groups, TcExtension, AXES};
+use tc_module::{AlwaysStepped, CycleTime, AXES};
 use tc_request::{Reply, Request};
 use uoi::tcp::{AccessPolicy, AccessToken, BlockingClient, ClientOptions, ServerConfig};
 use uoi::wire::encode_request;
-use uoi::ObjectDesc;
 
 mod common;
 use common::{loopback, TestServer};
@@ -41,27 +39,6 @@ const TOKEN: &str = "soak-token-0123456789abcdef";
 /// Most CPU the idle server may take, in seconds per second: the poller's
 /// request every 100 ms and the watchdog, far below one busy core.
 const IDLE_CPU: f64 = 0.25;
-
-/// A per-cycle model that is always active: every `EXEC` steps every
-/// cycle and never ends before its cycles are done.
-#[derive(Debug, Default)]
-struct Busy;
-
-impl TcExtension for Busy {
-    type Key = NoKey;
-    type Group = ();
-    type Tool = ();
-    const GROUP_OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
-    const OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
-
-    fn cycle_active(&mut self, _: Groups<'_, Self>) -> bool {
-        true
-    }
-
-    fn cycle(&mut self, _: &Cycle<'_>, _: Groups<'_, Self>) -> AxisPos {
-        [0.0; AXES]
-    }
-}
 
 fn token() -> AccessToken {
     AccessToken::new(TOKEN).expect("token")
@@ -182,7 +159,7 @@ fn abandoner(addr: SocketAddr, stop: &AtomicBool) -> usize {
 
 #[test]
 fn a_flood_and_abandoned_execs_cost_the_polling_client_nothing() {
-    let emu = Emulator::with_extension([0.0; AXES], CycleTime::DEFAULT, Busy);
+    let emu = Emulator::with_extension([0.0; AXES], CycleTime::DEFAULT, AlwaysStepped);
     let cfg = ServerConfig {
         max_connections: 48,
         evict_after: Some(Duration::from_millis(100)),

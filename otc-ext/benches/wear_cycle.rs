@@ -35,12 +35,10 @@ use std::time::{Duration, Instant};
 use common::{command_all, otc_auto_on, otc_module, run, set_units, Contour, CORRECTION_ON, TYPES};
 use criterion::{criterion_group, Criterion, Throughput};
 use tc_module::Executor;
-use tc_module::NoKey;
 use tc_module::{
-    AxisPos, Cycle, CycleModel, CycleTime, Groups, NoExtension, Spooler, TcExtension, TcModule,
-    AXES,
+    AlwaysStepped, AxisPos, Cycle, CycleModel, CycleTime, NoExtension, Spooler, TcExtension,
+    TcModule, AXES,
 };
-use uoi::ObjectDesc;
 
 /// Cycles per iteration.
 const CYCLES: u64 = 10_000;
@@ -49,26 +47,6 @@ const CHUNK: usize = 1_000;
 /// Elements below which the spooler is topped up (comfortably more than
 /// one iteration's worth, about 80 profiles with their transitions).
 const LOW: usize = 600;
-
-/// An extension whose per-cycle model is always active and adds nothing.
-#[derive(Debug, Default)]
-struct Stepped;
-
-impl TcExtension for Stepped {
-    type Key = NoKey;
-    type Group = ();
-    type Tool = ();
-    const GROUP_OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
-    const OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
-
-    fn cycle_active(&mut self, _: Groups<'_, Self>) -> bool {
-        true
-    }
-
-    fn cycle(&mut self, _: &Cycle<'_>, _: Groups<'_, Self>) -> AxisPos {
-        [0.0; AXES]
-    }
-}
 
 /// A trivial always-active model for the bare executor.
 struct Trivial;
@@ -188,7 +166,7 @@ fn wear_cycle(c: &mut Criterion) {
     });
     g.bench_function("stepped, no model work", |b| {
         let mut rig = Rig::new(
-            TcModule::new([0.0; AXES], CycleTime::DEFAULT, Stepped),
+            TcModule::new([0.0; AXES], CycleTime::DEFAULT, AlwaysStepped),
             None,
         );
         b.iter_custom(|iters| rig.time(iters));
@@ -234,7 +212,7 @@ fn paired() {
     let mut variants: Vec<Variant> = Vec::new();
     let mut off = Rig::new(otc_module(), None);
     variants.push(("OTC off (counted)", Box::new(move || off.time(1))));
-    let stepped = TcModule::new([0.0; AXES], CycleTime::DEFAULT, Stepped);
+    let stepped = TcModule::new([0.0; AXES], CycleTime::DEFAULT, AlwaysStepped);
     let mut stepped = Rig::new(stepped, None);
     variants.push(("stepped, no model work", Box::new(move || stepped.time(1))));
     let mut bare = BareRig::new();

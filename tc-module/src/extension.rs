@@ -295,3 +295,25 @@ impl TcExtension for NoExtension {
     const GROUP_OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
     const OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
 }
+
+/// No extension objects, and a per-cycle model that is always active and
+/// adds no offset: the executor steps every cycle one by one, as it does
+/// for OTC (for tests and benchmarks of stepped execution).
+#[derive(Debug, Default, Clone, Copy)]
+pub struct AlwaysStepped;
+
+impl TcExtension for AlwaysStepped {
+    type Key = NoKey;
+    type Group = ();
+    type Tool = ();
+    const GROUP_OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
+    const OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
+
+    fn cycle_active(&mut self, _: Groups<'_, Self>) -> bool {
+        true
+    }
+
+    fn cycle(&mut self, _: &Cycle<'_>, _: Groups<'_, Self>) -> AxisPos {
+        [0.0; AXES]
+    }
+}

@@ -47,7 +47,7 @@ pub use correction::TransitionMode;
 pub use cycle::{Cycle, CycleModel, NoModel, PathPart, MAX_PARTS};
 pub use element::{ArcPath, ContourNormal, NormalRule, Origin, Path, SpoolElement};
 pub use executor::Executor;
-pub use extension::{Group, GroupAccess, Groups, NoExtension, NoKey, TcExtension};
+pub use extension::{AlwaysStepped, Group, GroupAccess, Groups, NoExtension, NoKey, TcExtension};
 pub use geometry::V2;
 pub use group::{CorrGroup, Side};
 pub use limits::{CycleTime, MAX_COORD};
