@@ -14,6 +14,7 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
+use crate::stored::stored_value;
 use async_trait::async_trait;
 use opcua::server::address_space::{AddressSpace, DefaultTypeTree, NodeType};
 use opcua::server::diagnostics::NamespaceMetadata;
@@ -27,9 +28,9 @@ use opcua::server::node_manager::{
 use opcua::server::CreateMonitoredItem;
 use opcua::sync::RwLock;
 use opcua::types::{
-    AttributeId, DataEncoding, ExpandedNodeId, MonitoringMode, NodeId, NumericRange,
-    ReadAnnotationDataDetails, ReadAtTimeDetails, ReadEventDetails, ReadProcessedDetails,
-    ReadRawModifiedDetails, StatusCode, TimestampsToReturn, Variant,
+    AttributeId, ExpandedNodeId, MonitoringMode, NodeId, ReadAnnotationDataDetails,
+    ReadAtTimeDetails, ReadEventDetails, ReadProcessedDetails, ReadRawModifiedDetails, StatusCode,
+    TimestampsToReturn, Variant,
 };
 
 /// Bytes a value is counted at beyond its strings and byte strings (the
@@ -67,16 +68,7 @@ pub(crate) fn too_large(space: &AddressSpace, nodes: &[&mut ReadNode], limit: us
             *sizes
                 .entry(&id.node_id)
                 .or_insert_with(|| match space.find(&id.node_id) {
-                    Some(NodeType::Variable(v)) => v
-                        .value(
-                            TimestampsToReturn::Neither,
-                            &NumericRange::None,
-                            &DataEncoding::Binary,
-                            0.0,
-                        )
-                        .value
-                        .as_ref()
-                        .map_or(OVERHEAD, size),
+                    Some(NodeType::Variable(v)) => stored_value(v).as_ref().map_or(OVERHEAD, size),
                     _ => OVERHEAD,
                 })
         };

@@ -41,6 +41,7 @@ mod sampler;
 mod security;
 mod space;
 pub mod status;
+mod stored;
 
 pub use face::{Face, FaceConfig, APPLICATION_NAME, APPLICATION_URI};
 pub use layout::{answer_value, Device, IndexKind, Pick, Reading, Row, Table};

@@ -5,13 +5,13 @@
 //! relative paths, then placed (NodeIds from a base) as often as needed:
 //! a tool is placed whenever one appears.
 
+use crate::stored::stored_value;
 use opcua::server::address_space::{
     AccessLevel, AddressSpace, EventNotifier, NodeType, ObjectBuilder, ReferenceDirection,
     VariableBuilder,
 };
 use opcua::types::{
-    DataEncoding, DataTypeId, LocalizedText, NodeClass, NodeId, NumericRange, QualifiedName,
-    ReferenceTypeId, TimestampsToReturn, Variant,
+    DataTypeId, LocalizedText, NodeClass, NodeId, QualifiedName, ReferenceTypeId, Variant,
 };
 
 use super::types::{Decl, Rule, Types};
@@ -175,15 +175,7 @@ impl Template {
                 data_type: v.data_type(),
                 value_rank: v.value_rank(),
                 dims: v.array_dimensions(),
-                value: v
-                    .value(
-                        TimestampsToReturn::Neither,
-                        &NumericRange::None,
-                        &DataEncoding::Binary,
-                        0.0,
-                    )
-                    .value
-                    .unwrap_or_default(),
+                value: stored_value(v).unwrap_or_default(),
             },
             Some(NodeType::VariableType(v)) => Kind::Variable {
                 data_type: v.data_type().clone(),

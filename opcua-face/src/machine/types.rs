@@ -7,11 +7,9 @@
 
 use std::collections::HashMap;
 
+use crate::stored::stored_value;
 use opcua::server::address_space::{AddressSpace, DefaultTypeTree, NodeBase, NodeType, TypeTree};
-use opcua::types::{
-    BrowseDirection, DataEncoding, NodeId, NumericRange, ObjectId, QualifiedName, ReferenceTypeId,
-    TimestampsToReturn, Variant,
-};
+use opcua::types::{BrowseDirection, NodeId, ObjectId, QualifiedName, ReferenceTypeId, Variant};
 
 /// What an InstanceDeclaration's modelling rule asks of an instance.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -205,15 +203,7 @@ impl<'a> Types<'a> {
     /// The value a variable of the model holds (its default).
     pub fn value(&self, id: &NodeId) -> Variant {
         match self.node(id) {
-            Some(NodeType::Variable(v)) => v
-                .value(
-                    TimestampsToReturn::Neither,
-                    &NumericRange::None,
-                    &DataEncoding::Binary,
-                    0.0,
-                )
-                .value
-                .unwrap_or_default(),
+            Some(NodeType::Variable(v)) => stored_value(v).unwrap_or_default(),
             _ => Variant::Empty,
         }
     }
