@@ -338,9 +338,13 @@ impl<E: TcExtension + Default> Handler for EmulatorService<E> {
             }
         }
         let before = self.emu.tc().executor().cycles();
-        let slice = serve_slice(&mut self.emu, req.clone())
+        // The request is kept only for a recording (the hot path moves it).
+        let kept = self.journal.is_some().then(|| req.clone());
+        let slice = serve_slice(&mut self.emu, req)
             .unwrap_or(Slice::Done(Answer::Access(AccessError::State)));
-        self.journal_slice(&req, &slice, before);
+        if let Some(req) = kept {
+            self.journal_slice(&req, &slice, before);
+        }
         slice
     }
 
