@@ -19,6 +19,8 @@ pub fn command(i: &mut &str) -> ModalResult<Item> {
     '#'.parse_next(i)?;
     alt((
         preceded(Caseless("OTC"), cut_err(otc)),
+        preceded(Caseless("TANGFEED"), cut_err(tangfeed)),
+        preceded((Caseless("SET"), space1, Caseless("TANGFEED")), cut_err(set_tangfeed)),
         preceded(Caseless("set"), cut_err(set_tool_param)),
         preceded(Caseless("get"), cut_err(get_tool_param)),
         preceded(Caseless("KIN"), cut_err(kin)),
@@ -32,6 +34,32 @@ pub fn command(i: &mut &str) -> ModalResult<Item> {
         }
         other => Err(other),
     })
+}
+
+/// `#TANGFEED`, `#TANGFEED [RMIN=<v>]`: the smallest arc radius G11
+/// adapts the feed of.
+fn tangfeed(i: &mut &str) -> ModalResult<Item> {
+    let rmin = opt(preceded(
+        space0,
+        delimited(
+            ('[', space0),
+            opt(preceded(assigned("RMIN"), cut_err(word_value))),
+            cut_err((space0, ']')).context(expected("RMIN=<v> and ']' closing #TANGFEED")),
+        ),
+    ))
+    .parse_next(i)?;
+    Ok(Item::TangFeed(rmin.flatten()))
+}
+
+/// `#SET TANGFEED RMIN [<v>]`, the older form of `#TANGFEED [RMIN=<v>]`.
+fn set_tangfeed(i: &mut &str) -> ModalResult<Item> {
+    let value = preceded(
+        (space1, Caseless("RMIN"), space0, '[', space0),
+        cut_err(terminated(crate::expr::expr, (space0, ']'))),
+    )
+    .context(expected("RMIN [<v>]"))
+    .parse_next(i)?;
+    Ok(Item::TangFeed(Some(value)))
 }
 
 fn on_off(i: &mut &str) -> ModalResult<bool> {

@@ -14,9 +14,13 @@ mod block;
 mod dtable;
 mod error;
 mod eval;
+mod feed;
 mod flow;
+mod inside_corner;
 mod objects;
 mod otc;
+mod plane;
+mod selection;
 mod structure;
 mod vars;
 mod window;
@@ -31,6 +35,7 @@ use crate::model::Block;
 use crate::stream::Blocks;
 
 pub use dtable::DTable;
+pub use inside_corner::MAX_CONTOUR_BLOCKS;
 pub use error::{Located, RunError, RunErrorKind, Warning, WarningKind};
 pub use objects::{wear_axis, WEAR_RADIUS, WEAR_RADIUS_CONT};
 
@@ -121,6 +126,13 @@ struct Interpreter<'c> {
     in_block: bool,
     /// Column of the word being carried out, for its errors.
     col: usize,
+    /// The place errors name instead, while a read `G238` contour runs
+    /// (each of its blocks in turn).
+    pinned: Option<Location>,
+    /// Selection and deselection of the correction.
+    sel: selection::Selection,
+    /// Feed adaptation (`G10`/`G11`, `#TANGFEED`).
+    feed: feed::FeedAdaption,
     pos: AxisPos,
     motion: Option<MotionKind>,
     incremental: bool,
@@ -230,8 +242,21 @@ fn run_window<S: window::BlockSource>(
             window.release_before(pc);
         }
     }
+    it.end_of_program().map_err(|e| it.error(e))?;
     it.send(&Request::Exec(None)).map_err(|e| it.error(e))?;
     Ok(())
+}
+
+impl Interpreter<'_> {
+    /// The program's end (`M30` or its last block): a `G238` contour
+    /// without its `G40` is an error; a fault of the correction not yet
+    /// answered stops the run.
+    fn end_of_program(&mut self) -> Result<(), RunErrorKind> {
+        if self.sel.contour.is_some() {
+            return Err(RunErrorKind::InsideCorner("the contour has no G40"));
+        }
+        self.check_fault()
+    }
 }
 
 /// An answer of the wrong kind to `request`.
@@ -250,6 +275,9 @@ impl<'c> Interpreter<'c> {
             at: At::default(),
             in_block: false,
             col: 1,
+            pinned: None,
+            sel: selection::Selection::default(),
+            feed: feed::FeedAdaption::default(),
             pos: [0.0; tc_request::AXES],
             motion: None,
             incremental: false,
@@ -275,10 +303,14 @@ impl<'c> Interpreter<'c> {
         };
         self.in_block = true;
         self.col = block.column(0);
+        self.pinned = None;
     }
 
     /// The current block and word, once a block is carried out.
     fn location(&self) -> Option<Location> {
+        if self.pinned.is_some() {
+            return self.pinned;
+        }
         self.in_block.then_some(Location {
             line: self.at.line,
             block_number: self.at.number,
@@ -288,10 +320,11 @@ impl<'c> Interpreter<'c> {
 
     /// An error at the current block and word.
     fn error(&self, kind: RunErrorKind) -> RunError {
-        RunError {
-            location: self.location(),
-            kind,
-        }
+        let location = match kind {
+            RunErrorKind::CorrectionFault { .. } => self.sel.fault_at.or(self.location()),
+            _ => self.location(),
+        };
+        RunError { location, kind }
     }
 
     /// Warning `kind` at the current block and word, for the report.
@@ -352,6 +385,11 @@ impl<'c> Interpreter<'c> {
     fn refused(&mut self, req: &Request, reply: &Reply) -> Option<RunErrorKind> {
         let request = || Box::new(req.clone());
         Some(match reply {
+            Reply::Access(uoi::AccessError::State) if self.sel.fault_at.is_some() => {
+                RunErrorKind::CorrectionFault {
+                    bits: self.fault_bits().unwrap_or_default(),
+                }
+            }
             Reply::Access(uoi::AccessError::State) => RunErrorKind::Faulted {
                 request: request(),
                 error_bits: self.fault_bits(),

@@ -10,6 +10,8 @@ const GROUP: u16 = 1;
 
 /// Main plane (G17/G18/G19).
 pub const TC_PLANE: ObjectAddress = TcObject::TcPlane.address();
+/// ReInit: every group's held profile dropped, nothing spooled.
+pub const RE_INIT: ObjectAddress = TcObject::ReInit.address();
 /// Error bits of correction group 1.
 pub const ERROR: ObjectAddress = TcObject::Error.of(GROUP);
 /// Start (1) / end (0) of the correction.
@@ -26,6 +28,10 @@ pub const RIGHT: ObjectAddress = TcObject::Right.of(GROUP);
 pub const WKZ_LEN: ObjectAddress = TcObject::WkzLen.of(GROUP);
 /// Transition at outside corners: 0 circular (G26), 1 linear (G25).
 pub const TRANSITION_MODE: ObjectAddress = TcObject::TransitionMode.of(GROUP);
+/// Feed adaptation of corrected arcs: 0 G10, 1 G11.
+pub const FEED_ADAPTION: ObjectAddress = TcObject::FeedAdaption.of(GROUP);
+/// `#TANGFEED RMIN`: the smallest programmed arc radius adapted.
+pub const TANG_FEED_RMIN: ObjectAddress = TcObject::TangFeedRmin.of(GROUP);
 /// `#OTC ON/OFF`; read = `V.G.OTC_ACTIVE`.
 pub const OTC_ON: ObjectAddress = OtcObject::OtcOn.of(GROUP);
 /// OTC processing type.

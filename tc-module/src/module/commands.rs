@@ -13,6 +13,7 @@ use crate::element::{ContourNormal, NormalRule, Origin, SpoolElement};
 use crate::extension::{Groups, TcExtension};
 use crate::geometry::tolerance::MIN_RADIUS;
 use crate::geometry::Contour;
+use crate::limits::MIN_STEP;
 use crate::plane::AxisWords;
 use crate::plane::AXES;
 use crate::rotation::Rotation;
@@ -212,15 +213,31 @@ impl<E: TcExtension> TcModule<E> {
                 sigma: dir.sigma(),
             },
         };
+        let (d, mode) = (g.offset(), g.transition);
+        let arc_feed = match contour {
+            Contour::Arc {
+                from,
+                centre,
+                sigma,
+                ..
+            } if !cmd.rapid => {
+                let r = (from - centre).norm();
+                g.feed_adaption.arc_feed(cmd.feed, r, r - sigma * d)
+            }
+            _ => cmd.feed,
+        };
+        if self.executor.step_at(arc_feed) < MIN_STEP {
+            return Err(Refusal::Access(AccessError::Range));
+        }
         let prof = Profile {
             contour,
             start: cmd.start,
             end: cmd.target,
             feed: cmd.feed,
+            arc_feed,
             rapid: cmd.rapid,
         };
         let mut sink = Sink::new(&mut self.spooler, q, gp, g.tool().length);
-        let (d, mode) = (g.offset(), g.transition);
         g.buffer.push(&prof, d, mode, &mut sink)
     }
 

@@ -110,6 +110,8 @@ impl<E: TcExtension> TcModule<E> {
             // WKZINDEX is below 1024.
             TcObject::WkzIndex => Value::I32(g.wkz.get() as i32),
             TcObject::TransitionMode => Value::I32(g.transition.code()),
+            TcObject::FeedAdaption => Value::I32(i32::from(g.feed_adaption.on)),
+            TcObject::TangFeedRmin => Value::F64(g.feed_adaption.rmin),
             // Write-only objects never reach read (checked by the table).
             _ => return Err(AccessError::WriteOnly),
         })
@@ -150,6 +152,8 @@ impl<E: TcExtension> TcModule<E> {
             TcObject::Left => g.side = Some(Side::Left),
             TcObject::Right => g.side = Some(Side::Right),
             TcObject::TransitionMode => g.transition = TransitionMode::from_code(i),
+            TcObject::FeedAdaption => g.feed_adaption.on = i == 1,
+            TcObject::TangFeedRmin => g.feed_adaption.rmin = d,
             _ => {}
         }
     }
