@@ -49,21 +49,11 @@ pub enum TcObject {
     WkzLen,
     /// 2/g/1 TransitionMode (rw, 0 circular / 1 linear).
     TransitionMode,
-    /// 2/g/2 FeedAdaption (rw, 0 constant feed G10 / 1 adapted feed G11).
-    FeedAdaption,
-    /// 2/g/3 TangFeedRmin (rw, 0..1e9): the smallest programmed arc radius
-    /// whose feed is adapted (`#TANGFEED RMIN`).
-    TangFeedRmin,
 }
 
 const RW: Access = Access::ReadWrite;
 const W: Access = Access::WriteOnly;
 const ANY: ValueRange = ValueRange::AnyInt;
-/// A length of at least 0, within the coordinate limit.
-const NON_NEGATIVE: ValueRange = ValueRange::Finite {
-    min: 0.0,
-    max: crate::bus::MAX_COORD,
-};
 const FINITE: ValueRange = ValueRange::AnyFinite;
 const WKZ: ValueRange = ValueRange::Int {
     min: 0,
@@ -74,7 +64,7 @@ use TcObject as O;
 /// The table of the TC module's own objects, row for row as in
 /// docs/objects.md.
 #[rustfmt::skip]
-pub static TC_OBJECTS: [ObjectDesc<TcObject>; 22] = [
+pub static TC_OBJECTS: [ObjectDesc<TcObject>; 20] = [
     // Device 0: initialisation (global)
     ObjectDesc::int(O::Clean, "Clean", 0, 1..=1, 0, W, ValueRange::IntSet(&[1])),
     ObjectDesc::int(O::AxisNr, "AxisNr", 0, 2..=2, 0, RW, AXIS).subs(0, 2),
@@ -98,8 +88,6 @@ pub static TC_OBJECTS: [ObjectDesc<TcObject>; 22] = [
     ObjectDesc::double(O::WkzLen, "WkzLen", 1, GROUPS, 12, RW, COORD),
     // Device 2: TC extensions
     ObjectDesc::int(O::TransitionMode, "TransitionMode", 2, GROUPS, 1, RW, BOOL),
-    ObjectDesc::int(O::FeedAdaption, "FeedAdaption", 2, GROUPS, 2, RW, BOOL),
-    ObjectDesc::double(O::TangFeedRmin, "TangFeedRmin", 2, GROUPS, 3, RW, NON_NEGATIVE),
 ];
 
 // Every variant's number is its row.

@@ -3,7 +3,7 @@
 //! the group (`ext`).
 
 use crate::bits::ErrorBits;
-use crate::correction::{Buffer, FeedAdaption, TransitionMode};
+use crate::correction::{Buffer, TransitionMode};
 use crate::plane::{PlaneAxes, TcPlane};
 use crate::tool_table::{ToolEntry, ToolTable, WkzIndex};
 
@@ -44,8 +44,6 @@ pub struct CorrGroup<G = (), T = ()> {
     pub side: Option<Side>,
     /// TransitionMode (device 2 sub 1).
     pub transition: TransitionMode,
-    /// FeedAdaption and TangFeedRmin (device 2 sub 2 and 3).
-    pub feed_adaption: FeedAdaption,
     /// The tool table.
     pub tools: ToolTable<T>,
     /// The one-profile buffer.
@@ -64,7 +62,6 @@ impl<G: Default, T: Copy + Default> Default for CorrGroup<G, T> {
             wkz: WkzIndex::default(),
             side: None,
             transition: TransitionMode::default(),
-            feed_adaption: FeedAdaption::default(),
             tools: ToolTable::default(),
             buffer: Buffer::default(),
             faulted: false,
@@ -97,8 +94,7 @@ impl<G, T: Copy + Default> CorrGroup<G, T> {
 
     /// The group RESET (device 1 sub 2): side cleared, buffer, fault and
     /// error bits dropped, every field of every table entry back to
-    /// default; WKZINDEX, axes, TransitionMode and FeedAdaption stay. The
-    /// caller clears
+    /// default; WKZINDEX, axes and TransitionMode stay. The caller clears
     /// Run.
     pub fn reset(&mut self) {
         self.side = None;

@@ -1,14 +1,14 @@
 //! Feed adaptation (docs/nc.md, "Feed"): `G10` (initial) keeps the
 //! programmed feed, `G11` has the controller spool each corrected arc of
 //! programmed radius `R >= RMIN` at `F * R'/R`; `#TANGFEED [RMIN=..]` sets
-//! RMIN. Both are registers of the controller (FeedAdaption and
-//! TangFeedRmin of correction group 1), written only when they change.
+//! RMIN. Both travel in one request (`FEED_ADAPT on rmin`), sent only when
+//! one of them changes.
 
-use uoi::Value;
+use tc_request::Request;
 
-use super::{objects, Interpreter, RunErrorKind};
+use super::{Interpreter, RunErrorKind};
 
-/// What the program set, as last written to the controller.
+/// What the program set, as last sent to the controller.
 #[derive(Debug, Clone, Copy, Default)]
 pub(super) struct FeedAdaption {
     /// `G11` in force.
@@ -20,11 +20,8 @@ pub(super) struct FeedAdaption {
 impl Interpreter<'_> {
     /// `G10` (false) or `G11` (true).
     pub(super) fn set_feed_adaption(&mut self, on: bool) -> Result<(), RunErrorKind> {
-        if self.feed.on != on {
-            self.write(objects::FEED_ADAPTION, Value::I32(i32::from(on)))?;
-            self.feed.on = on;
-        }
-        Ok(())
+        let rmin = self.feed.rmin;
+        self.send_feed_adaption(FeedAdaption { on, rmin })
     }
 
     /// `#TANGFEED [RMIN=rmin]` (0 when no RMIN is given).
@@ -32,10 +29,17 @@ impl Interpreter<'_> {
         if !(rmin >= 0.0) {
             return Err(RunErrorKind::TangFeedRmin(rmin));
         }
-        if self.feed.rmin != rmin {
-            self.write(objects::TANG_FEED_RMIN, Value::F64(rmin))?;
-            self.feed.rmin = rmin;
+        let on = self.feed.on;
+        self.send_feed_adaption(FeedAdaption { on, rmin })
+    }
+
+    fn send_feed_adaption(&mut self, new: FeedAdaption) -> Result<(), RunErrorKind> {
+        if new.on == self.feed.on && new.rmin == self.feed.rmin {
+            return Ok(());
         }
+        let (on, rmin) = (new.on, new.rmin);
+        self.send(&Request::FeedAdaption { on, rmin })?;
+        self.feed = new;
         Ok(())
     }
 }

@@ -28,10 +28,6 @@ pub const RIGHT: ObjectAddress = TcObject::Right.of(GROUP);
 pub const WKZ_LEN: ObjectAddress = TcObject::WkzLen.of(GROUP);
 /// Transition at outside corners: 0 circular (G26), 1 linear (G25).
 pub const TRANSITION_MODE: ObjectAddress = TcObject::TransitionMode.of(GROUP);
-/// Feed adaptation of corrected arcs: 0 G10, 1 G11.
-pub const FEED_ADAPTION: ObjectAddress = TcObject::FeedAdaption.of(GROUP);
-/// `#TANGFEED RMIN`: the smallest programmed arc radius adapted.
-pub const TANG_FEED_RMIN: ObjectAddress = TcObject::TangFeedRmin.of(GROUP);
 /// `#OTC ON/OFF`; read = `V.G.OTC_ACTIVE`.
 pub const OTC_ON: ObjectAddress = OtcObject::OtcOn.of(GROUP);
 /// OTC processing type.

@@ -87,16 +87,6 @@ fn group(obj: TcObject) -> &'static str {
             "What is inserted at an outside corner: 0 an arc around the corner (default, \
                  NC G26), 1 straight lines (NC G25)."
         }
-        TcObject::FeedAdaption => {
-            "Feed of corrected arcs: 0 the programmed feed (default, NC G10), 1 the feed \
-                 adapted so that it holds where the tool touches the contour, F * R'/R with R \
-                 the programmed and R' the corrected radius (NC G11). Lines, transition \
-                 elements, approach and departure keep the programmed feed."
-        }
-        TcObject::TangFeedRmin => {
-            "The smallest programmed arc radius whose feed FeedAdaption adapts (default 0: \
-                 every arc; NC #TANGFEED [RMIN=..]). Taken when a profile enters."
-        }
         _ => device0(obj).unwrap_or_default(),
     }
 }

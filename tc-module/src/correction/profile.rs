@@ -23,15 +23,15 @@ pub struct Profile {
     pub rapid: bool,
 }
 
-/// Feed adaptation of corrected arcs (device 2 sub 2 and 3; NC G10/G11,
-/// `#TANGFEED RMIN`): the feed of a corrected arc becomes `F * R'/R`, R the
+/// Feed adaptation of corrected arcs (NC G10/G11, `#TANGFEED RMIN`; set
+/// with `TcModule::set_feed_adaption`, no register of the bus): the feed of a corrected arc becomes `F * R'/R`, R the
 /// programmed radius and `R' = R - σ d` the corrected one, so that F holds
 /// where the tool touches the contour; only for arcs with `R >= rmin`.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct FeedAdaption {
-    /// FeedAdaption: 1 (G11) adapts, 0 (G10, default) does not.
+    /// G11 adapts, G10 (default) does not.
     pub on: bool,
-    /// TangFeedRmin: the smallest programmed radius adapted (default 0).
+    /// RMIN: the smallest programmed radius adapted (default 0).
     pub rmin: f64,
 }
 

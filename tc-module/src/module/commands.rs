@@ -196,6 +196,7 @@ impl<E: TcExtension> TcModule<E> {
         let plane = self.plane;
         let main = self.main_plane();
         let q = self.tool_position();
+        let adaption = self.feed_adaption;
         let Some(g) = self.groups[slot].as_mut() else {
             return Ok(());
         };
@@ -222,7 +223,7 @@ impl<E: TcExtension> TcModule<E> {
                 ..
             } if !cmd.rapid => {
                 let r = (from - centre).norm();
-                g.feed_adaption.arc_feed(cmd.feed, r, r - sigma * d)
+                adaption.arc_feed(cmd.feed, r, r - sigma * d)
             }
             _ => cmd.feed,
         };

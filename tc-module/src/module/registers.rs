@@ -6,7 +6,7 @@ use uoi::{AccessError, ObjectAddress, Value};
 
 use super::{TcModule, DEFAULT_AXIS_NR};
 use crate::bits::{ErrorBits, StatusBits};
-use crate::correction::TransitionMode;
+use crate::correction::{FeedAdaption, TransitionMode};
 use crate::extension::{Group, GroupAccess, TcExtension};
 use crate::group::Side;
 use crate::object_map::{TcObject, GROUP_COUNT};
@@ -110,8 +110,6 @@ impl<E: TcExtension> TcModule<E> {
             // WKZINDEX is below 1024.
             TcObject::WkzIndex => Value::I32(g.wkz.get() as i32),
             TcObject::TransitionMode => Value::I32(g.transition.code()),
-            TcObject::FeedAdaption => Value::I32(i32::from(g.feed_adaption.on)),
-            TcObject::TangFeedRmin => Value::F64(g.feed_adaption.rmin),
             // Write-only objects never reach read (checked by the table).
             _ => return Err(AccessError::WriteOnly),
         })
@@ -152,8 +150,6 @@ impl<E: TcExtension> TcModule<E> {
             TcObject::Left => g.side = Some(Side::Left),
             TcObject::Right => g.side = Some(Side::Right),
             TcObject::TransitionMode => g.transition = TransitionMode::from_code(i),
-            TcObject::FeedAdaption => g.feed_adaption.on = i == 1,
-            TcObject::TangFeedRmin => g.feed_adaption.rmin = d,
             _ => {}
         }
     }
@@ -178,6 +174,7 @@ impl<E: TcExtension> TcModule<E> {
         self.axis_nr = DEFAULT_AXIS_NR;
         self.plane = TcPlane::default();
         self.rotation = Rotation::default();
+        self.feed_adaption = FeedAdaption::default();
     }
 
     /// The group RESET: the group's registers and table back to default
