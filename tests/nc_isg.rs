@@ -292,8 +292,9 @@ fn musterstern_is_selected_at_its_inside_corner() {
     let l = 6800f64.sqrt();
     let b1_end = (-20.0 + 10.0 * 80.0 / l, 20.0 - 10.0 * 20.0 / l);
     assert!(close(ends[1], b1_end), "{ends:?}");
-    // Four concave corners, two lines each (G25): 1 + 8 + 8 + 1 + 1.
-    assert_eq!(n, 19, "{ends:?}");
+    // P1 -> C, the eight edges, four concave corners of two lines each
+    // (G25), the departure: 1 + 8 + 8 + 1.
+    assert_eq!(n, 18, "{ends:?}");
     assert!(path.iter().all(|e| e.arc.is_none()));
 }
 
@@ -389,7 +390,7 @@ fn tangfeed_adapts_the_feed_of_arcs_from_rmin_on() {
 fn g11_without_rmin_adapts_every_arc_and_g10_ends_it() {
     // Left of a CW arc (tool outside): R' = 10 + 2, F = 1000 * 12 / 10.
     let text = "G1 X0 Y0 F1000\nV.G.WZR = 2\nG11 G41 X0 Y10\nG2 X20 Y10 I10 J0\n\
-                G10 G2 X40 Y10 I10 J0\nG40 X50\n";
+                G10 G2 X40 Y10 I10 J0\nG1 G40 X50\n";
     let els = spooled(&clean(text));
     let arcs: Vec<f64> = els.iter().filter(|e| e.arc.is_some()).map(|e| e.feed).collect();
     assert_eq!(arcs.len(), 2, "{els:#?}");

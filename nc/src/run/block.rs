@@ -8,8 +8,8 @@ use super::eval::eval;
 use super::objects;
 use super::otc::whole;
 use super::plane::{self, RadiusArc};
-use super::selection::SelMode;
-use super::{Interpreter, MotionKind, RunErrorKind, Side, WarningKind};
+use super::trc_state::{SelMode, Side};
+use super::{Interpreter, MotionKind, RunErrorKind, WarningKind};
 use crate::model::{Axis, Block, CentreAxis, GCode, Item, OtcCommand};
 
 /// TRC change a block asks for.

@@ -6,16 +6,8 @@
 
 use tc_request::Request;
 
+use super::trc_state::FeedAdaption;
 use super::{Interpreter, RunErrorKind};
-
-/// What the program set, as last sent to the controller.
-#[derive(Debug, Clone, Copy, Default)]
-pub(super) struct FeedAdaption {
-    /// `G11` in force.
-    on: bool,
-    /// RMIN in mm.
-    rmin: f64,
-}
 
 impl Interpreter<'_> {
     /// `G10` (false) or `G11` (true).

@@ -20,39 +20,9 @@ use tc_request::{Motion, Request};
 use uoi::Value;
 
 use super::plane::{self, Seg, CLOSURE_TOL};
-use super::{objects, Interpreter, RunErrorKind, Side};
+use super::trc_state::{Read, Side, MAX_CONTOUR_BLOCKS};
+use super::{objects, At, Interpreter, RunErrorKind};
 use crate::error::Location;
-
-/// Most motions of one `G238` contour (read whole before it runs).
-pub const MAX_CONTOUR_BLOCKS: usize = 100_000;
-
-/// A motion of the contour as read, with its block.
-struct Read {
-    motion: Motion,
-    seg: Option<Seg>,
-    at: Option<Location>,
-    block: super::At,
-}
-
-/// A `G238` contour being read.
-pub(super) struct Contour {
-    side: Side,
-    /// The selection block, once read.
-    selection: Option<Read>,
-    /// B1 .. Bn, and motions off the plane among them, in order.
-    motions: Vec<Read>,
-}
-
-impl Contour {
-    /// A contour selected on side `side`, nothing read yet.
-    pub(super) fn new(side: Side) -> Contour {
-        Contour {
-            side,
-            selection: None,
-            motions: Vec::new(),
-        }
-    }
-}
 
 /// Error text of each check, by the block it names.
 mod why {
@@ -70,6 +40,14 @@ mod why {
     pub const NO_CUT: &str = "the offset geometries of the last and first block do not meet";
 }
 
+/// The block a read motion came from, as requests name it.
+fn block_of(read: &Read) -> At {
+    read.at.map_or(At::default(), |l| At {
+        line: l.line,
+        number: l.block_number,
+    })
+}
+
 impl Interpreter<'_> {
     /// A motion while a `G238` contour is read: kept, not sent.
     pub(super) fn contour_motion(
@@ -78,12 +56,7 @@ impl Interpreter<'_> {
         seg: Option<Seg>,
         at: Option<Location>,
     ) -> Result<(), RunErrorKind> {
-        let read = Read {
-            motion,
-            seg,
-            at,
-            block: self.at,
-        };
+        let read = Read { motion, seg, at };
         let Some(contour) = self.sel.contour.as_mut() else {
             return Ok(());
         };
@@ -173,7 +146,7 @@ impl Interpreter<'_> {
 
     /// The error `what`, placed at the block of `read`.
     fn blame(&mut self, read: &Read, what: &'static str) -> RunErrorKind {
-        self.at = read.block;
+        self.at = block_of(read);
         self.pinned = read.at;
         RunErrorKind::InsideCorner(what)
     }
@@ -189,7 +162,7 @@ impl Interpreter<'_> {
     ) -> Result<(), RunErrorKind> {
         let (b1, bn) = ends;
         let here = self.at;
-        self.at = selection.block;
+        self.at = block_of(&selection);
         self.pinned = selection.at;
         let p2 = b1.start();
         match bn {
@@ -217,7 +190,7 @@ impl Interpreter<'_> {
             }
         }
         for read in motions {
-            self.at = read.block;
+            self.at = block_of(&read);
             self.pinned = read.at;
             self.send_motion(&read.motion, read.seg.filter(Seg::has_length))?;
         }

@@ -22,6 +22,7 @@ mod otc;
 mod plane;
 mod selection;
 mod structure;
+mod trc_state;
 mod vars;
 mod window;
 
@@ -35,7 +36,8 @@ use crate::model::Block;
 use crate::stream::Blocks;
 
 pub use dtable::DTable;
-pub use inside_corner::MAX_CONTOUR_BLOCKS;
+pub use trc_state::MAX_CONTOUR_BLOCKS;
+use trc_state::{FeedAdaption, Selection, Side};
 pub use error::{Located, RunError, RunErrorKind, Warning, WarningKind};
 pub use objects::{wear_axis, WEAR_RADIUS, WEAR_RADIUS_CONT};
 
@@ -109,13 +111,6 @@ enum MotionKind {
     Ccw,
 }
 
-/// TRC side of G41/G42.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Side {
-    Left,
-    Right,
-}
-
 /// The interpreter's state between blocks.
 struct Interpreter<'c> {
     report: &'c mut Report,
@@ -130,9 +125,9 @@ struct Interpreter<'c> {
     /// (each of its blocks in turn).
     pinned: Option<Location>,
     /// Selection and deselection of the correction.
-    sel: selection::Selection,
+    sel: Selection,
     /// Feed adaptation (`G10`/`G11`, `#TANGFEED`).
-    feed: feed::FeedAdaption,
+    feed: FeedAdaption,
     pos: AxisPos,
     motion: Option<MotionKind>,
     incremental: bool,
@@ -276,8 +271,8 @@ impl<'c> Interpreter<'c> {
             in_block: false,
             col: 1,
             pinned: None,
-            sel: selection::Selection::default(),
-            feed: feed::FeedAdaption::default(),
+            sel: Selection::default(),
+            feed: FeedAdaption::default(),
             pos: [0.0; tc_request::AXES],
             motion: None,
             incremental: false,

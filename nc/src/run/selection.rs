@@ -13,78 +13,9 @@
 use tc_request::{AxisPos, AxisWords, Motion, Request};
 use uoi::{Value, ValueType};
 
-use super::inside_corner::Contour;
 use super::plane::{self, Seg};
-use super::{objects, Interpreter, RunErrorKind, Side, WarningKind};
-use crate::error::Location;
-
-/// The selection and deselection mode (the modal group of `G138`..`G239`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum SelMode {
-    /// `G138`: direct, the controller's approach and departure.
-    Direct,
-    /// `G139` (initial state): indirect, run as `G138`.
-    Indirect,
-    /// `G236`: direct on the path, run as `G138`.
-    OnPath,
-    /// `G237`: perpendicular.
-    Perpendicular,
-    /// `G238`: at an inside corner of a closed contour.
-    InsideCorner,
-    /// `G239`: direct, deselection without a block.
-    WithoutBlock,
-}
-
-/// The selection state of a run.
-pub(super) struct Selection {
-    /// The mode in force.
-    pub mode: SelMode,
-    /// `G139`, `G236`, `G05` already warned about (one warning each).
-    warned: [bool; 3],
-    /// `G237` selected, waiting for the first motion in the plane.
-    pub pending: Option<Side>,
-    /// The last motion in the plane that went into the running correction
-    /// (the held block Bn at a deselection).
-    pub last: Option<Seg>,
-    /// The next motion follows a `G239` deselection: not an arc.
-    pub after_g239: bool,
-    /// A `G238` contour being read, up to its `G40`.
-    pub contour: Option<Contour>,
-    /// The next motion is the departure of a `G238` contour: a line.
-    pub departure: bool,
-    /// The block of the last request that went into the correction: the
-    /// one a fault found later names.
-    pub fault_at: Option<Location>,
-    /// A correction ran since ERROR was last looked at.
-    pub unchecked: bool,
-}
-
-impl Default for Selection {
-    fn default() -> Self {
-        Selection {
-            mode: SelMode::Indirect,
-            warned: [false; 3],
-            pending: None,
-            last: None,
-            after_g239: false,
-            contour: None,
-            departure: false,
-            fault_at: None,
-            unchecked: false,
-        }
-    }
-}
-
-impl SelMode {
-    /// The word that runs as `G138`, with its place among the warnings.
-    fn runs_as_direct(self) -> Option<(&'static str, usize)> {
-        match self {
-            SelMode::Indirect => Some(("G139", 0)),
-            SelMode::OnPath => Some(("G236", 1)),
-            _ => None,
-        }
-    }
-}
+use super::trc_state::{Contour, SelMode, Side};
+use super::{objects, Interpreter, RunErrorKind, WarningKind};
 
 impl Interpreter<'_> {
     /// A mode word (`G138`..`G239`): in force from the next selection or
