@@ -20,7 +20,10 @@ pub fn command(i: &mut &str) -> ModalResult<Item> {
     alt((
         preceded(Caseless("OTC"), cut_err(otc)),
         preceded(Caseless("TANGFEED"), cut_err(tangfeed)),
-        preceded((Caseless("SET"), space1, Caseless("TANGFEED")), cut_err(set_tangfeed)),
+        preceded(
+            (Caseless("SET"), space1, Caseless("TANGFEED")),
+            cut_err(set_tangfeed),
+        ),
         preceded(Caseless("set"), cut_err(set_tool_param)),
         preceded(Caseless("get"), cut_err(get_tool_param)),
         preceded(Caseless("KIN"), cut_err(kin)),

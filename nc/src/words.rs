@@ -54,7 +54,10 @@ fn is_assignment(bytes: &[u8]) -> bool {
         return false;
     }
     let rest = &bytes[1 + digits..];
-    let spaces = rest.iter().take_while(|c| **c == b' ' || **c == b'\t').count();
+    let spaces = rest
+        .iter()
+        .take_while(|c| **c == b' ' || **c == b'\t')
+        .count();
     rest.get(spaces) == Some(&b'=')
 }
 

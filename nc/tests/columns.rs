@@ -126,7 +126,11 @@ fn a_faulted_group_names_its_error_bits() {
     };
     assert!(bits.iter().any(|b| b == "CenterError"), "{e}");
     assert_eq!(at(&e), (3, Some(3), 7));
-    assert!(e.to_string().contains("faulted on this block's profile (ERROR: "), "{e}");
+    assert!(
+        e.to_string()
+            .contains("faulted on this block's profile (ERROR: "),
+        "{e}"
+    );
 }
 
 #[test]

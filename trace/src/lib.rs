@@ -29,5 +29,6 @@ pub use files::{load_corpus, load_trace, open_trace, trace_files};
 pub use model::{Expect, Header, SpoolExpect, SpoolKind, Step, Trace, TraceError, DEFAULT_TOL};
 pub use parse::{parse_trace, TraceReader, MAX_LINE_BYTES};
 pub use replay::{
-    format_record, format_record_fed, fresh_emulator, replay, replay_on, replay_stream, Mismatch, Replayed, Target,
+    format_record, format_record_fed, fresh_emulator, replay, replay_on, replay_stream, Mismatch,
+    Replayed, Target,
 };

@@ -18,7 +18,7 @@ impl Interpreter<'_> {
 
     /// `#TANGFEED [RMIN=rmin]` (0 when no RMIN is given).
     pub(super) fn set_tangfeed(&mut self, rmin: f64) -> Result<(), RunErrorKind> {
-        if !(rmin >= 0.0) {
+        if rmin.is_nan() || rmin < 0.0 {
             return Err(RunErrorKind::TangFeedRmin(rmin));
         }
         let on = self.feed.on;

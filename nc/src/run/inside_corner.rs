@@ -28,7 +28,8 @@ use crate::error::Location;
 mod why {
     pub const SELECTION_ARC: &str = "the selection block must be a line";
     pub const NO_CONTOUR: &str = "no contour between the selection block and G40";
-    pub const NOT_CLOSED: &str = "the last contour block must end where the selection block ends (P2)";
+    pub const NOT_CLOSED: &str =
+        "the last contour block must end where the selection block ends (P2)";
     pub const FULL_CIRCLE: &str = "the last contour block must not be a full circle";
     pub const FIRST_ARC: &str =
         "the first or the last contour block must be a line here (docs/decisions.md)";

@@ -2,8 +2,9 @@
 //! the requests of `tc-request` (object writes, motion commands, `EXEC`),
 //! which a [`Controller`] carries out. It keeps the modal state (motion
 //! kind, G90/G91 and the absolute position, feed, plane, tool, TRC side),
-//! the parameters and variables and the D table; it has no geometry of its
-//! own: the correction is the controller's.
+//! the parameters and variables and the D table, the selection mode and
+//! the feed adaptation. The correction is the controller's; the selection
+//! modes only add elements around it (`selection.rs`, `inside_corner.rs`).
 //!
 //! The program is pulled block by block; only the blocks of the outermost
 //! open `$FOR`/`$WHILE` are held so that the loop can jump back, `$IF` and
@@ -36,10 +37,10 @@ use crate::model::Block;
 use crate::stream::Blocks;
 
 pub use dtable::DTable;
-pub use trc_state::MAX_CONTOUR_BLOCKS;
-use trc_state::{FeedAdaption, Selection, Side};
 pub use error::{Located, RunError, RunErrorKind, Warning, WarningKind};
 pub use objects::{wear_axis, WEAR_RADIUS, WEAR_RADIUS_CONT};
+pub use trc_state::MAX_CONTOUR_BLOCKS;
+use trc_state::{FeedAdaption, Selection, Side};
 
 /// Most blocks one run executes (loops included) before it stops with an
 /// error.

@@ -212,7 +212,9 @@ impl Interpreter<'_> {
             return Err(RunErrorKind::ArcAfterG239);
         }
         if departure && is_arc {
-            return Err(RunErrorKind::InsideCorner("the departure after G40 must be a line"));
+            return Err(RunErrorKind::InsideCorner(
+                "the departure after G40 must be a line",
+            ));
         }
         if after_g239 || departure {
             // The controller's last programmed end is not where the
@@ -233,7 +235,7 @@ impl Interpreter<'_> {
         motion: &Motion,
         in_plane: Option<Seg>,
     ) -> Result<(), RunErrorKind> {
-        self.send(&Request::Motion(motion.clone()))?;
+        self.send(&Request::Motion(*motion))?;
         if self.trc.is_some() {
             // Answered: a fault found from now on is this profile's.
             self.sel.fault_at = self.location();
@@ -248,7 +250,12 @@ impl Interpreter<'_> {
     /// its offset start S' (for an arc the controller's approach is that
     /// line), then the correction started with the tool at S' and B1
     /// starting at S.
-    fn perpendicular_select(&mut self, side: Side, b1: &Seg, arc: bool) -> Result<(), RunErrorKind> {
+    fn perpendicular_select(
+        &mut self,
+        side: Side,
+        b1: &Seg,
+        arc: bool,
+    ) -> Result<(), RunErrorKind> {
         self.sel.pending = None;
         self.start_trc(side)?;
         if arc {

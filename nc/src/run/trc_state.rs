@@ -125,4 +125,3 @@ pub(super) struct FeedAdaption {
     /// RMIN in mm.
     pub rmin: f64,
 }
-

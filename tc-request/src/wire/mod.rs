@@ -221,7 +221,9 @@ impl Reply {
         };
         let Op::Ext(code) = op else { return None };
         match TcOp::from_code(code)? {
-            TcOp::Motion | TcOp::Exec | TcOp::Setup if payload.is_empty() => Some(Reply::Ok),
+            TcOp::Motion | TcOp::Exec | TcOp::Setup | TcOp::FeedAdapt if payload.is_empty() => {
+                Some(Reply::Ok)
+            }
             TcOp::Pos => Some(Reply::Pos(
                 PosAns::ref_from_bytes(payload).ok()?.pos.map(|v| v.get()),
             )),
