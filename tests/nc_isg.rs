@@ -312,6 +312,41 @@ fn musterstern_is_selected_at_its_inside_corner() {
     assert!(path.iter().all(|e| e.arc.is_none()));
 }
 
+#[test]
+fn g238_with_an_arc_as_last_block() {
+    // A square (0,0) (40,0) (40,40) (0,40) closed by an arc about (10, 20)
+    // (radius sqrt(500), counter-clockwise), left, radius 2: the corner
+    // arc -> first line at P2 (0, 0) is an inside corner. The offset line
+    // y = 2 of B1 meets the offset circle (radius sqrt(500) - 2) at
+    // x = 10 - sqrt((sqrt(500) - 2)² - 18²); so does y = 38 of the top.
+    let text = "G1 X10 Y10 F1000\nV.G.WZR = 2\nG238 G41 G1 X0 Y0\nX40\nY40\nX0\n\
+                G3 X0 Y0 I10 J-20\nG40 G1 X10 Y10\n";
+    let run = clean(text);
+    let r = 500f64.sqrt() - 2.0;
+    let x0 = 10.0 - (r * r - 324.0).sqrt();
+    assert_elements(
+        &spooled(&run),
+        &[
+            El::L(10.0, 10.0),
+            El::L(x0, 2.0),
+            El::L(38.0, 2.0),
+            El::L(38.0, 38.0),
+            El::L(x0, 38.0),
+            El::C(x0, 2.0, [10.0, 20.0], true),
+            El::L(10.0, 10.0),
+        ],
+    );
+    // An arc as the first contour block too: refused at B1 (decision 357).
+    let both = text.replace(
+        "G238 G41 G1 X0 Y0\nX40\n",
+        "G238 G41 G1 X0 Y0\nG2 X40 Y0 I20 J20\nG1 ",
+    );
+    match stopped(&both) {
+        (RunErrorKind::InsideCorner(w), 4, _) => assert!(w.contains("must be a line"), "{w}"),
+        other => panic!("{other:?}"),
+    }
+}
+
 /// The star of musterstern.nc with `edit` applied to its program.
 fn star(edit: impl Fn(String) -> String) -> String {
     edit(program("musterstern.nc"))
