@@ -29,7 +29,7 @@ uoi::code_list! {
         /// Spooler length.
         Queue = 0x22,
         /// Feed adaptation of corrected arcs (NC G10/G11).
-        FeedAdapt = 0x24,
+        FeedAdapt = 0x12,
         /// A fresh emulator (conformance replay).
         Setup = 0x30,
         /// Take logged spool elements (conformance replay).
