@@ -603,3 +603,122 @@ proptest! {
         prop_assert!(near(end[0], x) && near(end[1], q.1));
     }
 }
+
+// ------------------------------------------- review round: G238 and more
+
+#[test]
+fn g238_with_an_arc_first_and_a_line_last() {
+    // B1: G3 R100 from (0,0) to (100,0), centre (50, sqrt(7500)), left
+    // radius 10: offset radius 90. Bn: (0,100) -> (0,0), offset x = 10.
+    // C: x = 10 on the offset circle, y = sqrt(7500) - sqrt(90² - 40²).
+    let text = "N10 G138 V.G.WZR=10\nN20 G01 X50 Y50 F1000\nN30 G238\nN40 G41 X0 Y0\n\
+                N50 G3 X100 Y0 R100\nN60 G1 X100 Y100\nN70 X0 Y100\nN80 X0 Y0\nN90 G40\n\
+                N100 G1 X50 Y50\n";
+    let run = clean(text);
+    let k = 7500f64.sqrt();
+    let c = k - 6500f64.sqrt();
+    assert_elements(
+        &spooled(&run),
+        &[
+            El::L(50.0, 50.0),
+            El::L(10.0, c),
+            El::C(90.0, c, [50.0, k], true),
+            El::L(90.0, 90.0),
+            El::L(10.0, 90.0),
+            El::L(10.0, c),
+            El::L(50.0, 50.0),
+        ],
+    );
+}
+
+#[test]
+fn g238_checks_its_departure_before_anything_is_spooled() {
+    let text = star(|t| t.replace("N400 G00 X0Y0", "N400 G02 X0 Y0 I0 J-29.384"));
+    let run = run_nc(&text);
+    assert!(run.error.is_some());
+    // Only the 11 elements that draw the contour before N210.
+    assert_eq!(spooled(&run).len(), 11);
+}
+
+#[test]
+fn g238_again_while_its_contour_is_read_is_21317() {
+    let text = star(|t| t.replace("N320 X-100 Y0", "N320 G238 X-100 Y0"));
+    let (kind, _, block) = stopped(&text);
+    assert_eq!(
+        (kind, block),
+        (RunErrorKind::InsideCornerWhileRunning, Some(320))
+    );
+}
+
+#[test]
+fn g05_before_g238_in_the_same_block_is_ignored_with_21316() {
+    let text = star(|t| {
+        t.replace("N210 G238", "N210")
+            .replace("N230 G41", "N230 G05 G238 G41")
+    });
+    let run = clean(&text);
+    let w: Vec<_> = run.report.warnings.iter().map(|w| w.kind.clone()).collect();
+    assert!(w.contains(&WarningKind::TangentialIgnored), "{w:?}");
+    let c = 100.0 - 6800f64.sqrt() / 2.0;
+    let first = spooled(&run)[11];
+    assert!(
+        near(first.end[0], 0.0) && near(first.end[1], c),
+        "{first:?}"
+    );
+}
+
+#[test]
+fn g238_with_radius_0_runs_on_the_contour() {
+    let run = clean(&star(|t| t.replace("V.G.WZR = 10", "V.G.WZR = 0")));
+    let ends: Vec<(f64, f64)> = spooled(&run)[11..]
+        .iter()
+        .map(|e| (e.end[0], e.end[1]))
+        .collect();
+    assert_eq!(ends[0], (0.0, 100.0), "P1 -> C = P2: {ends:?}");
+    assert_eq!(ends[ends.len() - 2], (0.0, 100.0), "{ends:?}");
+}
+
+#[test]
+fn modal_words_inside_a_g238_contour_act_from_their_block() {
+    // G26 at N340: the concave corner N310 -> N320 keeps G25's two lines,
+    // the three after it get an arc each.
+    let run = clean(&star(|t| t.replace("N340 X0 Y-100", "N340 G26 X0 Y-100")));
+    let path = &spooled(&run)[11..];
+    let arcs = path.iter().filter(|e| e.arc.is_some()).count();
+    assert_eq!(arcs, 3, "{path:#?}");
+    assert!(path[2].arc.is_none() && path[3].arc.is_none());
+}
+
+#[test]
+fn g239_keeps_the_offset_bn_was_corrected_with() {
+    // The radius changes to 5 after the last block: Bn was spooled with 10
+    // (to Y30), and the program goes on from there.
+    let text = "G1 X0 Y0\nV.G.WZR = 10\nG239 G41 X30 Y20\nX120\nV.G.WZR = 5\nG40\nG0 X150\n";
+    let els = spooled(&clean(text));
+    let tail: Vec<(f64, f64)> = els
+        .iter()
+        .rev()
+        .take(2)
+        .map(|e| (e.end[0], e.end[1]))
+        .collect();
+    assert_eq!(tail, vec![(150.0, 30.0), (120.0, 30.0)]);
+}
+
+#[test]
+fn the_g237_element_runs_at_the_feed_of_its_block() {
+    let text = "G1 X0 Y0 F1000\nV.G.WZR = 10\nN30 G237 G41 X100 Y0 F500\nG40\n";
+    let els = spooled(&clean(text));
+    assert_eq!(
+        (els[1].end[0], els[1].end[1], els[1].feed),
+        (0.0, 10.0, 500.0)
+    );
+}
+
+#[test]
+fn a_trc_option_is_an_error_naming_it() {
+    let (kind, line, _) = stopped("G1 X0\n#TRC [G236_LIN=1]\n");
+    assert_eq!(
+        (kind, line),
+        (RunErrorKind::TrcOption("G236_LIN".into()), 2)
+    );
+}

@@ -3,7 +3,7 @@
 use winnow::ascii::{space0, space1, Caseless};
 use winnow::combinator::{alt, cut_err, delimited, opt, preceded, terminated};
 use winnow::error::{ContextError, ErrMode, StrContext, StrContextValue};
-use winnow::token::take_till;
+use winnow::token::{take_till, take_while};
 use winnow::{ModalResult, Parser};
 
 use crate::expr::{integer, var, word_value, Expr};
@@ -20,6 +20,7 @@ pub fn command(i: &mut &str) -> ModalResult<Item> {
     alt((
         preceded(Caseless("OTC"), cut_err(otc)),
         preceded(Caseless("TANGFEED"), cut_err(tangfeed)),
+        preceded(Caseless("TRC"), cut_err(trc_options)),
         preceded(
             (Caseless("SET"), space1, Caseless("TANGFEED")),
             cut_err(set_tangfeed),
@@ -52,6 +53,21 @@ fn tangfeed(i: &mut &str) -> ModalResult<Item> {
     ))
     .parse_next(i)?;
     Ok(Item::TangFeed(rmin.flatten()))
+}
+
+/// `#TRC [NAME ...]`: the first option's name is kept for the run's error.
+fn trc_options(i: &mut &str) -> ModalResult<Item> {
+    let name = delimited(
+        (space0, '[', space0),
+        take_while(1.., |c: char| c.is_ascii_alphanumeric() || c == '_'),
+        take_till(0.., |c| c == ']'),
+    )
+    .context(expected("[OPTION ..] after #TRC"))
+    .parse_next(i)?;
+    cut_err(']')
+        .context(expected("']' closing the #TRC options"))
+        .parse_next(i)?;
+    Ok(Item::TrcOption(name.to_ascii_uppercase()))
 }
 
 /// `#SET TANGFEED RMIN [<v>]`, the older form of `#TANGFEED [RMIN=<v>]`.

@@ -45,6 +45,9 @@ pub enum Item {
     /// `R`: the radius of an arc given by its end point (`G2 X10 R5`);
     /// negative for an arc of more than 180°.
     ArcRadius(Expr),
+    /// `#TRC [OPTION ..]`: its first option's name (options of the radius
+    /// correction are not in this emulator: an error at run time).
+    TrcOption(String),
     /// `#TANGFEED [RMIN=..]` (or `#SET TANGFEED RMIN [..]`): the smallest
     /// programmed arc radius whose feed G11 adapts; `None` for 0.
     TangFeed(Option<Expr>),

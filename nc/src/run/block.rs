@@ -31,8 +31,9 @@ struct Plan<'b> {
     transition: Option<(i32, usize)>,
     tool: Option<(u32, usize)>,
     trc: Option<(Trc, usize)>,
-    /// `G05` in this block (tangential selection or deselection).
-    tangential: bool,
+    /// `G05` in this block (tangential selection or deselection), with
+    /// its column.
+    tangential: Option<usize>,
     /// `R`: the radius of an arc given by its end point.
     radius: Option<f64>,
     otc: Vec<(&'b OtcCommand, usize)>,
@@ -100,6 +101,9 @@ impl Interpreter<'_> {
                 plan.tool = Some((d, self.col));
             }
             Item::Tool(_) => self.warn(WarningKind::ToolWord),
+            Item::TrcOption(name) => {
+                return Err(RunErrorKind::TrcOption(name.clone()));
+            }
             Item::ArcRadius(e) => {
                 plan.radius = Some(self.value(e)?);
                 plan.motion_col.get_or_insert(self.col);
@@ -167,7 +171,7 @@ impl Interpreter<'_> {
             TrcOff => plan.trc = Some((Trc::Off, self.col)),
             TrcLeft => plan.trc = Some((Trc::On(Side::Left), self.col)),
             TrcRight => plan.trc = Some((Trc::On(Side::Right), self.col)),
-            TrcTangential => plan.tangential = self.tangential_word()?,
+            TrcTangential => plan.tangential = Some(self.col),
             TrcDirect => self.set_mode(SelMode::Direct)?,
             TrcIndirect => self.set_mode(SelMode::Indirect)?,
             TrcOnPath => self.set_mode(SelMode::OnPath)?,
@@ -202,11 +206,12 @@ impl Interpreter<'_> {
             self.col = *col;
             self.otc(cmd)?;
         }
+        let tangential = plan.tangential.is_some_and(|col| self.tangential_acts(col));
         if let Some((trc, col)) = plan.trc {
             self.col = col;
             match trc {
-                Trc::Off => self.deselect(plan.tangential)?,
-                Trc::On(side) => self.select(side, plan.tangential)?,
+                Trc::Off => self.deselect(tangential)?,
+                Trc::On(side) => self.select(side, tangential)?,
             }
         }
         if let Some(col) = plan.motion_col {

@@ -227,6 +227,9 @@ pub enum RunErrorKind {
          stands (program a line first)"
     )]
     ArcAfterG239,
+    /// A `#TRC [..]` option: not in this emulator.
+    #[error("#TRC option {0} is not in this emulator (docs/nc.md)")]
+    TrcOption(String),
     /// `#TANGFEED [RMIN=..]` with a negative radius.
     #[error("#TANGFEED: RMIN must be 0 or more, not {0}")]
     TangFeedRmin(f64),

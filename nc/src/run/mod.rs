@@ -248,9 +248,10 @@ impl Interpreter<'_> {
     /// without its `G40` is an error; a fault of the correction not yet
     /// answered stops the run.
     fn end_of_program(&mut self) -> Result<(), RunErrorKind> {
-        if self.sel.contour.is_some() {
+        if self.contour_open() {
             return Err(RunErrorKind::InsideCorner("the contour has no G40"));
         }
+        self.flush_contour()?;
         self.check_fault()
     }
 }
@@ -357,6 +358,9 @@ impl<'c> Interpreter<'c> {
     /// As [`Self::request`], for a request whose answer is only `ok` or
     /// an error (writes, motions, `EXEC`).
     fn send(&mut self, req: &Request) -> Result<(), RunErrorKind> {
+        if self.held(req)? {
+            return Ok(());
+        }
         let reply = self.ctl.call(req, self.at);
         if matches!(reply, Reply::Ok) {
             return Ok(());

@@ -320,15 +320,16 @@ pub(super) fn cut_point(last: &Seg, first: &Seg, d: f64, k: P2) -> Option<P2> {
 }
 
 /// Whether the corner from `a` into `b` is an inside corner for the signed
-/// offset `d` (docs/trc.md, "Corner": cases 2 and 4).
-pub(super) fn is_inside_corner(a: &Seg, b: &Seg, d: f64) -> bool {
+/// offset `d` (docs/trc.md, "Corner": cases 2 and 4) on side `side` (+1
+/// left, -1 right; what counts when the radius is 0).
+pub(super) fn is_inside_corner(a: &Seg, b: &Seg, d: f64, side: f64) -> bool {
     let (ta, tb) = (a.end_tangent(), b.start_tangent());
     let c = cross(ta, tb);
     let theta = c.abs().atan2(dot(ta, tb));
-    if d == 0.0 || theta <= CORNER_TOL {
+    if theta <= CORNER_TOL {
         return false;
     }
-    let s_eff = d.signum();
+    let s_eff = if d == 0.0 { side } else { d.signum() };
     let outside_of = |seg: &Seg| match seg {
         Seg::Arc { ccw, .. } => s_eff * if *ccw { 1.0 } else { -1.0 } < 0.0,
         Seg::Line { .. } => false,
@@ -433,8 +434,9 @@ mod tests {
             s: [0.0, 100.0],
             e: [-20.0, 20.0],
         };
-        assert!(is_inside_corner(&last, &first, 10.0));
-        assert!(!is_inside_corner(&last, &first, -10.0));
+        assert!(is_inside_corner(&last, &first, 10.0, 1.0));
+        assert!(!is_inside_corner(&last, &first, -10.0, -1.0));
+        assert!(is_inside_corner(&last, &first, 0.0, 1.0));
         let c = cut_point(&last, &first, 10.0, [0.0, 100.0]).unwrap();
         // On the axis of symmetry, below the tip.
         assert!(c[0].abs() < 1e-9 && c[1] < 100.0);

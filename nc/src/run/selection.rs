@@ -21,21 +21,23 @@ impl Interpreter<'_> {
     /// A mode word (`G138`..`G239`): in force from the next selection or
     /// deselection; `G238` only while no correction runs (ISG 21317).
     pub(super) fn set_mode(&mut self, mode: SelMode) -> Result<(), RunErrorKind> {
-        if mode == SelMode::InsideCorner && (self.trc.is_some() || self.sel.pending.is_some()) {
+        let running = self.trc.is_some() || self.sel.pending.is_some() || self.contour_open();
+        if mode == SelMode::InsideCorner && running {
             return Err(RunErrorKind::InsideCornerWhileRunning);
         }
         self.sel.mode = mode;
         Ok(())
     }
 
-    /// `G05`: whether it acts in this block; ignored with a warning while
-    /// `G238` is in force (ISG 21316).
-    pub(super) fn tangential_word(&mut self) -> Result<bool, RunErrorKind> {
+    /// `G05` in a block: whether it acts, with the block's mode word in
+    /// force; ignored with a warning while `G238` is (ISG 21316).
+    pub(super) fn tangential_acts(&mut self, col: usize) -> bool {
         if self.sel.mode == SelMode::InsideCorner {
+            self.col = col;
             self.warn(WarningKind::TangentialIgnored);
-            return Ok(false);
+            return false;
         }
-        Ok(true)
+        true
     }
 
     /// One warning per program for a mode run as `G138`.
@@ -55,11 +57,14 @@ impl Interpreter<'_> {
 
     /// `G41`/`G42`.
     pub(super) fn select(&mut self, side: Side, tangential: bool) -> Result<(), RunErrorKind> {
-        if self.sel.contour.is_some() {
+        if self.contour_open() {
             return Err(RunErrorKind::InsideCorner(
                 "a side programmed again while the contour runs",
             ));
         }
+        // A G238 contour waiting for its departure runs first.
+        self.flush_contour()?;
+        self.sel.after_g239 = false;
         let running = self.trc.is_some() || self.sel.pending.is_some();
         if running && self.sel.mode == SelMode::Perpendicular {
             return Err(RunErrorKind::PerpendicularReselect);
@@ -114,15 +119,18 @@ impl Interpreter<'_> {
 
     /// `G40`.
     pub(super) fn deselect(&mut self, tangential: bool) -> Result<(), RunErrorKind> {
-        if self.sel.contour.is_some() {
-            return self.run_contour();
+        if self.contour_open() {
+            return self.close_contour();
         }
         if self.sel.pending.take().is_some() || self.trc.is_none() {
             return Ok(());
         }
         let held = self.sel.last;
-        let d = match self.trc {
-            Some(side) if self.sel.mode == SelMode::WithoutBlock => self.offset_for(side)?,
+        let d = match (self.trc, self.sel.bn_offset) {
+            (_, Some(d)) => d,
+            (Some(side), None) if self.sel.mode == SelMode::WithoutBlock => {
+                self.offset_for(side)?
+            }
             _ => 0.0,
         };
         self.write(objects::STATUS, Value::I32(0))?;
@@ -200,21 +208,14 @@ impl Interpreter<'_> {
     /// selection is made, a running correction remembers it.
     pub(super) fn motion(&mut self, motion: Motion, start: AxisPos) -> Result<(), RunErrorKind> {
         let seg = self.seg_of(&motion, &start);
-        if self.sel.contour.is_some() {
-            let at = self.location();
-            return self.contour_motion(motion, seg, at);
-        }
-        let mut motion = motion;
+        let departure = self.sel.contour.is_some();
+        let Some(mut motion) = self.contour_motion(motion, seg)? else {
+            return Ok(());
+        };
         let is_arc = matches!(motion, Motion::Cir { .. });
         let after_g239 = std::mem::take(&mut self.sel.after_g239);
-        let departure = std::mem::take(&mut self.sel.departure);
         if after_g239 && is_arc {
             return Err(RunErrorKind::ArcAfterG239);
-        }
-        if departure && is_arc {
-            return Err(RunErrorKind::InsideCorner(
-                "the departure after G40 must be a line",
-            ));
         }
         if after_g239 || departure {
             // The controller's last programmed end is not where the
@@ -223,7 +224,7 @@ impl Interpreter<'_> {
         }
         let in_plane = seg.filter(Seg::has_length);
         if let (Some(side), Some(b1)) = (self.sel.pending, in_plane) {
-            self.perpendicular_select(side, &b1, is_arc)?;
+            self.perpendicular_select(side, &b1, &motion)?;
         }
         self.send_motion(&motion, in_plane)
     }
@@ -241,6 +242,7 @@ impl Interpreter<'_> {
             self.sel.fault_at = self.location();
             if in_plane.is_some() {
                 self.sel.last = in_plane;
+                self.sel.bn_offset = None;
             }
         }
         Ok(())
@@ -254,8 +256,13 @@ impl Interpreter<'_> {
         &mut self,
         side: Side,
         b1: &Seg,
-        arc: bool,
+        motion: &Motion,
     ) -> Result<(), RunErrorKind> {
+        let (arc, feed) = match *motion {
+            Motion::Cir { feed, .. } => (true, feed),
+            Motion::Lin { feed, .. } | Motion::Rap { feed, .. } => (false, feed),
+            _ => (false, None),
+        };
         self.sel.pending = None;
         self.start_trc(side)?;
         if arc {
@@ -267,7 +274,9 @@ impl Interpreter<'_> {
         let s = b1.start();
         let t = b1.start_tangent();
         self.lead_in_from([s[0] - t[0], s[1] - t[1]])?;
-        self.plane_line(s)?;
+        // At B1's feed: the inserted element keeps the block's F.
+        let words = self.plane_words(s);
+        self.send(&Request::Motion(Motion::Lin { words, feed }))?;
         self.write(objects::STATUS, Value::I32(0))?;
         self.write(objects::STATUS, Value::I32(1))
     }
@@ -294,14 +303,26 @@ impl Interpreter<'_> {
     }
 
     /// A radius change (`D`, `V.G.WZ_AKT.R`): refused while a `G238`
-    /// contour runs.
+    /// contour is read; while a correction runs, the offset the held block
+    /// Bn was corrected with is kept for a `G239` deselection.
     pub(super) fn radius_change(&mut self) -> Result<(), RunErrorKind> {
-        if self.sel.contour.is_some() {
+        if self.contour_open() {
             return Err(RunErrorKind::InsideCorner(
                 "the radius cannot change while the contour runs",
             ));
         }
+        if let (Some(side), Some(_), None) = (self.trc, self.sel.last, self.sel.bn_offset) {
+            self.sel.bn_offset = Some(self.offset_for(side)?);
+        }
         Ok(())
+    }
+
+    /// A `G238` contour is being read (its `G40` not yet come).
+    pub(super) fn contour_open(&self) -> bool {
+        self.sel
+            .contour
+            .as_ref()
+            .is_some_and(|c| c.closed.is_none())
     }
 
     /// After a deselection or at the end: a fault of the correction not

@@ -3,9 +3,9 @@
 //! `inside_corner.rs` and `feed.rs` keep between blocks. A leaf: it imports
 //! nothing of the interpreter, so the interpreter can hold it.
 
-use tc_request::Motion;
+use tc_request::Request;
 
-use super::plane::Seg;
+use super::plane::{Seg, P2};
 use crate::error::Location;
 
 /// TRC side of G41/G42.
@@ -47,8 +47,9 @@ pub(super) struct Selection {
     pub after_g239: bool,
     /// A `G238` contour being read, up to its `G40`.
     pub contour: Option<Contour>,
-    /// The next motion is the departure of a `G238` contour: a line.
-    pub departure: bool,
+    /// The signed offset Bn was corrected with, when the radius changed
+    /// after it was sent (`None`: the radius in force).
+    pub bn_offset: Option<f64>,
     /// The block of the last request that went into the correction: the
     /// one a fault found later names.
     pub fault_at: Option<Location>,
@@ -65,7 +66,7 @@ impl Default for Selection {
             last: None,
             after_g239: false,
             contour: None,
-            departure: false,
+            bn_offset: None,
             fault_at: None,
             unchecked: false,
         }
@@ -83,27 +84,32 @@ impl SelMode {
     }
 }
 
-/// Most motions of one `G238` contour (read whole before it runs).
+/// Most blocks of one `G238` contour (read whole before it runs).
 pub const MAX_CONTOUR_BLOCKS: usize = 100_000;
 
-/// A motion of the contour as read, with its block.
+/// A request of a `G238` contour as read, with its block.
 pub(super) struct Read {
-    /// The motion as the block asked for it.
-    pub motion: Motion,
-    /// Its plane part.
+    /// The request the block asked for.
+    pub request: Request,
+    /// The plane part of a motion.
     pub seg: Option<Seg>,
     /// Its block and word.
     pub at: Option<Location>,
 }
 
-/// A `G238` contour being read.
+/// A `G238` contour: read up to its `G40`, then checked and held until its
+/// departure shows that it is a line.
 pub(super) struct Contour {
     /// G41 or G42.
     pub side: Side,
     /// The selection block, once read.
     pub selection: Option<Read>,
-    /// B1 .. Bn, and motions off the plane among them, in order.
-    pub motions: Vec<Read>,
+    /// B1 .. Bn, and every other request of those blocks, in order.
+    pub items: Vec<Read>,
+    /// Set at `G40`, once checked: the cut point C.
+    pub closed: Option<P2>,
+    /// Requests between `G40` and the departure, in order.
+    pub after: Vec<Read>,
 }
 
 impl Contour {
@@ -112,7 +118,9 @@ impl Contour {
         Contour {
             side,
             selection: None,
-            motions: Vec::new(),
+            items: Vec::new(),
+            closed: None,
+            after: Vec::new(),
         }
     }
 }
