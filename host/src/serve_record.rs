@@ -143,6 +143,9 @@ fn write_all(target: Target, rx: Receiver<Vec<u8>>, shared: &Shared) {
 /// The shared emulator's recording, streamed to a file.
 pub struct ServeRecorder {
     rec: Option<Recorder>,
+    /// Idle cycles of the real-time clock not written yet: one `EXEC n`
+    /// before the next entry or at the end.
+    idle: u64,
     /// Says (by closing) that the writer thread has ended.
     ended: Option<Receiver<()>>,
     shared: Shared,
@@ -180,19 +183,28 @@ impl ServeRecorder {
         let rec = Recorder::start(Box::new(out), header)?;
         Ok(Self {
             rec: Some(rec),
+            idle: 0,
             ended: Some(end_rx),
             shared,
             path: path.display().to_string(),
         })
     }
 
-    /// Runs `f` on the recorder; an error names the file.
+    /// Runs `f` on the recorder after the idle cycles merged so far; an
+    /// error names the file.
     fn with(&mut self, f: impl FnOnce(&mut Recorder) -> io::Result<()>) -> Result<(), String> {
         let rec = self
             .rec
             .as_mut()
             .ok_or_else(|| format!("{}: the recording has ended", self.path))?;
-        f(rec).map_err(|e| format!("{}: {e}", self.path))
+        let idle = std::mem::take(&mut self.idle);
+        let r = if idle > 0 {
+            rec.exchange(&Request::Exec(Some(idle)), &Reply::Ok, &[], [0, 1, 2])
+        } else {
+            Ok(())
+        };
+        r.and_then(|()| f(rec))
+            .map_err(|e| format!("{}: {e}", self.path))
     }
 
     /// Hands everything to the writer thread and waits until it is
@@ -200,6 +212,11 @@ impl ServeRecorder {
     /// already failed is left at once, and a writer that writes nothing
     /// for [`STALL_LIMIT`] is given up.
     fn close(&mut self) -> Result<(), String> {
+        let idle = if self.idle > 0 && self.rec.is_some() {
+            self.with(|_| Ok(()))
+        } else {
+            Ok(())
+        };
         let flushed = match self.rec.take() {
             Some(mut r) => r.flush().map_err(|e| format!("{}: {e}", self.path)),
             None => Ok(()),
@@ -210,6 +227,7 @@ impl ServeRecorder {
                 self.wait_for_writer(&ended)?;
             }
         }
+        idle?;
         flushed?;
         match failed() {
             Some(why) => Err(format!("{}: {why}", self.path)),
@@ -252,6 +270,14 @@ impl Journal for ServeRecorder {
         axis_nr: [u8; 3],
     ) -> Result<(), String> {
         self.with(|r| r.exchange(req, reply, spooled, axis_nr))
+    }
+
+    fn idle(&mut self, cycles: u64) -> Result<(), String> {
+        if self.rec.is_none() {
+            return Err(format!("{}: the recording has ended", self.path));
+        }
+        self.idle = self.idle.saturating_add(cycles);
+        Ok(())
     }
 
     fn note(&mut self, text: &str) -> Result<(), String> {
@@ -297,6 +323,26 @@ mod tests {
         let text = std::fs::read_to_string(&path).unwrap();
         assert_eq!(text, "@name serve\nQUEUE => 0\n# hello\n");
         assert!(r.note("late").is_err(), "an ended recording takes nothing");
+    }
+
+    #[test]
+    fn idle_cycles_are_one_exec_before_the_next_entry_and_at_the_end() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("idle.trace");
+        let mut r = ServeRecorder::create(&path, &header()).unwrap();
+        for _ in 0..300 {
+            r.idle(3).unwrap();
+        }
+        r.exchange(&Request::Queue, &Reply::Queue(0), &[], [0, 1, 2])
+            .unwrap();
+        r.idle(2).unwrap();
+        r.idle(5).unwrap();
+        r.finish().unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(
+            text,
+            "@name serve\nEXEC 900 => ok\nQUEUE => 0\nEXEC 7 => ok\n"
+        );
     }
 
     #[cfg(target_os = "linux")]
