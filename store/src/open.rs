@@ -36,11 +36,14 @@ fn log_report(dir: &Path, report: &OpenReport) {
         info!("removed {name}, left over from a tool file replacement cut short");
     }
     if let Some(t) = &report.torn_tail {
-        warn!(
-            line = t.line,
-            bytes = t.bytes,
-            "dropped the torn last record of the tool journal"
-        );
+        let what = match &report.journal_copy {
+            Some(copy) => format!(
+                "dropped the last batch of the tool journal, cut by a crash before it was \
+                 acknowledged (kept as it was in {copy})"
+            ),
+            None => "dropped the torn last record of the tool journal".into(),
+        };
+        warn!(line = t.line, bytes = t.bytes, "{what}");
     }
     for e in &report.file_errors {
         warn!("skipped a bad tool file line: {e}");
