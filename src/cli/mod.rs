@@ -59,8 +59,9 @@ program or the tool file cannot be read, a tool file with bad lines, bad argumen
 
 /// Exit statuses of `plot`.
 pub const PLOT_EXIT: &str = "Exit status: 0 the picture is written; 1 the program or trace \
-failed (the picture is still written, up to the failure); 2 could not start (the input \
-cannot be read or parsed, the output cannot be written, bad arguments).";
+does not parse (nothing is drawn; `run` and `replay` exit 1 for it too) or failed (the \
+picture is still written, up to the failure); 2 could not start (the input cannot be read, \
+the output cannot be written, bad arguments).";
 
 /// Exit statuses of `objects`.
 pub const OBJECTS_EXIT: &str = "Exit status: 0 the reference is printed; 2 bad arguments.";

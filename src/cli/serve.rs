@@ -40,7 +40,8 @@ async fn shutdown_signal() {
 /// The command line of `serve` (its help texts are these comments).
 #[derive(Debug, Default, clap::Args)]
 pub struct ServeArgs {
-    /// Settings file (TOML, keys as in config/default.toml).
+    /// Settings file (TOML, keys as in emulator/config/default.toml;
+    /// `--print-default-config` prints it).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
     /// Listen address, overriding the settings: HOST:PORT,
