@@ -54,11 +54,9 @@ fn root_file(path: &str) -> String {
 
 #[test]
 fn texts_name_the_settings_file_where_it_is() {
-    assert!(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("emulator/config/default.toml")
-            .is_file()
-    );
+    assert!(std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("emulator/config/default.toml")
+        .is_file());
     let serve = help(&["serve"]);
     assert!(serve.contains("emulator/config/default.toml"), "{serve}");
     let readme = root_file("README.md");
@@ -112,8 +110,18 @@ fn an_nc_parse_error_exits_the_same_from_run_and_plot() {
         .arg(dir.path().join("bad.svg"))
         .output()
         .unwrap();
-    assert_eq!(run.status.code(), Some(1), "{}", String::from_utf8_lossy(&run.stderr));
-    assert_eq!(plot.status.code(), run.status.code(), "{}", String::from_utf8_lossy(&plot.stderr));
+    assert_eq!(
+        run.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert_eq!(
+        plot.status.code(),
+        run.status.code(),
+        "{}",
+        String::from_utf8_lossy(&plot.stderr)
+    );
     let trace = dir.path().join("bad.trace");
     std::fs::write(&trace, "FROB\n").unwrap();
     let plot = Command::new(env!("CARGO_BIN_EXE_addipos"))
@@ -123,7 +131,11 @@ fn an_nc_parse_error_exits_the_same_from_run_and_plot() {
         .arg(dir.path().join("t.svg"))
         .output()
         .unwrap();
-    assert_eq!(plot.status.code(), Some(1), "a trace that does not parse, as from replay");
+    assert_eq!(
+        plot.status.code(),
+        Some(1),
+        "a trace that does not parse, as from replay"
+    );
 }
 
 #[cfg(unix)]

@@ -63,7 +63,11 @@ fn control_characters_are_escaped_in_the_xml_and_on_the_terminal() {
     assert_eq!(out.status.code(), Some(1), "{}", text(&out.stdout));
     assert!(no_controls(&out.stdout), "{:?}", text(&out.stdout));
     assert!(no_controls(&out.stderr), "{:?}", text(&out.stderr));
-    assert!(text(&out.stdout).contains(r"ctl\x01\x1b[31m.trace"), "{:?}", text(&out.stdout));
+    assert!(
+        text(&out.stdout).contains(r"ctl\x01\x1b[31m.trace"),
+        "{:?}",
+        text(&out.stdout)
+    );
     let xml = std::fs::read_to_string(&report).unwrap();
     let doc = suite_of(&xml);
     let case = suite(&doc)
@@ -119,7 +123,11 @@ fn an_unwritable_report_is_refused_before_the_replay() {
         report.as_os_str(),
     ]);
     assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
-    assert!(text(&out.stderr).contains("no-such-folder"), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("no-such-folder"),
+        "{}",
+        text(&out.stderr)
+    );
     assert!(
         !text(&out.stdout).contains("passed"),
         "nothing was replayed: {}",
@@ -152,7 +160,10 @@ fn shards_name_their_suites_and_an_empty_one_has_no_negative_time() {
         let doc = suite_of(&xml);
         let s = suite(&doc);
         names.push(s.attribute("name").unwrap().to_owned());
-        assert!(s.attribute("name").unwrap().contains(&format!("{k}/3")), "{xml}");
+        assert!(
+            s.attribute("name").unwrap().contains(&format!("{k}/3")),
+            "{xml}"
+        );
         let stamp = s.attribute("timestamp").expect("timestamp");
         assert_eq!(stamp.len(), "2026-01-01T00:00:00".len(), "{stamp}");
         assert!(!s.attribute("hostname").expect("hostname").is_empty());
@@ -181,11 +192,8 @@ fn a_trace_named_twice_counts_once() {
 
 #[test]
 fn the_trace_format_lists_every_error_name() {
-    let doc = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/docs/trace-format.md"
-    ))
-    .unwrap();
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/trace-format.md"))
+        .unwrap();
     let start = doc.find("Error names are").expect("the error-name list");
     let list = &doc[start..start + doc[start..].find("\n\n").unwrap()];
     for e in uoi::AccessError::ALL {

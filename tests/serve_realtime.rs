@@ -45,7 +45,10 @@ fn idle_cycles_are_merged_and_a_stop_answers_a_waiting_exec_stopped() {
         "the waiting EXEC: {answer:?}\n{log}"
     );
     let text = std::fs::read_to_string(&file).unwrap();
-    let lines: Vec<&str> = text.lines().filter(|l| !l.starts_with(['#', '@'])).collect();
+    let lines: Vec<&str> = text
+        .lines()
+        .filter(|l| !l.starts_with(['#', '@']))
+        .collect();
     let queues: Vec<usize> = (0..lines.len())
         .filter(|&i| lines[i] == "QUEUE => 0")
         .collect();

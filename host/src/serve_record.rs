@@ -247,7 +247,11 @@ impl ServeRecorder {
                 Err(RecvTimeoutError::Timeout) => {}
             }
             let now = self.shared.written.load(Ordering::Relaxed);
-            quiet = if now == seen { quiet + LOOK } else { Duration::ZERO };
+            quiet = if now == seen {
+                quiet + LOOK
+            } else {
+                Duration::ZERO
+            };
             seen = now;
             if quiet >= STALL_LIMIT {
                 return Err(format!(

@@ -295,8 +295,8 @@ pub(crate) fn decode_line(line: &[u8]) -> Result<Line, RecordError> {
 
 /// The text of a line before its ` *<crc>`, if the checksum matches.
 fn checked_body(line: &[u8]) -> Result<&str, RecordError> {
-    let text = std::str::from_utf8(line)
-        .map_err(|_| RecordError::Malformed("not UTF-8 text".into()))?;
+    let text =
+        std::str::from_utf8(line).map_err(|_| RecordError::Malformed("not UTF-8 text".into()))?;
     let (body, crc) = text.rsplit_once(" *").ok_or(RecordError::NoChecksum)?;
     let is_hex = |b: u8| b.is_ascii_digit() || (b'a'..=b'f').contains(&b);
     if crc.len() != 8 || !crc.bytes().all(is_hex) {

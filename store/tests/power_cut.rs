@@ -94,7 +94,10 @@ fn check(found: &Model, model: &mut Model, cut_batch: &[Record], cut: u64) {
     }
     let mut with_cut = model.clone();
     cut_batch.iter().for_each(|r| apply(&mut with_cut, r));
-    assert_eq!(found, &with_cut, "after cut {cut}: neither without nor with the cut batch");
+    assert_eq!(
+        found, &with_cut,
+        "after cut {cut}: neither without nor with the cut batch"
+    );
     *model = with_cut;
 }
 
@@ -109,9 +112,6 @@ fn every_start_after_a_power_cut_succeeds_with_every_acknowledged_value() {
         let at_call = 1 + rng.below(6) as usize;
         let at = rng.below(400) as usize;
         let later = rng.below(4) != 0;
-        if std::env::var("DUMP").is_ok() {
-            eprintln!("cut {cut}: {:?} g1 {:?}", String::from_utf8_lossy(disk.journal()), (1..=3).map(|g| disk.file(&format!("group{g:02}.wz")).map(|b| String::from_utf8_lossy(b).into_owned())).collect::<Vec<_>>());
-        }
         let storage = FaultyStorage::new(disk).fail_at(
             Op::Append,
             at_call,
@@ -133,5 +133,8 @@ fn every_start_after_a_power_cut_succeeds_with_every_acknowledged_value() {
     let last: Model = store.values().map(|(g, k, v)| ((g, k), v)).collect();
     check(&last, &mut model, &cut_batch, CUTS);
     // Most cuts keep the later part of a batch: its drop is the point.
-    assert!(dropped_batches > CUTS / 3, "{dropped_batches} batches dropped");
+    assert!(
+        dropped_batches > CUTS / 3,
+        "{dropped_batches} batches dropped"
+    );
 }

@@ -88,9 +88,8 @@ pub(super) fn read(bytes: &[u8], lenient: bool) -> Result<Replay, JournalError> 
     };
     // A journal of batches says so in its first line (or said so: a
     // power cut during the first batch can leave NUL bytes in its place).
-    let format = |l: &&Scanned| {
-        matches!(l.decoded, Ok(Line::Format)) || torn_format(&bytes[l.start..l.end])
-    };
+    let format =
+        |l: &&Scanned| matches!(l.decoded, Ok(Line::Format)) || torn_format(&bytes[l.start..l.end]);
     if let Some(first) = lines.first().filter(format) {
         r.batched = true;
         r.next = 1;
@@ -143,9 +142,10 @@ impl Reader<'_> {
                     self.out.valid_len = line.end as u64;
                 }
                 Ok(Line::Trailer(_)) => {}
-                Ok(Line::Format) => self.bad(line, RecordError::Malformed(
-                    "a journal's first line in the middle of it".into(),
-                ))?,
+                Ok(Line::Format) => self.bad(
+                    line,
+                    RecordError::Malformed("a journal's first line in the middle of it".into()),
+                )?,
                 Err(e) => self.bad(line, e.clone())?,
             }
         }

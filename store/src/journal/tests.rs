@@ -265,7 +265,10 @@ fn a_last_batch_torn_by_a_power_cut_is_dropped_at_every_cut() {
             RecordError::Incomplete
         };
         assert_eq!(tail.reason, reason, "later part from {at}");
-        assert_eq!((tail.offset, r.valid_len), (good.len() as u64, good.len() as u64));
+        assert_eq!(
+            (tail.offset, r.valid_len),
+            (good.len() as u64, good.len() as u64)
+        );
         // The earlier part kept, the rest never written.
         let cut = &full[..good.len() + at - 1];
         let r = replay(cut).unwrap_or_else(|e| panic!("earlier part to {at}: {e}"));
@@ -300,7 +303,10 @@ fn a_damaged_batch_followed_by_an_intact_one_is_corruption() {
     // Line 1 marks the form; lines 2-4 are the first batch.
     assert_eq!(e.line, 5, "{e}");
     assert!(matches!(e.error, RecordError::Batch(_)), "{e}");
-    assert!(e.to_string().contains("acknowledged data is damaged"), "{e}");
+    assert!(
+        e.to_string().contains("acknowledged data is damaged"),
+        "{e}"
+    );
     // Skipped when told to: the intact batches count.
     let lenient = replay_lenient(&torn);
     assert_eq!(lenient.records.len(), records.len() - 1);

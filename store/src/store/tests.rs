@@ -406,7 +406,11 @@ fn corrupt_last_complete_record_refuses_open_and_cuts_nothing() {
         .unwrap();
     let mut mem = store.into_storage();
     // In the last record, before the line that closes the batch.
-    let trailer = mem.journal().windows(6).rposition(|w| w == b"batch ").unwrap();
+    let trailer = mem
+        .journal()
+        .windows(6)
+        .rposition(|w| w == b"batch ")
+        .unwrap();
     let at = trailer - 12;
     mem.journal_mut()[at] ^= 0x04;
     let damaged = mem.journal().to_vec();
