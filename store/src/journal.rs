@@ -206,21 +206,6 @@ pub fn encode_batch(records: &[Record]) -> Vec<u8> {
     bytes
 }
 
-/// Reads a journal: a torn tail (a last line without its newline, or an
-/// unacknowledged last batch cut by a crash) is dropped; any other bad
-/// line or batch is the error.
-pub fn replay(bytes: &[u8]) -> Result<Replay, JournalError> {
-    read::read(bytes, false)
-}
-
-/// Reads a journal, skipping bad complete lines (reported in
-/// [`Replay::skipped`]) instead of failing; a torn tail is dropped as by
-/// [`replay`].
-pub fn replay_lenient(bytes: &[u8]) -> Replay {
-    // Lenient reading never fails: every bad line is skipped.
-    read::read(bytes, true).unwrap_or_default()
-}
-
 /// The `batch <records> <bytes> <crc>` line closing a batch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Trailer {
@@ -308,6 +293,5 @@ fn checked_body(line: &[u8]) -> Result<&str, RecordError> {
     Ok(body)
 }
 
-mod read;
 #[cfg(test)]
 mod tests;

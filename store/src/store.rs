@@ -129,11 +129,13 @@ impl<S: Storage> ToolStore<S> {
             .read_journal()
             .map_err(io_error(format!("reading {JOURNAL_FILE}")))?;
         let replay = match strictness {
-            Strictness::Strict => journal::replay(&bytes).map_err(|error| StoreError::Journal {
-                file: JOURNAL_FILE,
-                error,
-            })?,
-            Strictness::Lenient => journal::replay_lenient(&bytes),
+            Strictness::Strict => {
+                crate::replay::replay(&bytes).map_err(|error| StoreError::Journal {
+                    file: JOURNAL_FILE,
+                    error,
+                })?
+            }
+            Strictness::Lenient => crate::replay::replay_lenient(&bytes),
         };
         for record in &replay.records {
             self.apply(record);

@@ -1,5 +1,6 @@
 use super::*;
 use crate::field::ToolField;
+use crate::replay::{replay, replay_lenient};
 use proptest::prelude::*;
 
 fn set(group: u8, index: u16, field: ToolField, value: ToolValue) -> Record {

@@ -1,9 +1,11 @@
-//! Reading a journal batch by batch, by the rules of the parent module:
+//! Reading the journal batch by batch, by the rules of [`crate::journal`]:
 //! records before the first `batch` line one by one (the older form), then
 //! every batch checked against its `batch` line; an unacknowledged last
 //! batch cut by a crash is dropped as the torn tail.
 
-use super::{decode_line, JournalError, Line, RecordError, Replay, TornTail, Trailer};
+use crate::journal::{
+    decode_line, format_line, JournalError, Line, RecordError, Replay, TornTail, Trailer,
+};
 
 /// One line of the journal as read.
 #[derive(Debug)]
@@ -74,8 +76,23 @@ struct Reader<'a> {
     torn: Option<usize>,
 }
 
+/// Reads a journal: a torn tail (a last line without its newline, or an
+/// unacknowledged last batch cut by a crash) is dropped; any other bad
+/// line or batch is the error.
+pub fn replay(bytes: &[u8]) -> Result<Replay, JournalError> {
+    read(bytes, false)
+}
+
+/// Reads a journal, skipping bad complete lines (reported in
+/// [`Replay::skipped`]) instead of failing; a torn tail is dropped as by
+/// [`replay`].
+pub fn replay_lenient(bytes: &[u8]) -> Replay {
+    // Lenient reading never fails: every bad line is skipped.
+    read(bytes, true).unwrap_or_default()
+}
+
 /// Reads a journal (`lenient`: bad lines skipped instead of refused).
-pub(super) fn read(bytes: &[u8], lenient: bool) -> Result<Replay, JournalError> {
+fn read(bytes: &[u8], lenient: bool) -> Result<Replay, JournalError> {
     let lines = scan(bytes);
     let mut r = Reader {
         bytes,
@@ -107,7 +124,7 @@ pub(super) fn read(bytes: &[u8], lenient: bool) -> Result<Replay, JournalError> 
 /// Whether `line` is the first line of a journal of batches with some of
 /// its bytes never written (NUL): each byte NUL or the line's own.
 fn torn_format(line: &[u8]) -> bool {
-    let format = super::format_line();
+    let format = format_line();
     line.len() == format.len()
         && line.contains(&0)
         && line
