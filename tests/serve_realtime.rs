@@ -1,13 +1,15 @@
-//! `serve --realtime --record` over the wire: the clock's idle cycles are
-//! one `EXEC n` per stretch between requests, and a stop answers the
-//! `EXEC` a client waits on with `Stopped` at once (not after the
-//! shutdown grace, without an answer).
+//! `serve --record` and `serve --realtime` over the wire: the clock's
+//! idle cycles are one `EXEC n` per stretch between requests, a stop
+//! answers the `EXEC` a client waits on with `Stopped` at once (not after
+//! the shutdown grace, without an answer), and a FIFO nobody reads holds
+//! neither the start nor the stop.
 
 // Test helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 mod common;
 
+use std::process::Command;
 use std::time::Duration;
 
 use common::ServeProcess;
@@ -57,5 +59,75 @@ fn idle_cycles_are_merged_and_a_stop_answers_a_waiting_exec_stopped() {
     assert!(
         between.len() <= 1 && between.iter().all(|l| l.starts_with("EXEC ")),
         "idle cycles between two requests are one EXEC: {between:?}"
+    );
+}
+
+/// `serve --record FIFO` with nobody reading the FIFO: the server starts
+/// and answers (a FIFO's open waits for a reader, so the recorder opens
+/// it on its own thread), and SIGTERM stops it.
+#[cfg(unix)]
+#[test]
+fn a_record_fifo_without_a_reader_holds_neither_the_start_nor_the_stop() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("record.fifo");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let mut child = common::bin()
+        .args([
+            "serve",
+            "--no-persist",
+            "--listen",
+            "127.0.0.1:0",
+            "--record",
+        ])
+        .arg(&fifo)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let err = child.stderr.take().unwrap();
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(err).lines().map_while(Result::ok) {
+            if tx.send(line).is_err() {
+                return;
+            }
+        }
+    });
+    // Hang guard: the start line within 30 s (it never came before).
+    let started = (0..200)
+        .map_while(|_| rx.recv_timeout(Duration::from_secs(30)).ok())
+        .find(|l| l.contains("serving"));
+    let Some(line) = started else {
+        let _ = child.kill();
+        panic!("serve --record FIFO did not start");
+    };
+    let addr = line
+        .split_whitespace()
+        .find_map(|w| w.strip_prefix("listen="))
+        .unwrap()
+        .to_string();
+    let mut c = BlockingClient::connect(&addr).unwrap();
+    assert_eq!(call(&mut c, &Request::Queue), Reply::Queue(0));
+    drop(c);
+    let term = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(term.success());
+    // Hang guard only: the stop within 30 s.
+    let status = (0..1500).find_map(|_| {
+        std::thread::sleep(Duration::from_millis(20));
+        child.try_wait().unwrap()
+    });
+    let _ = child.kill();
+    assert!(
+        status.is_some_and(|s| s.success()),
+        "SIGTERM stopped it: {status:?}"
     );
 }

@@ -62,20 +62,18 @@ pub struct ReplayArgs {
 fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
     let mut out = Vec::new();
     for p in paths {
+        let shown = printable(&p.display().to_string()).into_owned();
         let meta = std::fs::metadata(p).map_err(|e| match e.kind() {
-            std::io::ErrorKind::NotFound => format!("{}: no such file or folder", p.display()),
-            _ => format!("{}: {e}", p.display()),
+            std::io::ErrorKind::NotFound => format!("{shown}: no such file or folder"),
+            _ => format!("{shown}: {e}"),
         })?;
         if !meta.is_dir() {
             out.push(p.clone());
             continue;
         }
-        let files = trace_files(p).map_err(|e| format!("{}: {e}", p.display()))?;
+        let files = trace_files(p).map_err(|e| format!("{shown}: {e}"))?;
         if files.is_empty() {
-            return Err(format!(
-                "no traces found: {} holds no *.trace file",
-                p.display()
-            ));
+            return Err(format!("no traces found: {shown} holds no *.trace file"));
         }
         out.extend(files);
     }
