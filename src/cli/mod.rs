@@ -47,7 +47,8 @@ reached or gives no UOI answer).";
 
 /// Exit statuses of `replay`.
 pub const REPLAY_EXIT: &str = "Exit status: 0 every trace passed (an empty --shard part \
-too); 1 a trace differs or could not be read or parsed; 2 nothing could be replayed (bad \
+too); 1 a trace differs, holds no request, or could not be read or parsed; 2 nothing could \
+be replayed (bad \
 arguments such as --shard 4/3, a path that does not exist, a folder without *.trace files, a \
 server that cannot be reached, gives no UOI answer or cannot set up a fresh emulator, a \
 --junit file that cannot be written).";
