@@ -49,6 +49,8 @@ pub struct EmulatorService<E: TcExtension = OtcExtension> {
     clock: Option<RealTimeClock>,
     /// `EXEC` requests waiting for the clock.
     waits: ExecWaits,
+    /// The server stops: an `EXEC` wait is answered `Stopped`.
+    stopping: bool,
     /// The recording, while one goes on.
     journal: Option<Box<dyn Journal>>,
     /// Tool writes waiting for the disk, by token, to be journaled when
@@ -92,6 +94,7 @@ impl<E: TcExtension + Default> EmulatorService<E> {
             settings,
             clock: None,
             waits: ExecWaits::default(),
+            stopping: false,
             journal: None,
             journal_pending: HashMap::new(),
         }
@@ -153,6 +156,14 @@ impl<E: TcExtension + Default> EmulatorService<E> {
         self.emu.set_spool_log(false);
     }
 
+    /// The server stops: every `EXEC` waiting for the clock is answered
+    /// `Stopped` now, and so is every later one (rather than holding the
+    /// stop for the server's grace).
+    pub fn stop_waits(&mut self) {
+        self.stopping = true;
+        self.waits.end_all();
+    }
+
     /// Whether a recording goes on.
     pub fn recording(&self) -> bool {
         self.journal.is_some()
@@ -181,7 +192,7 @@ impl<E: TcExtension + Default> EmulatorService<E> {
         let ran = clock.catch_up(&mut self.emu, Instant::now());
         let passed = clock.passed();
         if ran > 0 {
-            self.journal_reply(&Request::Exec(Some(ran)), &Reply::Ok);
+            self.journal_idle(ran);
         }
         self.waits.fire(passed, self.emu.queue_len() == 0);
         ran
@@ -200,6 +211,15 @@ impl<E: TcExtension + Default> EmulatorService<E> {
         let axis_nr = self.emu.tc().axis_nr();
         if let Err(e) = j.exchange(req, reply, &spooled, axis_nr) {
             self.journal_failed(&e);
+        }
+    }
+
+    /// Cycles the clock ran between requests.
+    fn journal_idle(&mut self, cycles: u64) {
+        if let Some(j) = self.journal.as_mut() {
+            if let Err(e) = j.idle(cycles) {
+                self.journal_failed(&e);
+            }
         }
     }
 
@@ -263,6 +283,9 @@ impl<E: TcExtension + Default> EmulatorService<E> {
         let Ok(Request::Exec(cycles)) = Request::from_wire(req) else {
             return None;
         };
+        if self.stopping {
+            return Some(Slice::Done(Answer::Protocol(ProtocolError::Stopped)));
+        }
         let until = match cycles {
             Some(n) => Until::Cycle(clock.passed().saturating_add(n)),
             None => Until::Empty,
@@ -353,10 +376,10 @@ impl<E: TcExtension + Default> Handler for EmulatorService<E> {
     fn resume(&mut self, token: u64, ok: bool) -> Slice {
         if token & EXEC_WAIT_BIT != 0 {
             self.tick();
-            return Slice::Done(if ok {
-                Answer::Ok
-            } else {
-                Answer::Protocol(ProtocolError::Busy)
+            return Slice::Done(match (ok, self.stopping) {
+                (true, _) => Answer::Ok,
+                (false, true) => Answer::Protocol(ProtocolError::Stopped),
+                (false, false) => Answer::Protocol(ProtocolError::Busy),
             });
         }
         let slice = match self.tools.as_mut().and_then(|t| t.0.as_mut()) {
