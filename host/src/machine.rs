@@ -25,6 +25,7 @@ use crate::link::{Embedded, Limits, Link};
 use crate::objects::{find_object, Descriptor};
 use crate::record::Recorder;
 use crate::served::Served;
+use crate::served_target::ServedTarget;
 use crate::target::{EmbeddedOptions, Target};
 
 /// How long a wait (`exec`) may last by default: the request timeout of
@@ -137,7 +138,7 @@ impl Machine {
     /// As [`served`](Self::served), every request (the first, `INFO`,
     /// included) waiting at most `timeout` for its answer.
     pub fn served_within(addr: &str, timeout: Duration) -> Result<Self> {
-        let link = Served::connect(addr, timeout)?;
+        let link = Served::connect(&ServedTarget::parse(addr)?, timeout)?;
         let m = Self::with_link(Box::new(link));
         m.lock().timeout = timeout;
         Ok(m)
@@ -262,14 +263,14 @@ impl Machine {
 
     /// Reads an i32 object.
     pub fn read_int(&self, h: Handle) -> Result<i32> {
-        self.read(h, uoi::ValueType::I32, "uoi_read_int")
-            .map(|v| v.as_i32().unwrap_or_default())
+        let v = self.read(h, uoi::ValueType::I32, "uoi_read_int")?;
+        v.as_i32().ok_or_else(|| wrong_type(&v))
     }
 
     /// Reads an f64 object (an i32 object answers `TypeMismatch`).
     pub fn read_double(&self, h: Handle) -> Result<f64> {
-        self.read(h, uoi::ValueType::F64, "uoi_read_double")
-            .map(|v| v.as_f64().unwrap_or_default())
+        let v = self.read(h, uoi::ValueType::F64, "uoi_read_double")?;
+        v.as_f64().ok_or_else(|| wrong_type(&v))
     }
 
     /// Writes an i32 object.
@@ -382,12 +383,21 @@ impl Machine {
     /// after the timeout ([`set_timeout`](Self::set_timeout)) with
     /// `Timeout`; what ran stays run.
     pub fn exec(&self, cycles: Option<u64>) -> Result<()> {
+        self.exec_until(cycles, &AtomicBool::new(false))
+    }
+
+    /// As [`exec`](Self::exec), given up as soon as `interrupt` is set
+    /// (by another thread: a Python program's Ctrl-C): the wait ends at
+    /// once with `Timeout`; what ran stays run (a server target's
+    /// connection is dropped, the next call connects again).
+    pub fn exec_until(&self, cycles: Option<u64>, interrupt: &AtomicBool) -> Result<()> {
         let closing = &self.closing;
         self.with(|s| {
             s.tick();
             let limits = Limits {
                 deadline: Instant::now() + s.timeout,
                 closing,
+                interrupt,
             };
             let mut ran: Vec<Request> = Vec::new();
             let out = s.link.exec(cycles, limits, &mut |r| ran.push(r.clone()));
@@ -485,6 +495,15 @@ impl Machine {
     }
 }
 
+/// A value of the other type than the one asked for (a target never
+/// answers one: it is refused where the answer is read).
+fn wrong_type(v: &Value) -> Error {
+    Error::new(
+        ErrorCode::Protocol,
+        format!("a value of the other type was answered ({v}): not taken"),
+    )
+}
+
 fn unexpected(reply: &Reply) -> Error {
     Error::new(ErrorCode::Internal, format!("unexpected answer {reply:?}"))
 }
@@ -545,6 +564,13 @@ impl Session {
         }
         match reply {
             Reply::Access(e) => Err(Error::access(e, what())),
+            Reply::Protocol(uoi::wire::ProtocolError::Stopped) => Err(Error::new(
+                ErrorCode::Stopped,
+                format!(
+                    "{}: the server stopped the request before its end (it is shutting down)",
+                    what()
+                ),
+            )),
             Reply::Protocol(p) => Err(Error::new(ErrorCode::Protocol, format!("{}: {p}", what()))),
             other => Ok(other),
         }

@@ -42,6 +42,7 @@ __all__ = [
     "TooManyHandles",
     "Record",
     "Protocol",
+    "Stopped",
     "Internal",
     "__version__",
 ]
@@ -235,6 +236,14 @@ class Protocol(Error):
     CODE = 0xADD0000A
 
 
+class Stopped(Error):
+    """The server stopped the request before its end (it is shutting
+    down): ``m.exec`` did not run to its end; what ran stays run
+    (0xADD0000B)."""
+
+    CODE = 0xADD0000B
+
+
 class Internal(Error):
     """A fault inside the library; close the connection (0xADD000FF)."""
 
@@ -263,6 +272,7 @@ _CLASSES: Dict[int, Type[Error]] = {
         TooManyHandles,
         Record,
         Protocol,
+        Stopped,
         Internal,
     )
 }
