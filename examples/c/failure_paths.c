@@ -153,6 +153,8 @@ static void axes_out_of_range(addipos *a)
     expect("tc_js mask bit 8", tc_js(a, 0x1FF), ADDIPOS_E_ARGUMENT);
     expect("tc_cir ijk bit 3", tc_cir(a, 0, 3, p, 8, ijk, 100), ADDIPOS_E_ARGUMENT);
     expect("coordinate beyond 1e9", (p[0] = 2e9, tc_lin(a, 1, p, 100)), ADDIPOS_E_RANGE);
+    expect("a negative feed", (p[0] = 1, tc_lin(a, 1, p, -5)), ADDIPOS_E_RANGE);
+    truth("the feed error names the feed", strstr(addipos_error_text(a), "feed") != NULL);
     expect("tc_ssf axis 7", tc_ssf(a, 7, 2001), ADDIPOS_OK);
     expect("tc_js all axes", tc_js(a, 0xFF), ADDIPOS_OK);
     expect("huge EXEC on an empty spooler", tc_exec(a, 0xFFFFFFFFFFFFFFFEull), ADDIPOS_OK);

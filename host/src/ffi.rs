@@ -221,10 +221,10 @@ fn words(call: &str, mask: u32, pos: *const f64) -> std::result::Result<AxisWord
     Ok(w)
 }
 
-/// A feed: `feed <= 0` is the modal one.
+/// A feed: 0 is the modal one; a negative feed (and NaN) is handed on,
+/// and refused with Range, as in Python (docs/host-api.md, decision 384).
 fn feed_of(feed: f64) -> Option<f64> {
-    // NaN is handed on: the emulator refuses it with Range.
-    (feed > 0.0 || feed.is_nan()).then_some(feed)
+    (feed != 0.0).then_some(feed)
 }
 
 /// The handle `h`, or the null-handle failure.
@@ -503,7 +503,8 @@ fn with_words(
 }
 
 /// Spools a feed line to the axes of `mask` (bit i: `pos[i]` given, 0 X
-/// .. 7 V; others keep their value); `feed <= 0`: the modal feed.
+/// .. 7 V; others keep their value); `feed` 0: the modal feed (a
+/// negative feed is `ADDIPOS_E_RANGE`).
 ///
 /// # Safety
 ///
@@ -529,7 +530,8 @@ pub unsafe extern "C" fn tc_rap(a: *mut Addipos, mask: u32, pos: *const f64) -> 
 
 /// Spools an arc in the main plane, counter-clockwise when `ccw` is not
 /// 0: end point from `mask`/`pos`, centre offsets `I J K` from the start
-/// from `ijk_mask` (bits 0..2) and `ijk`; `feed <= 0`: the modal feed.
+/// from `ijk_mask` (bits 0..2) and `ijk`; `feed` 0: the modal feed (a
+/// negative feed is `ADDIPOS_E_RANGE`).
 ///
 /// # Safety
 ///

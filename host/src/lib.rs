@@ -27,6 +27,7 @@
 //! ```
 
 mod error;
+mod explain;
 pub mod ffi;
 mod handles;
 mod link;

@@ -81,6 +81,9 @@ pub trait Link: Send {
     /// The real-time factor, if the target runs in real time.
     fn realtime(&self) -> Option<f64>;
 
+    /// The interpolation cycle in seconds.
+    fn cycle_s(&self) -> f64;
+
     /// Runs what the wall clock owes (real time; at most one `EXEC`
     /// slice); returns how many cycles ran (0 when stepped).
     fn tick(&mut self) -> u64;
@@ -263,6 +266,10 @@ impl Link for Embedded {
 
     fn realtime(&self) -> Option<f64> {
         self.opts.realtime.map(|f| f.get())
+    }
+
+    fn cycle_s(&self) -> f64 {
+        self.opts.cycle.secs()
     }
 
     fn tick(&mut self) -> u64 {

@@ -17,9 +17,10 @@ use std::time::{Duration, Instant};
 
 use tc_module::{ArcDir, AxisPos, AxisWords, AXES};
 use tc_request::{Motion, Reply, Request, SpoolRecord};
-use uoi::Value;
+use uoi::{AccessError, Value};
 
 use crate::error::{Error, ErrorCode, Result};
+use crate::explain;
 use crate::handles::{Handle, Handles};
 use crate::link::{Embedded, Limits, Link};
 use crate::objects::{find_object, Descriptor};
@@ -563,7 +564,7 @@ impl Session {
             self.note(&w);
         }
         match reply {
-            Reply::Access(e) => Err(Error::access(e, what())),
+            Reply::Access(e) => Err(self.explained(req, e, what())),
             Reply::Protocol(uoi::wire::ProtocolError::Stopped) => Err(Error::new(
                 ErrorCode::Stopped,
                 format!(
@@ -574,6 +575,42 @@ impl Session {
             Reply::Protocol(p) => Err(Error::new(ErrorCode::Protocol, format!("{}: {p}", what()))),
             other => Ok(other),
         }
+    }
+
+    /// The error of `req` refused with `e`, with why when the library can
+    /// tell (the range of the object, the smallest feed, the faulted
+    /// group: `crate::explain`).
+    fn explained(&mut self, req: &Request, e: AccessError, what: String) -> Error {
+        let why = match (req, e) {
+            (Request::Write(addr, v), AccessError::Range) => explain::write_range(*addr, *v),
+            (Request::Motion(m), AccessError::Range) => {
+                explain::motion_range(m, self.link.cycle_s())
+            }
+            (Request::Motion(_), AccessError::State) => self.faulted_groups(req, e),
+            _ => None,
+        };
+        let base = Error::access(e, what);
+        match why {
+            Some(why) => Error::new(base.code(), format!("{}: {why}", base.message())),
+            None => base,
+        }
+    }
+
+    /// The faulted groups, read from their ERROR registers (reads change
+    /// nothing; they are not part of the recording).
+    fn faulted_groups(&mut self, req: &Request, e: AccessError) -> Option<String> {
+        let errors: Vec<(u16, Option<i32>)> = explain::error_registers(req, e)
+            .into_iter()
+            .map(|(g, addr)| {
+                let read = self.link.call(&Request::Read(addr, uoi::ValueType::I32));
+                let bits = match read {
+                    Ok(Reply::Value(v)) => v.as_i32(),
+                    _ => None,
+                };
+                (g, bits)
+            })
+            .collect();
+        explain::faulted_groups(&errors)
     }
 
     /// Writes to the recording, if one goes on; a write error stops it

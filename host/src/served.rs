@@ -231,17 +231,20 @@ impl Served {
     }
 
     fn keep_info(&mut self, ans: &Answer) -> Result<EmulatorInfo> {
-        let info = EmulatorInfo::from_wire(ans).ok_or_else(|| {
+        let Some(info) = EmulatorInfo::from_wire(ans) else {
             self.client = None;
-            Error::new(
+            if let Answer::Protocol(p) = ans {
+                return Err(self.failure(ClientError::Protocol(*p), "INFO"));
+            }
+            return Err(Error::new(
                 ErrorCode::Protocol,
                 format!(
                     "the server at {} does not answer INFO ({ans:?}): it is not an addipos serve \
                      of this version",
                     self.name
                 ),
-            )
-        })?;
+            ));
+        };
         self.info = info;
         Ok(info)
     }
@@ -481,6 +484,10 @@ impl Link for Served {
 
     fn realtime(&self) -> Option<f64> {
         self.info.realtime
+    }
+
+    fn cycle_s(&self) -> f64 {
+        self.info.cycle_s
     }
 
     fn tick(&mut self) -> u64 {
