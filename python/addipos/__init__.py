@@ -11,7 +11,7 @@ traces (:class:`Range`, :class:`State`, ...) with their CANopen
 :class:`Timeout`, ...) with codes ``0xADD000xx``. See docs/python.md.
 """
 
-from typing import Dict, NamedTuple, Optional, Tuple, Type
+from typing import Dict, Literal, NamedTuple, Optional, Tuple, Type
 
 from ._addipos import Handle, Machine, __version__, open
 
@@ -66,7 +66,7 @@ class Element(NamedTuple):
     correction made of the programmed path."""
 
     #: ``"LIN"``, ``"RAP"`` or ``"CIR"``.
-    kind: str
+    kind: Literal["LIN", "RAP", "CIR"]
     #: Where it starts.
     start: Position
     #: Where it ends.
@@ -75,7 +75,7 @@ class Element(NamedTuple):
     feed: float
     #: Who spooled it: ``"Uncorrected"``, ``"Approach"``, ``"Corrected"``,
     #: ``"Transition"`` (an outside corner) or ``"Departure"``.
-    origin: str
+    origin: Literal["Uncorrected", "Approach", "Corrected", "Transition", "Departure"]
     #: An arc: ``True`` counter-clockwise, ``False`` clockwise; a line:
     #: ``None``.
     ccw: Optional[bool]
