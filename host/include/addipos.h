@@ -346,7 +346,8 @@ uint32_t uoi_write_double(addipos *a, uoi_handle h, double value);
 
 /**
  * Spools a feed line to the axes of `mask` (bit i: `pos[i]` given, 0 X
- * .. 7 V; others keep their value); `feed <= 0`: the modal feed.
+ * .. 7 V; others keep their value); `feed` 0: the modal feed (a
+ * negative feed is `ADDIPOS_E_RANGE`).
  *
  * # Safety
  *
@@ -366,7 +367,8 @@ uint32_t tc_rap(addipos *a, uint32_t mask, const double *pos);
 /**
  * Spools an arc in the main plane, counter-clockwise when `ccw` is not
  * 0: end point from `mask`/`pos`, centre offsets `I J K` from the start
- * from `ijk_mask` (bits 0..2) and `ijk`; `feed <= 0`: the modal feed.
+ * from `ijk_mask` (bits 0..2) and `ijk`; `feed` 0: the modal feed (a
+ * negative feed is `ADDIPOS_E_RANGE`).
  *
  * # Safety
  *

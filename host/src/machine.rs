@@ -54,6 +54,9 @@ pub struct Machine {
     closing: AtomicBool,
     /// The target, as a target string names it.
     target: String,
+    /// Whether the target is a server (not an emulator inside the
+    /// process).
+    served: bool,
 }
 
 /// The state behind the lock.
@@ -140,7 +143,8 @@ impl Machine {
     /// included) waiting at most `timeout` for its answer.
     pub fn served_within(addr: &str, timeout: Duration) -> Result<Self> {
         let link = Served::connect(&ServedTarget::parse(addr)?, timeout)?;
-        let m = Self::with_link(Box::new(link));
+        let mut m = Self::with_link(Box::new(link));
+        m.served = true;
         m.lock().timeout = timeout;
         Ok(m)
     }
@@ -166,6 +170,7 @@ impl Machine {
                 timeout: DEFAULT_TIMEOUT,
             }),
             closing: AtomicBool::new(false),
+            served: false,
         }
     }
 
@@ -177,6 +182,12 @@ impl Machine {
     /// The real-time factor, if the machine runs in real time.
     pub fn realtime(&self) -> Option<f64> {
         self.lock().link.realtime()
+    }
+
+    /// Whether [`exec`](Self::exec) waits for something outside the
+    /// calling thread (a clock, a server), rather than computing.
+    pub fn exec_waits(&self) -> bool {
+        self.served || self.realtime().is_some()
     }
 
     /// Locks the session (a call that panicked left it usable).

@@ -324,9 +324,10 @@ impl Machine {
     /// waits for the clock. Raises `addipos.Timeout` after the timeout
     /// (what ran stays run).
     ///
-    /// The GIL is released while it waits; Ctrl-C (or any signal handler
-    /// that raises) ends the wait within a few milliseconds and raises
-    /// there (`KeyboardInterrupt`); what ran stays run.
+    /// The GIL is released while it waits; in real time or on a server,
+    /// Ctrl-C (or any signal handler that raises) ends the wait within a
+    /// few milliseconds and raises there (`KeyboardInterrupt`); what ran
+    /// stays run.
     #[pyo3(signature = (cycles=None))]
     fn exec(&self, py: Python<'_>, cycles: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
         let n = match cycles {
@@ -339,6 +340,11 @@ impl Machine {
             })?),
         };
         let machine = self.link.machine().map_err(|e| errors::to_py(py, &e))?;
+        if !machine.exec_waits() {
+            // Stepped and embedded: computing, not waiting (and bounded by
+            // the timeout): no thread of its own.
+            return self.link.call(py, move |m| m.exec(n));
+        }
         interruptible::exec(py, machine, n)
     }
 
