@@ -4,7 +4,7 @@
 //! error's name and code stay as they are (a trace names only them);
 //! this is what the library's message adds after it.
 
-use tc_module::limits::{MAX_COORD, MIN_STEP};
+use tc_module::limits::{within_limit, MAX_COORD, MIN_STEP};
 use tc_objects::{bit_meaning, camel_name, ErrorBits, OTC_AXIS_OBJECTS, OTC_GROUP_OBJECTS};
 use tc_objects::{TcObject, GROUPS, TC_OBJECTS};
 use tc_request::{Motion, Request, AXIS_NAMES};
@@ -60,7 +60,7 @@ pub fn motion_range(m: &Motion, cycle_s: f64) -> Option<String> {
     let beyond = words
         .iter()
         .zip(AXIS_NAMES)
-        .find_map(|(w, name)| w.filter(|v| !(v.abs() <= MAX_COORD)).map(|v| (name, v)));
+        .find_map(|(w, name)| w.filter(|&v| !within_limit(v)).map(|v| (name, v)));
     beyond.map(|(name, v)| format!("{name}{v} lies beyond ±1e9, the limit of every coordinate"))
 }
 
