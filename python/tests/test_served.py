@@ -3,14 +3,13 @@ and a server that asks for its access token (given by the environment,
 as ``addipos call`` takes it)."""
 
 import os
-import socket
-import subprocess
+import threading
 import time
 
 import pytest
 
 import addipos
-from conftest import SERVE_START_LIMIT_S, free_port
+from conftest import serve
 
 PLANE = (1300, 0, 3, 0)
 
@@ -45,36 +44,10 @@ def test_a_child_after_fork_gets_a_clear_error_and_the_parent_goes_on(server):
 def guarded_server(binary, tmp_path):
     """An ``addipos serve`` that asks every client, loopback ones too, for
     its access token; yields its target string and its token file."""
-    port = free_port()
-    data = tmp_path / "serve-data"
     config = tmp_path / "serve.toml"
     config.write_text("token_on_loopback = true\n")
-    proc = subprocess.Popen(
-        [str(binary), "serve", "--listen", f"127.0.0.1:{port}", "--no-persist",
-         "--data-dir", str(data), "--config", str(config)],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-    )
-    try:
-        deadline = time.monotonic() + SERVE_START_LIMIT_S
-        while not (data / "access-token").exists() or not _listens(port):
-            if proc.poll() is not None:
-                raise RuntimeError(f"addipos serve ended: {proc.stderr.read().decode()}")
-            if time.monotonic() > deadline:
-                raise TimeoutError("addipos serve did not start")
-            time.sleep(0.05)
-        yield f"127.0.0.1:{port}", data / "access-token"
-    finally:
-        proc.terminate()
-        proc.wait(timeout=10)
-
-
-def _listens(port):
-    try:
-        socket.create_connection(("127.0.0.1", port), timeout=1).close()
-        return True
-    except OSError:
-        return False
+    for target in serve(binary, tmp_path, "--config", str(config)):
+        yield target, tmp_path / "serve-data" / "access-token"
 
 
 def test_the_token_comes_from_the_environment_or_the_target(guarded_server, monkeypatch):
@@ -94,3 +67,48 @@ def test_the_token_comes_from_the_environment_or_the_target(guarded_server, monk
     monkeypatch.delenv("ADDIPOS_TOKEN_FILE")
     with addipos.open(f"{target},token_file={token_file}") as m:
         assert m.init(*PLANE).read_int() == 17
+
+
+def test_the_with_block_ends_a_served_wait_at_once_without_the_gil(realtime_server):
+    # Leaving the block closes the connection while another thread waits
+    # on the server: the wait ends with Connection (not Timeout after the
+    # 20 s), and closing does not hold the GIL meanwhile.
+    outcome = []
+    with addipos.open(realtime_server, timeout=20) as m:
+        m.lin(X=1000, F=600)  # 100 s of path on the server's clock
+        started = threading.Event()
+
+        def wait():
+            started.set()
+            try:
+                m.exec()
+                outcome.append("ran")
+            except addipos.Error as e:
+                outcome.append(type(e))
+
+        t = threading.Thread(target=wait)
+        t.start()
+        started.wait()
+        time.sleep(0.3)
+    t.join(30)
+    assert outcome == [addipos.Connection]
+
+
+def test_ctrl_c_during_a_served_wait_raises_keyboard_interrupt(realtime_server):
+    with addipos.open(realtime_server, timeout=20) as m:
+        m.lin(X=1000, F=600)
+        timer = threading.Timer(0.3, _interrupt_main)
+        timer.start()
+        try:
+            with pytest.raises(KeyboardInterrupt):
+                m.exec()
+        finally:
+            timer.cancel()
+        # The next call connects again; the line still runs.
+        assert m.queue() == 1
+
+
+def _interrupt_main():
+    import _thread
+
+    _thread.interrupt_main()

@@ -157,29 +157,6 @@ def _thread_interrupt_main():
     _thread.interrupt_main()
 
 
-def test_other_threads_run_while_a_wait_is_closed_by_the_with_block():
-    # Closing (the with block's exit) while another thread waits does not
-    # hold the GIL: the waiter ends with Connection.
-    outcome = []
-    with addipos.open("embedded:realtime", timeout=60) as m:
-        m.lin(X=1000, F=600)
-        started = threading.Event()
-
-        def wait():
-            started.set()
-            try:
-                m.exec()
-            except addipos.Error as e:
-                outcome.append(type(e))
-
-        t = threading.Thread(target=wait)
-        t.start()
-        started.wait()
-        time.sleep(0.2)
-    t.join(30)
-    assert outcome == [addipos.Connection]
-
-
 def test_exec_quotes_what_it_was_given():
     with addipos.open() as m:
         with pytest.raises(addipos.Argument) as e:
