@@ -148,7 +148,9 @@ def test_ctrl_c_during_a_wait_raises_keyboard_interrupt_at_once():
         finally:
             timer.cancel()
         assert m.queue() == 1, "the line still runs"
-        assert 0 < m.pos().X < 1000
+        # Given up at the signal, not at the timeout: 60 s of the line
+        # would be 600 mm; the bound leaves 10 s for a slow machine.
+        assert 0 < m.pos().X < 100
 
 
 def _thread_interrupt_main():
