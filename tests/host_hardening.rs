@@ -297,6 +297,17 @@ fn a_settings_file_that_never_ends_or_is_no_file_is_refused() {
     std::fs::write(&big, vec![b'#'; 2 << 20]).unwrap();
     let e = Machine::open(&format!("embedded:config={}", big.display())).unwrap_err();
     assert!(e.message().contains("larger than 1 MiB"), "{e}");
+    // A FIFO nobody writes to is refused before it is opened (an open
+    // would wait for a writer).
+    let fifo = dir.path().join("fifo");
+    if std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success())
+    {
+        let e = Machine::open(&format!("embedded:config={}", fifo.display())).unwrap_err();
+        assert!(e.message().contains("not a regular file"), "{e}");
+    }
 
     let out = common::bin()
         .args(["serve", "--no-persist", "--config", "/dev/zero"])
