@@ -27,7 +27,8 @@ use uoi::AccessError;
 
 use crate::clock::{RealTimeClock, RealTimeFactor};
 use crate::exec_waits::{ExecWaits, Until, EXEC_WAIT_BIT};
-use crate::info_op::{is_info, EmulatorInfo};
+use crate::guarded_write::GuardedWrite;
+use crate::info_op::{is_info, new_server_identity, EmulatorInfo};
 use crate::journal::Journal;
 use crate::serving::serve_slice;
 use crate::session::{ConformanceSession, SessionPlaces};
@@ -56,6 +57,8 @@ pub struct EmulatorService<E: TcExtension = OtcExtension> {
     /// Tool writes waiting for the disk, by token, to be journaled when
     /// answered.
     journal_pending: HashMap<u64, WireRequest>,
+    /// This server's identity, drawn at its start (`INFO`, `WRITE_IF`).
+    identity: u64,
 }
 
 /// What `INFO` reports of the settings.
@@ -97,6 +100,7 @@ impl<E: TcExtension + Default> EmulatorService<E> {
             stopping: false,
             journal: None,
             journal_pending: HashMap::new(),
+            identity: new_server_identity(),
         }
     }
 
@@ -179,6 +183,7 @@ impl<E: TcExtension + Default> EmulatorService<E> {
             // A capacity is at most 1,000,000.
             spool_capacity: self.settings.spool_capacity as u64,
             start: self.settings.start,
+            server: self.identity,
         }
     }
 
@@ -308,6 +313,28 @@ impl<E: TcExtension + Default> EmulatorService<E> {
     }
 }
 
+/// Guarded writes.
+impl<E: TcExtension + Default> EmulatorService<E> {
+    /// `req` itself, or the plain WRITE a `WRITE_IF` carries when this
+    /// server and its Clean count are the ones it expects (checked and
+    /// carried out in one step: no request comes between); else the
+    /// answer: the current `INFO` (nothing carried out), or `BadPayload`.
+    fn unguard(&self, req: WireRequest) -> Result<WireRequest, Answer> {
+        match GuardedWrite::from_wire(&req) {
+            None => Ok(req),
+            Some(Err(e)) => Err(Answer::Protocol(e)),
+            Some(Ok(w)) => {
+                let now = self.info();
+                if w.expected(&now) {
+                    Ok(w.write())
+                } else {
+                    Err(now.to_wire())
+                }
+            }
+        }
+    }
+}
+
 /// The tool persistence of a service; when it goes (the server stopped),
 /// every queued tool change is written and the journal compacted into
 /// the tool files.
@@ -345,6 +372,10 @@ impl<E: TcExtension + Default> Handler for EmulatorService<E> {
                 _ => Answer::Protocol(ProtocolError::BadPayload),
             });
         }
+        let req = match self.unguard(req) {
+            Ok(req) => req,
+            Err(answer) => return Slice::Done(answer),
+        };
         if let Some(wait) = self.exec_wait(&req) {
             return wait;
         }

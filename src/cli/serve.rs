@@ -7,7 +7,9 @@ use std::path::{Path, PathBuf};
 
 use addipos::{RecordHeader, ServeRecorder};
 use emulator::tools::open::open_tools;
-use emulator::{parse_address, Config, ConfigError, EmulatorService, DEFAULT_CONFIG};
+use emulator::{
+    parse_address, read_settings_file, Config, ConfigError, EmulatorService, DEFAULT_CONFIG,
+};
 use opcua_face::{Face, FaceConfig};
 use tokio_util::sync::CancellationToken;
 use uoi::tcp::{AccessToken, Refused, Server};
@@ -135,7 +137,7 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
     let source = config.map_or_else(|| "built-in settings".into(), |p| p.display().to_string());
     let text = match config {
         None => DEFAULT_CONFIG.to_string(),
-        Some(p) => std::fs::read_to_string(p).map_err(|e| format!("cannot read {source}: {e}"))?,
+        Some(p) => read_settings_file(p).map_err(|e| format!("{source}: {e}"))?,
     };
     let in_source = |e: ConfigError| format!("{source}: {e}");
     let mut cfg = Config::parse(&text).map_err(in_source)?;
