@@ -2,6 +2,7 @@
 and a headless Chromium driven through WebDriver (Debian's `chromium`
 and `chromium-driver`, which .ci/run installs)."""
 
+import contextlib
 import os
 import shutil
 import socket
@@ -54,8 +55,9 @@ def wait_for(what, limit_s: float, step_s: float = 0.02):
     raise AssertionError(f"not within {limit_s} s")
 
 
-@pytest.fixture(scope="module")
-def served():
+@contextlib.contextmanager
+def serving():
+    """`addipos serve --web --realtime 1` on free loopback ports."""
     uoi, web = free_port(), free_port()
     data = tempfile.mkdtemp(prefix="addipos-web-")
     proc = subprocess.Popen(
@@ -92,11 +94,24 @@ def chromium_paths():
 
 
 @pytest.fixture(scope="module")
+def served():
+    with serving() as s:
+        yield s
+
+
+@pytest.fixture(scope="module")
 def browser():
     path, driver_path = chromium_paths()
     if not path or not driver_path:
         pytest.skip("Chromium or chromedriver is not installed (Debian packages chromium, "
                     "chromium-driver; .ci/run installs them): the browser tests did not run")
+    with chromium(path, driver_path) as driver:
+        yield driver
+
+
+@contextlib.contextmanager
+def chromium(path: str, driver_path: str):
+    """Headless Chromium under WebDriver, its console log kept."""
     from selenium import webdriver
     from selenium.webdriver.chrome.service import Service
 
