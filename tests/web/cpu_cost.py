@@ -41,6 +41,48 @@ def otc_run(served) -> None:
         assert served.call("CIR", "CCW", "X0", "Y0", "I0", "J-10") == "ok"
 
 
+# 100,000 elements (lines and arcs along a spiral) and a trail through
+# them, added as the event stream adds them, in updates of 20,000.
+MANY = """
+const spooled = [], executed = [];
+let h = 0, v = 0;
+for (let i = 0; i < 100000; i++) {
+  const a = i * 0.01, r = 20 + i * 0.002;
+  const to = [r * Math.cos(a), r * Math.sin(a)];
+  spooled.push({from: [h, v], to: to, arc: i % 2 ? [[0, 0], true] : null, rapid: i % 97 === 0});
+  executed.push(to);
+  h = to[0]; v = to[1];
+}
+for (let k = 0; k < 100000; k += 20000) {
+  window.addiposDraw.add(spooled.slice(k, k + 20000), executed.slice(k, k + 20000));
+}
+"""
+
+
+def frame(browser, after: int) -> tuple:
+    """The first frame drawn after frame number `after`: (ms, whole)."""
+    def drawn():
+        n = browser.execute_script("return document.getElementById('path').dataset.frames")
+        return n is not None and int(n) > after
+    conftest.wait_for(drawn, 30)
+    d = browser.execute_script("return Object.assign({}, document.getElementById('path').dataset)")
+    return float(d["frameMs"]), d["frameWhole"] == "true", int(d["frames"])
+
+
+def draw_cost(browser) -> None:
+    """Frame times of the page's drawing with 100,000 elements."""
+    frames = lambda: int(browser.execute_script(  # noqa: E731
+        "return document.getElementById('path').dataset.frames || 0"))
+    before = frames()
+    browser.execute_script(MANY)
+    whole_ms, whole, n = frame(browser, before)
+    browser.execute_script(
+        "window.addiposDraw.add([{from: [1, 1], to: [2, 2], arc: null, rapid: false}], [[2, 2]])")
+    step_ms, step_whole, n = frame(browser, n)
+    print(f"100,000 elements drawn: {whole_ms:.1f} ms (whole picture: {whole}); "
+          f"one element more: {step_ms:.1f} ms (whole picture: {step_whole})")
+
+
 def main() -> None:
     os.environ["ADDIPOS_BIN"] = sys.argv[1]
     seconds = float(sys.argv[2]) if len(sys.argv) > 2 else 10.0
@@ -57,6 +99,14 @@ def main() -> None:
             viewed = share_of_a_core(pid, seconds)
             otc = browser.find_element("id", "otc-1").text
             queue = browser.find_element("id", "queue").text
+    # The drawing on an idle server's page: only the elements added here.
+    with conftest.serving() as idle_server:
+        with conftest.chromium(*conftest.chromium_paths()) as browser:
+            browser.get(idle_server.url)
+            conftest.wait_for(
+                lambda: browser.find_element("id", "link").text == "live", 10)
+            time.sleep(0.5)
+            draw_cost(browser)
     print(f"server CPU, no page open:  {idle * 100:.2f} % of one core")
     print(f"server CPU, one page open: {viewed * 100:.2f} % of one core")
     print(f"the view's cost:           {(viewed - idle) * 100:.2f} % of one core")

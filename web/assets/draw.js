@@ -26,25 +26,34 @@ window.addiposDraw = (function () {
   const canvas = document.getElementById("path");
   const marker = document.getElementById("path-marker");
 
-  function bounds() {
-    let b = null;
-    function take(p) {
-      if (!b) { b = { minH: p[0], maxH: p[0], minV: p[1], maxV: p[1] }; return; }
-      if (p[0] < b.minH) { b.minH = p[0]; }
-      if (p[0] > b.maxH) { b.maxH = p[0]; }
-      if (p[1] < b.minV) { b.minV = p[1]; }
-      if (p[1] > b.maxV) { b.maxV = p[1]; }
+  // The extent of everything received, kept up to date as it comes.
+  let extent = null;
+
+  function take(p) {
+    if (!extent) { extent = { minH: p[0], maxH: p[0], minV: p[1], maxV: p[1] }; return; }
+    if (p[0] < extent.minH) { extent.minH = p[0]; }
+    if (p[0] > extent.maxH) { extent.maxH = p[0]; }
+    if (p[1] < extent.minV) { extent.minV = p[1]; }
+    if (p[1] > extent.maxV) { extent.maxV = p[1]; }
+  }
+
+  function takeElement(e) {
+    take(e.from); take(e.to);
+    if (e.arc) {
+      const dh = e.from[0] - e.arc[0][0], dv = e.from[1] - e.arc[0][1];
+      const r = Math.sqrt(dh * dh + dv * dv);
+      take([e.arc[0][0] - r, e.arc[0][1] - r]);
+      take([e.arc[0][0] + r, e.arc[0][1] + r]);
     }
-    spooled.forEach(function (e) {
-      take(e.from); take(e.to);
-      if (e.arc) {
-        const r = Math.hypot(e.from[0] - e.arc[0][0], e.from[1] - e.arc[0][1]);
-        take([e.arc[0][0] - r, e.arc[0][1] - r]);
-        take([e.arc[0][0] + r, e.arc[0][1] + r]);
-      }
-    });
-    executed.forEach(take);
-    if (machine) { take(machine); }
+  }
+
+  function bounds() {
+    if (!extent && !machine) { return null; }
+    const b = extent ? Object.assign({}, extent) : { minH: machine[0], maxH: machine[0], minV: machine[1], maxV: machine[1] };
+    if (machine) {
+      b.minH = Math.min(b.minH, machine[0]); b.maxH = Math.max(b.maxH, machine[0]);
+      b.minV = Math.min(b.minV, machine[1]); b.maxV = Math.max(b.maxV, machine[1]);
+    }
     return b;
   }
 
@@ -93,6 +102,19 @@ window.addiposDraw = (function () {
     return out;
   }
 
+  // Whether an arc is less than half a circle and strays less than half
+  // a pixel from its chord (sagitta = chord² / 8r): drawn as its chord.
+  function flat(e) {
+    const c = e.arc[0];
+    const ah = e.from[0] - c[0], av = e.from[1] - c[1];
+    const bh = e.to[0] - c[0], bv = e.to[1] - c[1];
+    const cross = ah * bv - av * bh;
+    if (e.arc[1] ? cross <= 0 : cross >= 0) { return false; }
+    const r = Math.sqrt(ah * ah + av * av) * view.scale;
+    const ch = (bh - ah) * view.scale, cv = (bv - av) * view.scale;
+    return (ch * ch + cv * cv) / (8 * r) < 0.5;
+  }
+
   function stroke(ctx, look) {
     ctx.strokeStyle = look.colour;
     ctx.lineWidth = look.width;
@@ -102,27 +124,48 @@ window.addiposDraw = (function () {
   }
 
   // Draws spooled elements from index `from`, thinned, one stroke per run
-  // of elements of one kind.
+  // of elements of one kind. Distances are compared squared, and a line
+  // is taken without building a list of its points: 100,000 elements are
+  // drawn again in a few tens of milliseconds when the picture is
+  // rescaled.
   function drawSpooled(ctx, from) {
-    let last = null, look = null;
+    let lastH = NaN, lastV = NaN, look = null;
+    const pixel2 = PIXEL * PIXEL;
+    function lineTo(h, v, always) {
+      const dh = h - lastH, dv = v - lastV;
+      if (always || dh * dh + dv * dv >= pixel2) {
+        ctx.lineTo(h, v);
+        lastH = h; lastV = v;
+      }
+    }
     for (let i = from; i < spooled.length; i++) {
       const e = spooled[i];
       const want = e.rapid ? RAPID : CORRECTED;
-      const pts = points(e);
-      if (look !== want || !last || Math.hypot(pts[0][0] - last[0], pts[0][1] - last[1]) > PIXEL) {
+      const sh = view.width / 2 + (e.from[0] - view.cH) * view.scale;
+      const sv = view.height / 2 - (e.from[1] - view.cV) * view.scale;
+      const gh = sh - lastH, gv = sv - lastV;
+      if (look !== want || !(gh * gh + gv * gv <= pixel2)) {
         if (look) { ctx.stroke(); }
         look = want;
         stroke(ctx, look);
         ctx.beginPath();
-        ctx.moveTo(pts[0][0], pts[0][1]);
-        last = pts[0];
+        ctx.moveTo(sh, sv);
+        lastH = sh; lastV = sv;
       }
+      const last = i === spooled.length - 1;
+      if (!e.arc) {
+        lineTo(view.width / 2 + (e.to[0] - view.cH) * view.scale,
+               view.height / 2 - (e.to[1] - view.cV) * view.scale, last);
+        continue;
+      }
+      if (flat(e)) {
+        lineTo(view.width / 2 + (e.to[0] - view.cH) * view.scale,
+               view.height / 2 - (e.to[1] - view.cV) * view.scale, last);
+        continue;
+      }
+      const pts = points(e);
       for (let k = 1; k < pts.length; k++) {
-        const p = pts[k];
-        if (Math.hypot(p[0] - last[0], p[1] - last[1]) >= PIXEL || k === pts.length - 1 && i === spooled.length - 1) {
-          ctx.lineTo(p[0], p[1]);
-          last = p;
-        }
+        lineTo(pts[k][0], pts[k][1], last && k === pts.length - 1);
       }
     }
     if (look) { ctx.stroke(); }
@@ -131,15 +174,19 @@ window.addiposDraw = (function () {
   function drawExecuted(ctx, from) {
     if (executed.length - from < 1) { return; }
     const start = Math.max(0, from - 1);
+    const pixel2 = PIXEL * PIXEL;
     stroke(ctx, EXECUTED);
     ctx.beginPath();
-    let last = px(executed[start]);
-    ctx.moveTo(last[0], last[1]);
+    const first = px(executed[start]);
+    let lastH = first[0], lastV = first[1];
+    ctx.moveTo(lastH, lastV);
     for (let i = start + 1; i < executed.length; i++) {
-      const p = px(executed[i]);
-      if (Math.hypot(p[0] - last[0], p[1] - last[1]) >= PIXEL || i === executed.length - 1) {
-        ctx.lineTo(p[0], p[1]);
-        last = p;
+      const h = view.width / 2 + (executed[i][0] - view.cH) * view.scale;
+      const v = view.height / 2 - (executed[i][1] - view.cV) * view.scale;
+      const dh = h - lastH, dv = v - lastV;
+      if (dh * dh + dv * dv >= pixel2 || i === executed.length - 1) {
+        ctx.lineTo(h, v);
+        lastH = h; lastV = v;
       }
     }
     ctx.stroke();
@@ -184,9 +231,13 @@ window.addiposDraw = (function () {
     return machine !== null && !inside(machine);
   }
 
+  // The time the last frame took to draw (ms) and whether it redrew the
+  // whole picture, kept on the canvas for a measuring script.
   function frame() {
     pending = false;
-    if (needsRefit()) {
+    const t0 = window.performance.now();
+    const whole = needsRefit();
+    if (whole) {
       redraw();
     } else {
       const ctx = canvas.getContext("2d");
@@ -196,6 +247,9 @@ window.addiposDraw = (function () {
       drawnExecuted = executed.length;
     }
     drawMarker();
+    canvas.dataset.frameMs = (window.performance.now() - t0).toFixed(2);
+    canvas.dataset.frameWhole = String(whole);
+    canvas.dataset.frames = String(Number(canvas.dataset.frames || 0) + 1);
   }
 
   function later() {
@@ -209,8 +263,8 @@ window.addiposDraw = (function () {
 
   return {
     add: function (newSpooled, newExecuted) {
-      newSpooled.forEach(function (e) { spooled.push(e); });
-      newExecuted.forEach(function (p) { executed.push(p); });
+      newSpooled.forEach(function (e) { spooled.push(e); takeElement(e); });
+      newExecuted.forEach(function (p) { executed.push(p); take(p); });
       if (newSpooled.length || newExecuted.length) { later(); }
     },
     machine: function (h, v) {
