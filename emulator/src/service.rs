@@ -190,6 +190,10 @@ impl<E: TcExtension + Default> EmulatorService<E> {
             return;
         }
         self.watched = on.then(Watched::default);
+        if !on && self.journal.is_none() {
+            // Elements logged since the viewer's last look are nobody's.
+            let _ = self.emu.take_spool_log();
+        }
         self.log_spool_if_needed();
     }
 
@@ -595,5 +599,15 @@ mod tests {
         lin(&mut s, 4);
         assert!(s.take_watched_spool().records.is_empty());
         assert_eq!(lines.0.lock().unwrap().len(), 4, "the recording goes on");
+        // Without a recording: what the viewer left untaken is not kept
+        // for the next one.
+        s.finish_journal();
+        s.watch_spool(true);
+        lin(&mut s, 5);
+        s.watch_spool(false);
+        s.watch_spool(true);
+        lin(&mut s, 6);
+        let ends: Vec<f64> = s.take_watched_spool().records.iter().map(|r| r.end[0]).collect();
+        assert_eq!(ends, [6.0]);
     }
 }
