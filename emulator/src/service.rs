@@ -204,7 +204,11 @@ impl<E: TcExtension + Default> EmulatorService<E> {
             let spooled = self.emu.take_spool_log();
             self.keep_watched(&spooled);
         }
-        let w = self.watched.as_mut().map(std::mem::take).unwrap_or_default();
+        let w = self
+            .watched
+            .as_mut()
+            .map(std::mem::take)
+            .unwrap_or_default();
         WatchedSpool {
             records: w.records,
             missed: w.missed,
@@ -607,7 +611,12 @@ mod tests {
         s.watch_spool(false);
         s.watch_spool(true);
         lin(&mut s, 6);
-        let ends: Vec<f64> = s.take_watched_spool().records.iter().map(|r| r.end[0]).collect();
+        let ends: Vec<f64> = s
+            .take_watched_spool()
+            .records
+            .iter()
+            .map(|r| r.end[0])
+            .collect();
         assert_eq!(ends, [6.0]);
     }
 }

@@ -24,10 +24,11 @@ pub fn file(path: &str) -> Option<File> {
             "text/javascript; charset=utf-8",
             include_str!("../assets/draw.js"),
         ),
-        "/style.css" => ("text/css; charset=utf-8", include_str!("../assets/style.css")),
-        "/favicon.svg" | "/favicon.ico" => {
-            ("image/svg+xml", include_str!("../assets/favicon.svg"))
-        }
+        "/style.css" => (
+            "text/css; charset=utf-8",
+            include_str!("../assets/style.css"),
+        ),
+        "/favicon.svg" | "/favicon.ico" => ("image/svg+xml", include_str!("../assets/favicon.svg")),
         _ => return None,
     };
     Some(File { content_type, body })

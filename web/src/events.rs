@@ -84,11 +84,7 @@ pub async fn stream<W: AsyncWrite + Unpin>(w: &mut W, hub: &Arc<Hub>, slow: Dura
 }
 
 /// One `update` event.
-async fn send<W: AsyncWrite + Unpin>(
-    w: &mut W,
-    u: &Update,
-    slow: Duration,
-) -> std::io::Result<()> {
+async fn send<W: AsyncWrite + Unpin>(w: &mut W, u: &Update, slow: Duration) -> std::io::Result<()> {
     let event = Event {
         state: u.snapshot.as_ref(),
         path: &u.path,
@@ -122,12 +118,10 @@ mod tests {
         });
         let (mut server_end, _page) = tokio::io::duplex(4096);
         let slow = Duration::from_millis(200);
-        let end = tokio::time::timeout(
-            Duration::from_secs(10),
-            stream(&mut server_end, &hub, slow),
-        )
-        .await
-        .expect("the stream gives up on its own");
+        let end =
+            tokio::time::timeout(Duration::from_secs(10), stream(&mut server_end, &hub, slow))
+                .await
+                .expect("the stream gives up on its own");
         assert_eq!(end, Ended::TooSlow);
         // The hub took more meanwhile without waiting for anybody.
         hub.publish(None, |p| {

@@ -167,7 +167,13 @@ impl WebFace {
 }
 
 /// One connection: its request, and its answer or event stream.
-async fn serve(mut socket: TcpStream, peer: SocketAddr, cfg: &WebConfig, hub: &Arc<Hub>, core: &CoreHandle) {
+async fn serve(
+    mut socket: TcpStream,
+    peer: SocketAddr,
+    cfg: &WebConfig,
+    hub: &Arc<Hub>,
+    core: &CoreHandle,
+) {
     let head = match read_head(&mut socket, cfg.request_timeout).await {
         Ok(h) => h,
         Err(e) => {
@@ -176,7 +182,12 @@ async fn serve(mut socket: TcpStream, peer: SocketAddr, cfg: &WebConfig, hub: &A
             return finish(&mut socket, &bad, cfg.slow_client).await;
         }
     };
-    let token_ok = |t: &str| cfg.access.token.as_ref().is_some_and(|k| k.matches(t.as_bytes()));
+    let token_ok = |t: &str| {
+        cfg.access
+            .token
+            .as_ref()
+            .is_some_and(|k| k.matches(t.as_bytes()))
+    };
     let answer = match route(&head, token_ok, cfg.access.needs_token(peer.ip())) {
         Route::Fixed(a) => a,
         Route::State => state(hub, core).await,
@@ -208,7 +219,10 @@ async fn state(hub: &Hub, core: &CoreHandle) -> Answer {
 /// client still sends (a request body) is read and dropped for a moment,
 /// so that it gets the answer rather than a reset.
 async fn finish(socket: &mut TcpStream, answer: &Answer, slow: Duration) {
-    if write_within(socket, &answer.to_bytes(), slow).await.is_err() {
+    if write_within(socket, &answer.to_bytes(), slow)
+        .await
+        .is_err()
+    {
         return;
     }
     let _ = socket.shutdown().await;

@@ -52,7 +52,10 @@ pub enum HeadError {
 }
 
 /// Reads one request head within `limit`.
-pub async fn read_head<R: AsyncRead + Unpin>(r: &mut R, limit: Duration) -> Result<Head, HeadError> {
+pub async fn read_head<R: AsyncRead + Unpin>(
+    r: &mut R,
+    limit: Duration,
+) -> Result<Head, HeadError> {
     tokio::time::timeout(limit, read_head_now(r))
         .await
         .map_err(|_| HeadError::Slow)?

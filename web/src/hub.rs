@@ -120,7 +120,11 @@ impl Hub {
     /// What a page at `cursor` that last saw `seen` has not had.
     pub fn update(&self, seen: Option<&Snapshot>, cursor: Cursor) -> (Update, Cursor) {
         let shown = self.lock();
-        let snapshot = shown.snapshot.as_ref().filter(|s| Some(*s) != seen).cloned();
+        let snapshot = shown
+            .snapshot
+            .as_ref()
+            .filter(|s| Some(*s) != seen)
+            .cloned();
         let (path, next) = shown.path.since(cursor);
         (Update { snapshot, path }, next)
     }

@@ -31,7 +31,10 @@ pub fn route(head: &Head, token_ok: impl Fn(&str) -> bool, needs_token: bool) ->
     if let Some(file) = assets::file(&head.path) {
         return Route::Fixed(Answer::ok(file.content_type, file.body));
     }
-    let data = matches!(head.path.as_str(), "/" | "/index.html" | "/state" | "/events");
+    let data = matches!(
+        head.path.as_str(),
+        "/" | "/index.html" | "/state" | "/events"
+    );
     if !data {
         return Route::Fixed(Answer::error("404 Not Found", "no such page"));
     }

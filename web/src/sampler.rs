@@ -38,7 +38,7 @@ pub async fn run(core: CoreHandle, hub: Arc<Hub>) {
         let mut n: u32 = 0;
         while hub.viewers() > 0 {
             tick.tick().await;
-            let whole = n % every == 0;
+            let whole = n.is_multiple_of(every);
             n = n.wrapping_add(1);
             let web = hub.viewers();
             let Some(look) = core.inspect(move |h| look_at(h, whole, web)).await else {
@@ -90,7 +90,10 @@ fn look_at(h: &mut dyn std::any::Any, whole: bool, web: usize) -> Option<Look> {
 
 /// The state now, looked at once (`/state` with no page open).
 pub async fn snapshot_now(core: &CoreHandle, web: usize) -> Option<Snapshot> {
-    core.inspect(move |h| h.downcast_mut::<EmulatorService>().map(|s| snapshot::take(s, web)))
-        .await
-        .flatten()
+    core.inspect(move |h| {
+        h.downcast_mut::<EmulatorService>()
+            .map(|s| snapshot::take(s, web))
+    })
+    .await
+    .flatten()
 }

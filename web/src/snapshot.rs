@@ -153,7 +153,11 @@ pub fn take(service: &mut EmulatorService, web: usize) -> Snapshot {
     let groups = in_use.into_iter().filter_map(|g| group(emu, g)).collect();
     Snapshot {
         clock: Clock {
-            mode: if realtime.is_some() { "realtime" } else { "stepped" },
+            mode: if realtime.is_some() {
+                "realtime"
+            } else {
+                "stepped"
+            },
             factor: realtime,
         },
         axes,

@@ -3,6 +3,9 @@
 //! the headers of every answer, nothing sent while nothing changes, and
 //! no cost once no page is open.
 
+// Test helpers may stop loudly on a broken setup.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+
 use std::net::SocketAddr;
 use std::time::Duration;
 
@@ -129,14 +132,27 @@ async fn only_get_is_served_and_every_answer_carries_the_policy() {
         assert!(answer.starts_with("HTTP/1.1 405"), "{method}: {answer}");
         assert!(answer.contains("Content-Security-Policy: default-src 'self'"));
     }
-    for path in ["/", "/state", "/app.js", "/draw.js", "/style.css", "/nothing"] {
+    for path in [
+        "/",
+        "/state",
+        "/app.js",
+        "/draw.js",
+        "/style.css",
+        "/nothing",
+    ] {
         let answer = exchange(s.web, &format!("GET {path} HTTP/1.1\r\n\r\n"), 1 << 20).await;
-        assert!(answer.contains("Content-Security-Policy: default-src 'self'"), "{path}");
+        assert!(
+            answer.contains("Content-Security-Policy: default-src 'self'"),
+            "{path}"
+        );
         let ok = answer.starts_with("HTTP/1.1 200");
         assert_eq!(ok, path != "/nothing", "{path}: {answer}");
     }
     let page = exchange(s.web, "GET / HTTP/1.1\r\n\r\n", 1 << 20).await;
-    assert!(!page.contains("http://") && !page.contains("https://"), "nothing from elsewhere");
+    assert!(
+        !page.contains("http://") && !page.contains("https://"),
+        "nothing from elsewhere"
+    );
     let (_, head) = open_page(s.web).await;
     assert!(head.contains("Content-Security-Policy: default-src 'self'"));
 }
@@ -173,13 +189,19 @@ async fn a_page_gets_what_changes_and_nothing_while_nothing_changes() {
     let s = served().await;
     let (mut page, _) = open_page(s.web).await;
     let first = read_until(&mut page, "\n\n").await;
-    assert!(first.contains("event: update") && first.contains("\"queue\""), "{first}");
+    assert!(
+        first.contains("event: update") && first.contains("\"queue\""),
+        "{first}"
+    );
     call(&s.core, "LIN X10 Y5 F600").await;
     let spooled = read_until(&mut page, "\"to\":[10.0,5.0]").await;
     assert!(spooled.contains("\"waiting\":1"), "{spooled}");
     call(&s.core, "EXEC").await;
     let moved = read_until(&mut page, "\"waiting\":0").await;
-    assert!(moved.contains("[10.0,5.0]"), "the executed trail reached the end: {moved}");
+    assert!(
+        moved.contains("[10.0,5.0]"),
+        "the executed trail reached the end: {moved}"
+    );
     // Stepped and idle: nothing changes, nothing is sent.
     let mut buf = [0u8; 1024];
     let quiet = tokio::time::timeout(Duration::from_millis(500), page.read(&mut buf)).await;
