@@ -5,6 +5,8 @@
 
 // Bench setup may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
+// criterion_group! makes an undocumented function.
+#![allow(missing_docs)]
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use emulator::EmulatorService;
