@@ -59,5 +59,5 @@ pub use guarded_write::{GuardedOutcome, GuardedWrite, WRITE_IF_OP};
 pub use info_op::{EmulatorInfo, INFO_OP};
 pub use journal::Journal;
 pub use reference::{bits_without_meaning, devices_without_section, object_reference};
-pub use service::EmulatorService;
+pub use service::{EmulatorService, WatchedSpool, MAX_WATCHED};
 pub use session::{ConformanceSession, LOG_CAPACITY, MAX_SESSIONS, MAX_SESSION_SPOOL};

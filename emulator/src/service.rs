@@ -19,7 +19,7 @@ use std::time::Instant;
 
 use otc_ext::OtcExtension;
 use tc_module::{AxisPos, CycleTime, TcExtension};
-use tc_request::{Reply, Request};
+use tc_request::{Reply, Request, SpoolRecord};
 use uoi::tcp::{Handler, Slice};
 use uoi::wire::ProtocolError;
 use uoi::wire::{Answer, Request as WireRequest};
@@ -59,6 +59,31 @@ pub struct EmulatorService<E: TcExtension = OtcExtension> {
     journal_pending: HashMap<u64, WireRequest>,
     /// This server's identity, drawn at its start (`INFO`, `WRITE_IF`).
     identity: u64,
+    /// Spooled elements kept for a viewer while one watches
+    /// ([`EmulatorService::watch_spool`]).
+    watched: Option<Watched>,
+}
+
+/// Most spooled elements kept for a viewer between two of its looks;
+/// beyond, the newest are counted as missed, not kept.
+pub const MAX_WATCHED: usize = 100_000;
+
+/// The spooled elements a viewer has not taken yet.
+#[derive(Debug, Default)]
+struct Watched {
+    records: Vec<SpoolRecord>,
+    missed: u64,
+}
+
+/// The spooled elements since a viewer's last look
+/// ([`EmulatorService::take_watched_spool`]).
+#[derive(Debug, Default, Clone, PartialEq)]
+pub struct WatchedSpool {
+    /// The elements, in the order they entered the spooler.
+    pub records: Vec<SpoolRecord>,
+    /// Elements spooled but not kept (more than [`MAX_WATCHED`] between
+    /// two looks).
+    pub missed: u64,
 }
 
 /// What `INFO` reports of the settings.
@@ -101,6 +126,7 @@ impl<E: TcExtension + Default> EmulatorService<E> {
             journal: None,
             journal_pending: HashMap::new(),
             identity: new_server_identity(),
+            watched: None,
         }
     }
 
@@ -146,7 +172,9 @@ impl<E: TcExtension + Default> EmulatorService<E> {
     /// Records every request carried out from now on into `journal`.
     pub fn set_journal(&mut self, journal: Box<dyn Journal>) {
         self.emu.set_spool_log(true);
-        let _ = self.emu.take_spool_log();
+        // What a viewer has not taken yet is its, not the recording's.
+        let before = self.emu.take_spool_log();
+        self.keep_watched(&before);
         self.journal = Some(journal);
     }
 
@@ -157,7 +185,63 @@ impl<E: TcExtension + Default> EmulatorService<E> {
                 tracing::error!("recording: {e}");
             }
         }
-        self.emu.set_spool_log(false);
+        self.log_spool_if_needed();
+    }
+
+    /// Keeps every element spooled from now on for a viewer (`on`), to
+    /// be taken with [`take_watched_spool`](Self::take_watched_spool);
+    /// or stops keeping them. Costs nothing while nobody watches; the
+    /// recording, when one goes on, gets every element as before.
+    pub fn watch_spool(&mut self, on: bool) {
+        if on == self.watched.is_some() {
+            return;
+        }
+        self.watched = on.then(Watched::default);
+        if !on && self.journal.is_none() {
+            // Elements logged since the viewer's last look are nobody's.
+            let _ = self.emu.take_spool_log();
+        }
+        self.log_spool_if_needed();
+    }
+
+    /// The elements spooled since the last call (while watching; else
+    /// none).
+    pub fn take_watched_spool(&mut self) -> WatchedSpool {
+        if self.journal.is_none() {
+            let spooled = self.emu.take_spool_log();
+            self.keep_watched(&spooled);
+        }
+        let w = self
+            .watched
+            .as_mut()
+            .map(std::mem::take)
+            .unwrap_or_default();
+        WatchedSpool {
+            records: w.records,
+            missed: w.missed,
+        }
+    }
+
+    /// Sessions open: one per connection of the server.
+    pub fn connections(&self) -> usize {
+        self.sessions.open()
+    }
+
+    /// The spool log on while a recording or a viewer needs it.
+    fn log_spool_if_needed(&mut self) {
+        let on = self.journal.is_some() || self.watched.is_some();
+        self.emu.set_spool_log(on);
+    }
+
+    /// Copies `spooled` for the viewer, while one watches.
+    fn keep_watched(&mut self, spooled: &[SpoolRecord]) {
+        let Some(w) = self.watched.as_mut() else {
+            return;
+        };
+        let room = MAX_WATCHED.saturating_sub(w.records.len());
+        let kept = spooled.len().min(room);
+        w.records.extend_from_slice(&spooled[..kept]);
+        w.missed += (spooled.len() - kept) as u64;
     }
 
     /// The server stops: every `EXEC` waiting for the clock is answered
@@ -209,10 +293,14 @@ impl<E: TcExtension + Default> EmulatorService<E> {
     /// Hands the journal one request with its reply and what it spooled;
     /// a journal that fails is dropped (logged), never the server.
     fn journal_reply(&mut self, req: &Request, reply: &Reply) {
+        if self.journal.is_none() {
+            return;
+        }
+        let spooled = self.emu.take_spool_log();
+        self.keep_watched(&spooled);
         let Some(j) = self.journal.as_mut() else {
             return;
         };
-        let spooled = self.emu.take_spool_log();
         let axis_nr = self.emu.tc().axis_nr();
         if let Err(e) = j.exchange(req, reply, &spooled, axis_nr) {
             self.journal_failed(&e);
@@ -240,7 +328,7 @@ impl<E: TcExtension + Default> EmulatorService<E> {
     fn journal_failed(&mut self, why: &str) {
         tracing::error!("recording stopped ({why}); the server goes on serving");
         self.journal = None;
-        self.emu.set_spool_log(false);
+        self.log_spool_if_needed();
     }
 
     /// Journals one slice of `req` served with `slice`; `before`: the
@@ -545,5 +633,44 @@ mod tests {
         assert_eq!(answer(&mut s, lin), Answer::Ok);
         assert!(s.emu.take_spool_log().is_empty());
         assert_eq!(s.emu.queue_len(), 1);
+    }
+
+    #[test]
+    fn a_viewer_gets_every_spooled_element_and_the_recording_too() {
+        let mut s = EmulatorService::new([0.0; 8], CycleTime::DEFAULT);
+        let lin = |s: &mut EmulatorService, x: u32| {
+            let req = parse_request(&format!("LIN X{x} F600")).unwrap().to_wire();
+            assert_eq!(answer(s, req), Answer::Ok);
+        };
+        lin(&mut s, 1);
+        assert!(s.take_watched_spool().records.is_empty(), "nobody watched");
+        s.watch_spool(true);
+        lin(&mut s, 2);
+        let lines = Lines::default();
+        s.set_journal(Box::new(lines.clone()));
+        lin(&mut s, 3);
+        let seen = s.take_watched_spool();
+        let ends: Vec<f64> = seen.records.iter().map(|r| r.end[0]).collect();
+        assert_eq!((ends, seen.missed), (vec![2.0, 3.0], 0));
+        assert!(lines.0.lock().unwrap().contains(&"<".to_string()));
+        s.watch_spool(false);
+        lin(&mut s, 4);
+        assert!(s.take_watched_spool().records.is_empty());
+        assert_eq!(lines.0.lock().unwrap().len(), 4, "the recording goes on");
+        // Without a recording: what the viewer left untaken is not kept
+        // for the next one.
+        s.finish_journal();
+        s.watch_spool(true);
+        lin(&mut s, 5);
+        s.watch_spool(false);
+        s.watch_spool(true);
+        lin(&mut s, 6);
+        let ends: Vec<f64> = s
+            .take_watched_spool()
+            .records
+            .iter()
+            .map(|r| r.end[0])
+            .collect();
+        assert_eq!(ends, [6.0]);
     }
 }

@@ -30,23 +30,42 @@ pub const MAX_SESSIONS: usize = 16;
 pub const MAX_SESSION_SPOOL: usize = DEFAULT_SPOOL_CAPACITY;
 
 /// The places of the sessions of one service: at most [`MAX_SESSIONS`]
-/// have an emulator at once (cloned into each session it opens).
+/// have an emulator at once (cloned into each session it opens); and the
+/// count of the sessions open, one per connection, with an emulator or
+/// not (what a dashboard shows as the connected UOI clients).
 #[derive(Debug, Clone, Default)]
-pub struct SessionPlaces(Arc<AtomicUsize>);
+pub struct SessionPlaces {
+    /// Sessions with an emulator of their own (after `SETUP`).
+    setups: Arc<AtomicUsize>,
+    /// Sessions open: the service's connections.
+    open: Arc<AtomicUsize>,
+}
 
 impl SessionPlaces {
     /// A place, or `None` when all are taken.
     fn take(&self) -> Option<SessionPlace> {
-        self.0
+        self.setups
             .fetch_update(Ordering::AcqRel, Ordering::Acquire, |n| {
                 (n < MAX_SESSIONS).then_some(n + 1)
             })
             .ok()
-            .map(|_| SessionPlace(Arc::clone(&self.0)))
+            .map(|_| SessionPlace(Arc::clone(&self.setups)))
+    }
+
+    /// Sessions open now: one per connection of the service.
+    pub fn open(&self) -> usize {
+        self.open.load(Ordering::Acquire)
+    }
+
+    /// Counts one more session open, until the seat is dropped.
+    fn seat(&self) -> SessionPlace {
+        self.open.fetch_add(1, Ordering::AcqRel);
+        SessionPlace(Arc::clone(&self.open))
     }
 }
 
-/// One of the [`MAX_SESSIONS`] places; given back when dropped.
+/// One of the [`MAX_SESSIONS`] places, or one open session; given back
+/// when dropped.
 #[derive(Debug)]
 struct SessionPlace(Arc<AtomicUsize>);
 
@@ -67,6 +86,8 @@ pub struct ConformanceSession {
     own: Option<Box<Conformance>>,
     /// Where its place comes from when it sends `SETUP`.
     places: SessionPlaces,
+    /// It counts among the sessions open while it lives.
+    _open: SessionPlace,
 }
 
 /// Whether `req` is a `SETUP`.
@@ -98,7 +119,12 @@ impl ConformanceSession {
     /// A session with nothing of its own yet, taking its place from
     /// `places` on `SETUP`.
     pub fn new(places: SessionPlaces) -> Self {
-        Self { own: None, places }
+        let open = places.seat();
+        Self {
+            own: None,
+            places,
+            _open: open,
+        }
     }
 
     /// `SETUP`: a fresh emulator for this connection, in place of any it
@@ -258,5 +284,18 @@ mod tests {
         assert!(!without.takes(&read));
         drop(held);
         assert_eq!(open(&mine).0, Answer::Ok);
+    }
+
+    #[test]
+    fn every_session_counts_as_open_until_it_ends() {
+        let places = SessionPlaces::default();
+        assert_eq!(places.open(), 0);
+        let plain = ConformanceSession::new(places.clone());
+        let (_, with_emulator) = open(&places);
+        assert_eq!(places.open(), 2);
+        drop(plain);
+        assert_eq!(places.open(), 1);
+        drop(with_emulator);
+        assert_eq!(places.open(), 0);
     }
 }

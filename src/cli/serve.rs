@@ -82,7 +82,16 @@ pub struct ServeArgs {
     /// replay` (docs/host-api.md, "Recording").
     #[arg(long, value_name = "FILE")]
     pub record: Option<PathBuf>,
+    /// Serve the live web view (docs/web.md) at ADDR: HOST:PORT or a bare
+    /// PORT (on 127.0.0.1); without ADDR at 127.0.0.1:8300. Another than
+    /// a loopback address needs --allow-remote and the access token, as
+    /// the UOI face.
+    #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = DEFAULT_WEB)]
+    pub web: Option<String>,
 }
+
+/// Where `--web` without an address serves the view.
+const DEFAULT_WEB: &str = "127.0.0.1:8300";
 
 /// How often a server in real time runs its clock between requests (and
 /// ends the EXEC waits that are over), so that the OPC UA face sees the
@@ -97,6 +106,8 @@ struct ServeSettings {
     opcua: Option<FaceConfig>,
     /// The machine's serial number in the OPC UA face.
     serial_number: String,
+    /// The web view, when it is on.
+    web: Option<web_view::WebConfig>,
     /// The lock on the tool folder, held while serving.
     _tools_lock: Option<std::fs::File>,
 }
@@ -163,13 +174,31 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
         None
     };
     time_and_recording(&mut service, &cfg, args.record.as_deref())?;
+    let web = web_settings(args, &server)?;
     Ok(ServeSettings {
         server,
         service,
         opcua,
+        web,
         serial_number: cfg.opcua.serial_number.clone(),
         _tools_lock: lock,
     })
+}
+
+/// The web view's settings (`--web`): its address, and the UOI face's
+/// rule for anything but loopback (`--allow-remote`, the access token).
+fn web_settings(
+    args: &ServeArgs,
+    server: &uoi::tcp::ServerConfig,
+) -> Result<Option<web_view::WebConfig>, String> {
+    let Some(addr) = &args.web else {
+        return Ok(None);
+    };
+    let listen = parse_address(addr).map_err(|e| format!("--web: {e}"))?;
+    let mut web = web_view::WebConfig::new(listen);
+    web.allow_remote = server.allow_remote;
+    web.access = server.access.clone();
+    Ok(Some(web))
 }
 
 /// Logs real time, and starts `--record`'s recording.
@@ -303,11 +332,12 @@ fn opcua_listen_error(addr: SocketAddr, e: &std::io::Error) -> String {
     }
 }
 
-/// Serves the UOI face, and the OPC UA face when it is bound, until a
-/// stop signal (or until either ends: then both stop).
+/// Serves the UOI face, and the OPC UA face and the web view when they
+/// are bound, until a stop signal (or until one ends: then all stop).
 async fn serve_faces<H: uoi::tcp::Handler>(
     server: Server<H>,
     face: Option<Face>,
+    web: Option<web_view::WebFace>,
     stop: CancellationToken,
 ) -> std::io::Result<()> {
     let signal = stop.clone();
@@ -328,9 +358,15 @@ async fn serve_faces<H: uoi::tcp::Handler>(
         stop.cancel();
         end
     };
-    let (uoi, opcua) = tokio::join!(uoi, opcua);
+    let web = async {
+        let Some(web) = web else { return Ok(()) };
+        let end = web.run(stop.cancelled()).await;
+        stop.cancel();
+        end
+    };
+    let (uoi, opcua, web) = tokio::join!(uoi, opcua, web);
     watch.abort();
-    uoi.and(opcua)
+    uoi.and(opcua).and(web)
 }
 
 /// Runs `serve` until a stop signal (or prints the built-in settings);
@@ -362,10 +398,17 @@ pub fn cmd_serve(args: &ServeArgs, print_default_config: bool) -> Outcome {
         }
         None => None,
     };
+    let web = match settings.web {
+        Some(cfg) => Some(
+            rt.block_on(web_view::WebFace::bind(cfg, server.core()))
+                .map_err(|e| Failure::trouble(e.to_string()))?,
+        ),
+        None => None,
+    };
     let stop = CancellationToken::new();
     let clock = realtime.then(|| rt.spawn(tick_clock(server.core(), stop.clone())));
     let end = rt
-        .block_on(serve_faces(server, face, stop))
+        .block_on(serve_faces(server, face, web, stop))
         .map_err(Failure::failed);
     if let Some(c) = clock {
         c.abort();
