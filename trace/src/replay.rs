@@ -339,7 +339,19 @@ mod word_tests {
     /// The integer path writes exactly what `f64`'s `Display` writes.
     #[test]
     fn whole_numbers_are_written_as_display_writes_them() {
-        for v in [0.0, -0.0, 1.0, -1.0, 6000.0, 1e14, -1e14, 999999999999999.0, 1e15, 0.5, -2.25] {
+        for v in [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            6000.0,
+            1e14,
+            -1e14,
+            999999999999999.0,
+            1e15,
+            0.5,
+            -2.25,
+        ] {
             let mut s = String::new();
             push_word(&mut s, 'X', v);
             assert_eq!(s, format!(" X{v}"), "{v}");
