@@ -40,6 +40,10 @@ const PRODUCT_URI: &str = "urn:addipos-tc";
 /// Most nodes one request may name (the library's own limit of a Read).
 const MAX_NODES_PER_REQUEST: usize = 10_000;
 
+/// Clients the door may have handed over that the library has not yet
+/// taken.
+const HANDOVER_QUEUE: usize = 16;
+
 /// Most chunks of one message: room for a Read of that many nodes.
 const MAX_CHUNKS: usize = 64;
 
@@ -147,9 +151,10 @@ impl Face {
         &self.endpoint_url
     }
 
-    /// Serves until `shutdown` completes, then closes every session. The
-    /// library listens on a loopback port of its own; clients come in
-    /// through the door (`guard.rs`) on the listen address.
+    /// Serves until `shutdown` completes, then closes every session.
+    /// Clients come in through the door (`guard.rs`) on the listen
+    /// address, which hands each to the library inside the process: the
+    /// library listens on no port of its own.
     pub async fn run(self, shutdown: impl Future<Output = ()>) -> io::Result<()> {
         let security = if self.guarded {
             "Basic256Sha256 Sign&Encrypt, access token as password"
@@ -164,19 +169,14 @@ impl Face {
             limits,
             ..
         } = self;
-        let public = listener.local_addr()?.port();
-        let inner = TcpListener::bind((std::net::Ipv4Addr::LOCALHOST, 0)).await?;
-        let inner_port = inner.local_addr()?.port();
-        let door = tokio::spawn(guard::serve(listener, inner.local_addr()?, limits));
+        let (handover, handed) = tokio::sync::mpsc::channel(HANDOVER_QUEUE);
+        let door = tokio::spawn(guard::serve(listener, handover, limits));
         let _close_door = DropAbort(door);
-        let run = server.run_with(inner);
+        let run = server.run_with_connections(handed);
         tokio::pin!(run);
         tokio::pin!(shutdown);
-        let advertise = advertise_door(&handle, inner_port, public);
-        tokio::pin!(advertise);
         let end = tokio::select! {
             end = &mut run => end,
-            end = &mut advertise => end,
             () = &mut shutdown => {
                 handle.cancel();
                 run.await
@@ -184,23 +184,6 @@ impl Face {
         };
         end.map_err(io::Error::other)
     }
-}
-
-/// The library advertises the port it listens on (the door's inner,
-/// loopback one) in every endpoint it describes: a client that connects
-/// to the endpoint GetEndpoints gave it (UaExpert, the async-opcua client)
-/// would go round the door, and a remote one would not reach the server
-/// at all. Once the library has stored its port, the door's public port is
-/// stored in its place; then this waits for ever (it never ends the
-/// server).
-async fn advertise_door(handle: &ServerHandle, inner: u16, public: u16) -> Result<(), String> {
-    use std::sync::atomic::Ordering;
-    let port = &handle.info().port;
-    while port.load(Ordering::Relaxed) != inner {
-        tokio::time::sleep(std::time::Duration::from_millis(1)).await;
-    }
-    port.store(public, Ordering::Relaxed);
-    std::future::pending().await
 }
 
 /// Stops the door's task when the face stops.
