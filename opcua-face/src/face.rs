@@ -8,7 +8,6 @@ use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use opcua::core::config::Config as _;
 use opcua::crypto::X509Data;
 use opcua::server::address_space::{add_namespaces, AddressSpace};
 use opcua::server::diagnostics::DiagnosticsNodeManagerBuilder;
@@ -25,10 +24,11 @@ use crate::guard::{self, Limits};
 use crate::layout::Table;
 use crate::machine::nodesets;
 use crate::manager::{ObjectNodes, NAMESPACE};
+use crate::pki::{self, CertSubject};
 use crate::points::Points;
 use crate::sampler::TICK;
 use crate::security::{endpoint, TokenGate, ENDPOINT_PATH};
-use crate::{nodes, pki, space};
+use crate::{nodes, space};
 
 /// The application's name, as OPC UA clients list it.
 pub const APPLICATION_NAME: &str = "addipos TC emulator";
@@ -60,6 +60,13 @@ pub struct FaceConfig {
     pub token: Option<AccessToken>,
     /// The certificate store's folder (the data directory's `opcua`).
     pub pki_dir: PathBuf,
+    /// The host names clients may connect with, besides the listen
+    /// address: each endpoint is described with each of them, and the
+    /// certificate names them. `None`: `localhost` and this machine's
+    /// name.
+    pub host_names: Option<Vec<String>>,
+    /// The subject of the server's certificate.
+    pub subject: CertSubject,
 }
 
 /// A bound face, ready to run.
@@ -99,6 +106,11 @@ impl Face {
         let addr = listener.local_addr()?;
         let host = endpoint_host(addr);
         let endpoint_url = format!("opc.tcp://{host}:{}{ENDPOINT_PATH}", addr.port());
+        let hosts = host_names(&host, cfg.host_names.as_deref());
+        let discovery = hosts
+            .iter()
+            .map(|h| format!("opc.tcp://{h}:{}{ENDPOINT_PATH}", addr.port()))
+            .collect();
         let guarded = cfg.token.is_some();
         let mut builder = ServerBuilder::new()
             .application_name(APPLICATION_NAME)
@@ -110,14 +122,21 @@ impl Face {
             // certificates.
             .trust_client_certs(guarded)
             .host(host)
+            .host_names(hosts[1..].to_vec())
             .port(addr.port())
-            .discovery_urls(vec![endpoint_url.clone()])
+            .discovery_urls(discovery)
             .subscription_poll_interval_ms(TICK.as_millis() as u64)
             .with_authenticator(Arc::new(TokenGate::new(cfg.token.clone())));
         let (id, ep) = endpoint(guarded);
         builder = builder.add_endpoint(id, ep);
         let (door, largest) = set_limits(&mut builder);
-        if pki::ensure_keypair(&cfg.pki_dir, &builder.config().application_description())? {
+        let names = pki::Names {
+            application_name: APPLICATION_NAME,
+            application_uri: APPLICATION_URI,
+            hosts: &hosts,
+            subject: &cfg.subject,
+        };
+        if pki::ensure_keypair(&cfg.pki_dir, &names)? {
             let cert = pki::cert_path(&cfg.pki_dir);
             tracing::info!("made the OPC UA server certificate {}", cert.display());
         }
@@ -226,6 +245,29 @@ fn endpoint_host(addr: SocketAddr) -> String {
             .next()
             .unwrap_or_else(|| "localhost".into()),
     }
+}
+
+/// The host names the face answers to: `listen` (the listen address, or
+/// this machine's name), then `extra` (by default `localhost` and this
+/// machine's name), each once.
+fn host_names(listen: &str, extra: Option<&[String]>) -> Vec<String> {
+    let default;
+    let extra = match extra {
+        Some(given) => given,
+        None => {
+            default = std::iter::once("localhost".to_string())
+                .chain(X509Data::computer_hostnames())
+                .collect::<Vec<_>>();
+            &default
+        }
+    };
+    let mut hosts: Vec<String> = vec![listen.to_string()];
+    for h in extra {
+        if !h.is_empty() && !hosts.iter().any(|k| k.eq_ignore_ascii_case(h)) {
+            hosts.push(h.clone());
+        }
+    }
+    hosts
 }
 
 /// The face's node manager: its namespace, its nodes from `table`, and

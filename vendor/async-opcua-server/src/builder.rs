@@ -370,6 +370,14 @@ impl ServerBuilder {
         self
     }
 
+    /// Further host names the server answers to: each endpoint is also
+    /// described with each of them, so a client that connects with one of
+    /// them finds its URL among the endpoints.
+    pub fn host_names(mut self, host_names: Vec<String>) -> Self {
+        self.config.tcp_config.host_names = host_names;
+        self
+    }
+
     /// Port number used to listen for incoming TCP connections.
     pub fn port(mut self, port: u16) -> Self {
         self.config.tcp_config.port = port;

@@ -126,13 +126,7 @@ impl ServerInfo {
             if !hostname.eq_ignore_ascii_case(&self.config.tcp_config.host) {
                 debug!("Endpoint url \"{}\" hostname supplied by caller does not match server's hostname \"{}\"", endpoint_url, &self.config.tcp_config.host);
             }
-            let endpoints = self
-                .config
-                .endpoints
-                .values()
-                .map(|e| self.new_endpoint_description(e, true))
-                .collect();
-            Some(endpoints)
+            Some(self.described_endpoints(endpoint_url.as_ref(), |_| true, true))
         } else {
             warn!(
                 "Endpoint url \"{}\" is unrecognized, using default",
@@ -173,21 +167,59 @@ impl ServerInfo {
     ) -> Option<Vec<EndpointDescription>> {
         debug!("find_endpoint, url = {}", endpoint_url);
         let base_endpoint_url = self.base_endpoint();
-        let endpoints: Vec<EndpointDescription> = self
-            .config
-            .endpoints
-            .iter()
-            .filter(|&(_, e)| {
-                // Test end point's security_policy_uri and matching url
-                url_matches_except_host(&e.endpoint_url(&base_endpoint_url), endpoint_url)
-            })
-            .map(|(_, e)| self.new_endpoint_description(e, false))
-            .collect();
+        let endpoints = self.described_endpoints(
+            endpoint_url,
+            |e| url_matches_except_host(&e.endpoint_url(&base_endpoint_url), endpoint_url),
+            false,
+        );
         if endpoints.is_empty() {
             None
         } else {
             Some(endpoints)
         }
+    }
+
+    /// The host names the server answers to: the configured host and the
+    /// further host names, each once (case aside), the one of
+    /// `endpoint_url` first.
+    fn host_names(&self, endpoint_url: &str) -> Vec<&str> {
+        let tcp = &self.config.tcp_config;
+        let mut hosts: Vec<&str> = Vec::with_capacity(1 + tcp.host_names.len());
+        for host in std::iter::once(&tcp.host).chain(tcp.host_names.iter()) {
+            if !hosts.iter().any(|h| h.eq_ignore_ascii_case(host)) {
+                hosts.push(host);
+            }
+        }
+        if let Ok(asked) = hostname_from_url(endpoint_url) {
+            if let Some(i) = hosts.iter().position(|h| {
+                h.trim_start_matches('[')
+                    .trim_end_matches(']')
+                    .eq_ignore_ascii_case(asked.trim_start_matches('[').trim_end_matches(']'))
+            }) {
+                let first = hosts.remove(i);
+                hosts.insert(0, first);
+            }
+        }
+        hosts
+    }
+
+    /// The descriptions of the endpoints `keep` keeps, once for each host
+    /// name the server answers to.
+    fn described_endpoints(
+        &self,
+        endpoint_url: &str,
+        keep: impl Fn(&ServerEndpoint) -> bool,
+        all_fields: bool,
+    ) -> Vec<EndpointDescription> {
+        let port = self.port.load(Ordering::Relaxed);
+        let mut out = Vec::new();
+        for host in self.host_names(endpoint_url) {
+            let base = format!("opc.tcp://{host}:{port}");
+            for e in self.config.endpoints.values().filter(|e| keep(e)) {
+                out.push(self.endpoint_description_at(e, all_fields, &base));
+            }
+        }
+        out
     }
 
     /// Constructs a new endpoint description using the server's info and that in an Endpoint
@@ -196,7 +228,16 @@ impl ServerInfo {
         endpoint: &ServerEndpoint,
         all_fields: bool,
     ) -> EndpointDescription {
-        let base_endpoint_url = self.base_endpoint();
+        self.endpoint_description_at(endpoint, all_fields, &self.base_endpoint())
+    }
+
+    /// The description of `endpoint` with `base_endpoint_url` as its root.
+    fn endpoint_description_at(
+        &self,
+        endpoint: &ServerEndpoint,
+        all_fields: bool,
+        base_endpoint_url: &str,
+    ) -> EndpointDescription {
 
         let user_identity_tokens = self.authenticator.user_token_policies(endpoint);
 
@@ -232,7 +273,7 @@ impl ServerInfo {
         };
 
         EndpointDescription {
-            endpoint_url: endpoint.endpoint_url(&base_endpoint_url).into(),
+            endpoint_url: endpoint.endpoint_url(base_endpoint_url).into(),
             server,
             server_certificate,
             security_mode: endpoint.message_security_mode(),

@@ -34,6 +34,10 @@ pub struct TcpConfig {
     pub host: String,
     /// The port number of the service
     pub port: u16,
+    /// Further host names the server answers to: every endpoint is also
+    /// described with each of them (patched, see PATCHED.md).
+    #[serde(default)]
+    pub host_names: Vec<String>,
 }
 
 #[derive(Debug, PartialEq, Serialize, Deserialize, Clone, Default)]
@@ -391,6 +395,7 @@ impl Default for ServerConfig {
                 host: "127.0.0.1".to_string(),
                 port: constants::DEFAULT_RUST_OPC_UA_SERVER_PORT,
                 hello_timeout: constants::DEFAULT_HELLO_TIMEOUT_SECONDS,
+                host_names: Vec::new(),
             },
             limits: Limits::default(),
             user_tokens: BTreeMap::new(),
@@ -451,6 +456,7 @@ impl ServerConfig {
                 host,
                 port,
                 hello_timeout: constants::DEFAULT_HELLO_TIMEOUT_SECONDS,
+                host_names: Vec::new(),
             },
             locale_ids,
             user_tokens,
