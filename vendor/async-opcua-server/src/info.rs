@@ -216,7 +216,8 @@ impl ServerInfo {
         for host in self.host_names(endpoint_url) {
             let base = format!("opc.tcp://{host}:{port}");
             for e in self.config.endpoints.values().filter(|e| keep(e)) {
-                out.push(self.endpoint_description_at(e, all_fields, &base));
+                let url = as_asked(e.endpoint_url(&base), endpoint_url);
+                out.push(self.endpoint_description_at(e, all_fields, url));
             }
         }
         out
@@ -228,15 +229,16 @@ impl ServerInfo {
         endpoint: &ServerEndpoint,
         all_fields: bool,
     ) -> EndpointDescription {
-        self.endpoint_description_at(endpoint, all_fields, &self.base_endpoint())
+        let url = endpoint.endpoint_url(&self.base_endpoint());
+        self.endpoint_description_at(endpoint, all_fields, url)
     }
 
-    /// The description of `endpoint` with `base_endpoint_url` as its root.
+    /// The description of `endpoint` at `endpoint_url`.
     fn endpoint_description_at(
         &self,
         endpoint: &ServerEndpoint,
         all_fields: bool,
-        base_endpoint_url: &str,
+        endpoint_url: String,
     ) -> EndpointDescription {
 
         let user_identity_tokens = self.authenticator.user_token_policies(endpoint);
@@ -273,7 +275,7 @@ impl ServerInfo {
         };
 
         EndpointDescription {
-            endpoint_url: endpoint.endpoint_url(base_endpoint_url).into(),
+            endpoint_url: endpoint_url.into(),
             server,
             server_certificate,
             security_mode: endpoint.message_security_mode(),
@@ -664,4 +666,16 @@ impl ServerInfo {
         let audit_log = trace_write_lock!(self.audit_log);
         audit_log.raise_and_log(event)
     } */
+}
+
+/// `described` as the client `asked` for it: without the trailing slash
+/// when that is all they differ in (clients compare the URL they were
+/// given with the endpoints' URLs as strings).
+fn as_asked(described: String, asked: &str) -> String {
+    let bare = described.strip_suffix('/').unwrap_or(&described);
+    if !asked.ends_with('/') && bare.eq_ignore_ascii_case(asked) {
+        asked.to_string()
+    } else {
+        described
+    }
 }
