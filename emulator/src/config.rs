@@ -354,6 +354,36 @@ mod tests {
     }
 
     #[test]
+    #[cfg(feature = "opcua")]
+    fn opcua_host_names_and_the_certificate_subject_from_the_settings() {
+        let on = "[opcua]\nenabled = true\n";
+        let face = Config::parse(on).unwrap().opcua().unwrap().expect("on");
+        assert_eq!(face.host_names, None);
+        assert_eq!(face.subject.organization, "addipos-tc");
+        let text = format!(
+            "{on}host_names = [\"cell-7\"]\n[opcua.certificate]\norganization = \"Works\"\ncountry = \"de\""
+        );
+        let face = Config::parse(&text).unwrap().opcua().unwrap().expect("on");
+        assert_eq!(face.host_names, Some(vec!["cell-7".to_string()]));
+        assert_eq!(
+            (
+                face.subject.organization.as_str(),
+                face.subject.country.as_str()
+            ),
+            ("Works", "DE")
+        );
+        for bad in [
+            "organization = \"A, O=B\"",
+            "country = \"DEU\"",
+            "unit = \"x\\ny\"",
+        ] {
+            let text = format!("{on}[opcua.certificate]\n{bad}");
+            let err = Config::parse(&text).unwrap().opcua().unwrap_err().0;
+            assert!(err.contains("[opcua.certificate]"), "{bad}: {err}");
+        }
+    }
+
+    #[test]
     fn bad_settings_are_explained() {
         assert!(Config::parse("listn = \"x\"")
             .unwrap_err()

@@ -307,3 +307,20 @@ fn object_nodes(
     let machine = machine.map(|m| (m, core, companions));
     ObjectNodes::new(ns, points, order, machine)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_listen_address_first_then_each_other_name_once() {
+        let given = ["LOCALHOST".to_string(), "cell-7".into(), "".into()];
+        let hosts = host_names("localhost", Some(&given));
+        assert_eq!(hosts, ["localhost", "cell-7"]);
+        let hosts = host_names("127.0.0.1", None);
+        assert_eq!(hosts[..2], ["127.0.0.1", "localhost"]);
+        let mut lower: Vec<_> = hosts.iter().map(|h| h.to_lowercase()).collect();
+        lower.dedup();
+        assert_eq!(lower.len(), hosts.len(), "{hosts:?}");
+    }
+}

@@ -164,3 +164,34 @@ fn named(e: io::Error, path: &Path) -> io::Error {
 pub fn cert_path(store: &Path) -> PathBuf {
     store.join(OWN_CERT)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_subject_of_the_settings_and_each_alternative_name_once() {
+        let subject = CertSubject {
+            country: "DE".into(),
+            ..CertSubject::default()
+        };
+        let hosts = ["127.0.0.1".to_string(), "LocalHost".into(), "[::1]".into()];
+        let data = x509_data(&Names {
+            application_name: "app",
+            application_uri: "urn:app",
+            hosts: &hosts,
+            subject: &subject,
+        });
+        assert_eq!(
+            (data.common_name.as_str(), data.organization.as_str()),
+            ("app", "addipos-tc")
+        );
+        assert_eq!((data.country.as_str(), data.state.as_str()), ("DE", ""));
+        let names: Vec<String> = data.alt_host_names.iter().collect();
+        assert_eq!(names[..4], ["urn:app", "127.0.0.1", "LocalHost", "::1"]);
+        let mut lower: Vec<_> = names.iter().map(|n| n.to_lowercase()).collect();
+        lower.sort();
+        lower.dedup();
+        assert_eq!(lower.len(), names.len(), "{names:?}");
+    }
+}
