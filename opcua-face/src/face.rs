@@ -109,8 +109,7 @@ impl Face {
         let hosts = host_names(&host, cfg.host_names.as_deref());
         let discovery = hosts
             .iter()
-            .map(|h| format!("opc.tcp://{h}:{}{ENDPOINT_PATH}", addr.port()))
-            .collect();
+            .map(|h| format!("opc.tcp://{h}:{}{ENDPOINT_PATH}", addr.port()));
         let guarded = cfg.token.is_some();
         let mut builder = ServerBuilder::new()
             .application_name(APPLICATION_NAME)
@@ -124,22 +123,13 @@ impl Face {
             .host(host)
             .host_names(hosts[1..].to_vec())
             .port(addr.port())
-            .discovery_urls(discovery)
+            .discovery_urls(discovery.collect())
             .subscription_poll_interval_ms(TICK.as_millis() as u64)
             .with_authenticator(Arc::new(TokenGate::new(cfg.token.clone())));
         let (id, ep) = endpoint(guarded);
         builder = builder.add_endpoint(id, ep);
         let (door, largest) = set_limits(&mut builder);
-        let names = pki::Names {
-            application_name: APPLICATION_NAME,
-            application_uri: APPLICATION_URI,
-            hosts: &hosts,
-            subject: &cfg.subject,
-        };
-        if pki::ensure_keypair(&cfg.pki_dir, &names)? {
-            let cert = pki::cert_path(&cfg.pki_dir);
-            tracing::info!("made the OPC UA server certificate {}", cert.display());
-        }
+        ensure_certificate(&cfg, &hosts)?;
         // The library's own node managers (namespace 0 behind the size
         // check of `capped.rs`, diagnostics), then the face's.
         let builder = builder
@@ -245,6 +235,22 @@ fn endpoint_host(addr: SocketAddr) -> String {
             .next()
             .unwrap_or_else(|| "localhost".into()),
     }
+}
+
+/// Makes the server's certificate, naming `hosts`, unless the store keeps
+/// one still valid.
+fn ensure_certificate(cfg: &FaceConfig, hosts: &[String]) -> io::Result<()> {
+    let names = pki::Names {
+        application_name: APPLICATION_NAME,
+        application_uri: APPLICATION_URI,
+        hosts,
+        subject: &cfg.subject,
+    };
+    if pki::ensure_keypair(&cfg.pki_dir, &names)? {
+        let cert = pki::cert_path(&cfg.pki_dir);
+        tracing::info!("made the OPC UA server certificate {}", cert.display());
+    }
+    Ok(())
 }
 
 /// The host names the face answers to: `listen` (the listen address, or
