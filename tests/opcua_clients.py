@@ -201,9 +201,10 @@ async def anonymous_on_the_guarded_endpoint(server, work):
     while True:
         client = Client(server.url())
         client.application_uri = uri
-        await client.set_security(SecurityPolicyBasic256Sha256, cert, key,
-                                  mode=ua.MessageSecurityMode.SignAndEncrypt)
         try:
+            # Asks the server for its endpoints: it may still be starting.
+            await client.set_security(SecurityPolicyBasic256Sha256, cert, key,
+                                      mode=ua.MessageSecurityMode.SignAndEncrypt)
             await client.connect()
         except ua.UaStatusCodeError as e:
             status = e.code
