@@ -224,3 +224,70 @@ fn against_a_server_the_example_gives_the_same_path_and_position() {
         replay_passes(&lib);
     }
 }
+
+/// A C (or C++) file that includes the header and uses what it declares:
+/// every code is an unsigned constant, the library's internals stay out.
+const HEADER_USE: &str = r#"#include "addipos.h"
+#ifdef QUEUE_CHUNKS
+#error "an internal macro of the library leaks into the program"
+#endif
+static unsigned check(addipos *a)
+{
+    unsigned long code = ADDIPOS_E_INTERNAL;
+    uoi_handle h = 0;
+    uoi_descriptor d = {1300, 0, 3, 0};
+    if (uoi_init(a, &d, &h) != ADDIPOS_OK) {
+        return (unsigned)(code == 0xADD000FFul);
+    }
+    return ADDIPOS_E_STOPPED + 0u * ADDIPOS_E_NO_OBJECT;
+}
+int main(void)
+{
+    return (int)(check(addipos_open(0)) & 1u);
+}
+"#;
+
+/// The header compiles as C89, C99 and C++98 (and C++17) with every
+/// warning an error: no `//` comments in C89, no decimal codes above
+/// INT32_MAX, no unprefixed internal macro. A language whose compiler is
+/// missing is skipped with a line saying so.
+#[test]
+fn the_header_compiles_clean_as_c89_c99_and_cpp() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = tempfile::tempdir().unwrap();
+    let include = root.join("host/include");
+    let c = dir.path().join("use.c");
+    let cpp = dir.path().join("use.cpp");
+    std::fs::write(&c, HEADER_USE).unwrap();
+    std::fs::write(&cpp, HEADER_USE).unwrap();
+    let cc = std::env::var("CC").unwrap_or_else(|_| "cc".into());
+    let cxx = std::env::var("CXX").unwrap_or_else(|_| "c++".into());
+    let cases = [
+        (&cc, "-std=c89", &c),
+        (&cc, "-std=c99", &c),
+        (&cxx, "-std=c++98", &cpp),
+        (&cxx, "-std=c++17", &cpp),
+    ];
+    for (compiler, std, file) in cases {
+        let out = Command::new(compiler)
+            .args([std, "-Wall", "-Wextra", "-pedantic", "-Werror", "-c"])
+            .arg("-I")
+            .arg(&include)
+            .arg(file)
+            .arg("-o")
+            .arg(dir.path().join("use.o"))
+            .output();
+        let out = match out {
+            Ok(o) => o,
+            Err(e) => {
+                eprintln!("skipped {std}: {compiler} cannot be run ({e})");
+                continue;
+            }
+        };
+        assert!(
+            out.status.success(),
+            "{compiler} {std}: {}",
+            text(&out.stderr)
+        );
+    }
+}

@@ -376,6 +376,17 @@ fn the_whole_corpus_through_the_library_answers_as_traced_and_its_recordings_rep
         m.stop_recording();
         files.push(file);
     }
+    // A session whose every call the library refused before the server
+    // (handles of objects that do not exist) records only comments; a
+    // trace without a request fails a replay (decision 412), so those
+    // are left out.
+    let has_request = |f: &PathBuf| {
+        let text = std::fs::read_to_string(f).unwrap_or_default();
+        text.lines()
+            .any(|l| !l.trim().is_empty() && !l.starts_with(['#', '@']))
+    };
+    files.retain(has_request);
+    assert!(files.len() >= 40, "{}", files.len());
     let out = common::bin().arg("replay").args(&files).output().unwrap();
     let said = String::from_utf8_lossy(&out.stdout);
     let want = format!("{} passed, 0 failed", files.len());

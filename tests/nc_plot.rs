@@ -103,8 +103,9 @@ fn a_bad_file_is_an_error() {
     std::fs::create_dir_all(&dir).unwrap();
     let bad = dir.join("bad.nc");
     std::fs::write(&bad, "N10 G01 X(((\n").unwrap();
+    // A parse error fails (exit 1), as from `run` (decision 416).
     let (code, svg) = plot(&bad, &[], "bad.svg");
-    assert_eq!(code, Some(2));
+    assert_eq!(code, Some(1));
     assert!(svg.is_empty());
     let out = Command::new(env!("CARGO_BIN_EXE_addipos"))
         .args(["plot", bad.to_str().unwrap(), "-o", "unused.svg"])

@@ -167,20 +167,16 @@ fn every_seed_program_runs_and_its_trace_replays() {
 
 /// The printed tool-data example's second circle does not close (start
 /// 15 from its centre, end 11.2): the engine flags CenterError and the run
-/// stops there with the block named.
+/// stops naming the circle's block, N140, whose profile raised it.
 #[test]
 fn tool_data_change_stops_at_the_circle_that_does_not_close() {
     let run = run_nc(&program("tool_data_change.nc"));
     let e = run.error.expect("an error");
-    assert_eq!(line_and_block(&e).1, Some(150));
-    let RunErrorKind::Faulted { error_bits, .. } = &e.kind else {
+    assert_eq!(line_and_block(&e).1, Some(140));
+    let RunErrorKind::CorrectionFault { bits } = &e.kind else {
         panic!("{e:?}")
     };
-    assert_eq!(
-        error_bits.as_deref(),
-        Some(&["CenterError".to_string()][..]),
-        "{e}"
-    );
+    assert_eq!(bits, &["CenterError".to_string()], "{e}");
 }
 
 fn addipos(args: &[&std::ffi::OsStr]) -> (i32, String, String) {

@@ -81,7 +81,7 @@ fn a_program_with_parse_errors_runs_nothing_and_writes_no_trace() {
     let mut text = program(50);
     // Two errors, one near the end: every error is reported, nothing runs.
     text = text.replacen("G2 X[30", "G2 Q1 X[30", 1);
-    text.push_str("N99 G236\n");
+    text.push_str("N99 G240\n");
     let d = dir();
     let prog = d.join("bad.nc");
     let trace = d.join("bad.trace");

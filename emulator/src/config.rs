@@ -205,10 +205,73 @@ impl Default for Config {
 #[error("{0}")]
 pub struct ConfigError(pub String);
 
+/// Largest settings file read: a file beyond it is refused (settings are
+/// a few hundred bytes; `/dev/zero` would never end).
+pub const MAX_SETTINGS_BYTES: u64 = 1 << 20;
+
+/// Reads a settings file: a regular file (a FIFO, a device, a folder is
+/// refused before it is opened, so nothing waits for a writer) of at most
+/// [`MAX_SETTINGS_BYTES`].
+pub fn read_settings_file(path: &std::path::Path) -> Result<String, ConfigError> {
+    use std::io::Read;
+    let cannot = |e: std::io::Error| ConfigError(format!("cannot read: {e}"));
+    let meta = std::fs::metadata(path).map_err(cannot)?;
+    if !meta.is_file() {
+        return Err(ConfigError(
+            "not a regular file (a settings file is read only from a plain file)".into(),
+        ));
+    }
+    let file = std::fs::File::open(path).map_err(cannot)?;
+    let mut bytes = Vec::new();
+    file.take(MAX_SETTINGS_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(cannot)?;
+    if bytes.len() as u64 > MAX_SETTINGS_BYTES {
+        return Err(ConfigError(format!(
+            "larger than {} MiB: not a settings file",
+            MAX_SETTINGS_BYTES >> 20
+        )));
+    }
+    String::from_utf8(bytes).map_err(|_| ConfigError("not UTF-8 text: not a settings file".into()))
+}
+
+/// A TOML error as the settings' error: where (line and column) and what,
+/// never the text of the line (a file named by mistake may hold secrets),
+/// and any quoted value left out.
+fn settings_error(text: &str, e: &toml::de::Error) -> ConfigError {
+    let at = e.span().map_or(String::new(), |span| {
+        let before = text.get(..span.start).unwrap_or("");
+        let line = before.matches('\n').count() + 1;
+        let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+        format!(" at line {line}, column {column}")
+    });
+    let message = e.message().lines().next().unwrap_or("").trim();
+    ConfigError(format!("bad settings{at}: {}", without_quoted(message)))
+}
+
+/// `message` with every double-quoted part (a value of the file) shown
+/// as `"…"`; keys, quoted in backticks, stay.
+fn without_quoted(message: &str) -> String {
+    let mut out = String::with_capacity(message.len());
+    let mut inside = false;
+    for c in message.chars() {
+        if c == '"' {
+            if !inside {
+                out.push_str("\"…\"");
+            }
+            inside = !inside;
+        } else if !inside {
+            out.push(c);
+        }
+    }
+    out
+}
+
 impl Config {
-    /// Parses settings text (TOML).
+    /// Parses settings text (TOML); an error says where, and never
+    /// repeats the text.
     pub fn parse(text: &str) -> Result<Self, ConfigError> {
-        toml::from_str(text).map_err(|e| ConfigError(format!("bad settings: {e}")))
+        toml::from_str(text).map_err(|e| settings_error(text, &e))
     }
 
     /// Whether the server asks for an access token (kept in

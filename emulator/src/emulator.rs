@@ -82,6 +82,17 @@ impl<E: TcExtension> Emulator<E> {
             Request::Pos => Reply::Pos(self.position()),
             // A queue length always fits u64.
             Request::Queue => Reply::Queue(self.queue_len() as u64),
+            Request::FeedAdaption { on, rmin }
+                if *rmin >= 0.0 && *rmin <= tc_objects::MAX_COORD =>
+            {
+                let adaption = tc_module::FeedAdaption {
+                    on: *on,
+                    rmin: *rmin,
+                };
+                self.tc.set_feed_adaption(adaption);
+                Reply::Ok
+            }
+            Request::FeedAdaption { .. } => Reply::Access(uoi::AccessError::Range),
             Request::Setup { .. } | Request::SpoolLog { .. } => {
                 Reply::Protocol(ProtocolError::UnknownOp)
             }

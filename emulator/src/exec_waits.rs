@@ -73,6 +73,13 @@ impl ExecWaits {
         }
     }
 
+    /// Ends every wait as not done (the server stops).
+    pub fn end_all(&mut self) {
+        for p in self.pending.drain(..) {
+            let _ = p.done.send(false);
+        }
+    }
+
     /// Waits going on.
     #[cfg(test)]
     pub fn len(&self) -> usize {

@@ -1,7 +1,9 @@
 //! `INFO` (extension op `0x23`): what a client of the shared emulator
 //! cannot see otherwise, read-only: how many Cleans the emulator has
 //! carried out (a host library voids the handles issued before the last
-//! one), whether it runs in real time, its cycles run, and its settings
+//! one), whether it runs in real time, its cycles run, its settings, and
+//! the server's identity, a random number drawn at each start (a handle
+//! issued by a server that has restarted since is void too)
 //! (docs/protocol.md, "INFO"). The op is the emulator's own: `uoi`
 //! carries it opaque and `tc-request` knows nothing of it.
 
@@ -12,8 +14,9 @@ use uoi::wire::{Answer, Request as WireRequest};
 /// The op code of `INFO` (in `uoi::wire::EXT_OPS`, beside the TC ops).
 pub const INFO_OP: u8 = 0x23;
 
-/// Bytes of an `INFO` answer: five 8-byte fields and the start position.
-pub const INFO_LEN: usize = 8 * 5 + 8 * AXES;
+/// Bytes of an `INFO` answer: five 8-byte fields, the start position and
+/// the server's identity.
+pub const INFO_LEN: usize = 8 * 5 + 8 * AXES + 8;
 
 /// What `INFO` answers.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -30,6 +33,22 @@ pub struct EmulatorInfo {
     pub spool_capacity: u64,
     /// The machine position at the server's start.
     pub start: AxisPos,
+    /// The server's identity: a random number drawn at its start, never 0
+    /// (0 in an embedded emulator, which has no other life).
+    pub server: u64,
+}
+
+/// A server identity: a random number, never 0, drawn anew at each call
+/// (a server draws one at its start).
+pub fn new_server_identity() -> u64 {
+    // The system's random source; should it fail, the clock and the
+    // process id still differ between two starts.
+    getrandom::u64().unwrap_or_else(|_| {
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos() as u64);
+        nanos ^ (u64::from(std::process::id()) << 32)
+    }) | 1
 }
 
 /// The `INFO` request (no payload).
@@ -46,7 +65,7 @@ pub fn is_info(req: &WireRequest) -> bool {
 impl EmulatorInfo {
     /// The wire answer: little-endian `cleans u64, realtime f64 (0:
     /// stepped), cycles u64, cycle_s f64, spool_capacity u64, start 8 ×
-    /// f64`.
+    /// f64, server u64`.
     pub fn to_wire(&self) -> Answer {
         let mut out = Vec::with_capacity(INFO_LEN);
         out.extend_from_slice(&self.cleans.to_le_bytes());
@@ -57,6 +76,7 @@ impl EmulatorInfo {
         for v in self.start {
             out.extend_from_slice(&v.to_le_bytes());
         }
+        out.extend_from_slice(&self.server.to_le_bytes());
         Answer::Ext(Bytes::from(out))
     }
 
@@ -83,6 +103,7 @@ impl EmulatorInfo {
             cycle_s: f64::from_le_bytes(word(3)),
             spool_capacity: u64::from_le_bytes(word(4)),
             start,
+            server: u64::from_le_bytes(word(5 + AXES)),
         })
     }
 }
@@ -103,6 +124,7 @@ mod tests {
             cycle_s: 0.001,
             spool_capacity: 100_000,
             start: [1.0, -2.0, 0.5, 0.0, 0.0, 0.0, 0.0, 7.0],
+            server: 0x1234_5678_9ABC_DEF0,
         };
         assert_eq!(EmulatorInfo::from_wire(&info.to_wire()), Some(info));
         let stepped = EmulatorInfo {

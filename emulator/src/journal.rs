@@ -23,9 +23,18 @@ pub trait Journal: Send + std::fmt::Debug {
         axis_nr: [u8; 3],
     ) -> Result<(), String>;
 
+    /// Cycles the real-time clock ran while no request was carried out.
+    /// A journal may merge the idle cycles up to its next entry into one
+    /// `EXEC n` (so an idle server writes one line, not hundreds a
+    /// second); this one writes them at once.
+    fn idle(&mut self, cycles: u64) -> Result<(), String> {
+        self.exchange(&Request::Exec(Some(cycles)), &Reply::Ok, &[], [0, 1, 2])
+    }
+
     /// A line of comment (what has no trace form).
     fn note(&mut self, text: &str) -> Result<(), String>;
 
-    /// Everything so far on its way to the file (at shutdown).
+    /// Everything so far (idle cycles merged included) on its way to the
+    /// file (at shutdown).
     fn finish(&mut self) -> Result<(), String>;
 }

@@ -36,6 +36,7 @@ pub mod clock;
 mod config;
 mod emulator;
 mod exec_waits;
+pub mod guarded_write;
 pub mod info_op;
 pub mod journal;
 #[cfg(feature = "opcua")]
@@ -49,11 +50,12 @@ pub mod tools;
 pub use address::parse_address;
 pub use clock::{RealTimeClock, RealTimeFactor};
 pub use config::{
-    Config, ConfigError, OpcuaSettings, DEFAULT_CONFIG, MAX_CONNECTIONS, MAX_EVICT_AFTER_MS,
-    OPCUA_PKI_DIR,
+    read_settings_file, Config, ConfigError, OpcuaSettings, DEFAULT_CONFIG, MAX_CONNECTIONS,
+    MAX_EVICT_AFTER_MS, MAX_SETTINGS_BYTES, OPCUA_PKI_DIR,
 };
 pub use emulator::{Emulator, Tc};
 pub use exec_waits::MAX_EXEC_WAITS;
+pub use guarded_write::{GuardedOutcome, GuardedWrite, WRITE_IF_OP};
 pub use info_op::{EmulatorInfo, INFO_OP};
 pub use journal::Journal;
 pub use reference::{bits_without_meaning, devices_without_section, object_reference};

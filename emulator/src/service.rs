@@ -27,7 +27,8 @@ use uoi::AccessError;
 
 use crate::clock::{RealTimeClock, RealTimeFactor};
 use crate::exec_waits::{ExecWaits, Until, EXEC_WAIT_BIT};
-use crate::info_op::{is_info, EmulatorInfo};
+use crate::guarded_write::GuardedWrite;
+use crate::info_op::{is_info, new_server_identity, EmulatorInfo};
 use crate::journal::Journal;
 use crate::serving::serve_slice;
 use crate::session::{ConformanceSession, SessionPlaces};
@@ -49,11 +50,15 @@ pub struct EmulatorService<E: TcExtension = OtcExtension> {
     clock: Option<RealTimeClock>,
     /// `EXEC` requests waiting for the clock.
     waits: ExecWaits,
+    /// The server stops: an `EXEC` wait is answered `Stopped`.
+    stopping: bool,
     /// The recording, while one goes on.
     journal: Option<Box<dyn Journal>>,
     /// Tool writes waiting for the disk, by token, to be journaled when
     /// answered.
     journal_pending: HashMap<u64, WireRequest>,
+    /// This server's identity, drawn at its start (`INFO`, `WRITE_IF`).
+    identity: u64,
 }
 
 /// What `INFO` reports of the settings.
@@ -92,8 +97,10 @@ impl<E: TcExtension + Default> EmulatorService<E> {
             settings,
             clock: None,
             waits: ExecWaits::default(),
+            stopping: false,
             journal: None,
             journal_pending: HashMap::new(),
+            identity: new_server_identity(),
         }
     }
 
@@ -153,6 +160,14 @@ impl<E: TcExtension + Default> EmulatorService<E> {
         self.emu.set_spool_log(false);
     }
 
+    /// The server stops: every `EXEC` waiting for the clock is answered
+    /// `Stopped` now, and so is every later one (rather than holding the
+    /// stop for the server's grace).
+    pub fn stop_waits(&mut self) {
+        self.stopping = true;
+        self.waits.end_all();
+    }
+
     /// Whether a recording goes on.
     pub fn recording(&self) -> bool {
         self.journal.is_some()
@@ -168,6 +183,7 @@ impl<E: TcExtension + Default> EmulatorService<E> {
             // A capacity is at most 1,000,000.
             spool_capacity: self.settings.spool_capacity as u64,
             start: self.settings.start,
+            server: self.identity,
         }
     }
 
@@ -181,7 +197,7 @@ impl<E: TcExtension + Default> EmulatorService<E> {
         let ran = clock.catch_up(&mut self.emu, Instant::now());
         let passed = clock.passed();
         if ran > 0 {
-            self.journal_reply(&Request::Exec(Some(ran)), &Reply::Ok);
+            self.journal_idle(ran);
         }
         self.waits.fire(passed, self.emu.queue_len() == 0);
         ran
@@ -200,6 +216,15 @@ impl<E: TcExtension + Default> EmulatorService<E> {
         let axis_nr = self.emu.tc().axis_nr();
         if let Err(e) = j.exchange(req, reply, &spooled, axis_nr) {
             self.journal_failed(&e);
+        }
+    }
+
+    /// Cycles the clock ran between requests.
+    fn journal_idle(&mut self, cycles: u64) {
+        if let Some(j) = self.journal.as_mut() {
+            if let Err(e) = j.idle(cycles) {
+                self.journal_failed(&e);
+            }
         }
     }
 
@@ -263,6 +288,9 @@ impl<E: TcExtension + Default> EmulatorService<E> {
         let Ok(Request::Exec(cycles)) = Request::from_wire(req) else {
             return None;
         };
+        if self.stopping {
+            return Some(Slice::Done(Answer::Protocol(ProtocolError::Stopped)));
+        }
         let until = match cycles {
             Some(n) => Until::Cycle(clock.passed().saturating_add(n)),
             None => Until::Empty,
@@ -282,6 +310,28 @@ impl<E: TcExtension + Default> EmulatorService<E> {
             Some(w) => Slice::Wait(w),
             None => Slice::Done(Answer::Protocol(ProtocolError::Busy)),
         })
+    }
+}
+
+/// Guarded writes.
+impl<E: TcExtension + Default> EmulatorService<E> {
+    /// `req` itself, or the plain WRITE a `WRITE_IF` carries when this
+    /// server and its Clean count are the ones it expects (checked and
+    /// carried out in one step: no request comes between); else the
+    /// answer: the current `INFO` (nothing carried out), or `BadPayload`.
+    fn unguard(&self, req: WireRequest) -> Result<WireRequest, Answer> {
+        match GuardedWrite::from_wire(&req) {
+            None => Ok(req),
+            Some(Err(e)) => Err(Answer::Protocol(e)),
+            Some(Ok(w)) => {
+                let now = self.info();
+                if w.expected(&now) {
+                    Ok(w.write())
+                } else {
+                    Err(now.to_wire())
+                }
+            }
+        }
     }
 }
 
@@ -322,6 +372,10 @@ impl<E: TcExtension + Default> Handler for EmulatorService<E> {
                 _ => Answer::Protocol(ProtocolError::BadPayload),
             });
         }
+        let req = match self.unguard(req) {
+            Ok(req) => req,
+            Err(answer) => return Slice::Done(answer),
+        };
         if let Some(wait) = self.exec_wait(&req) {
             return wait;
         }
@@ -353,10 +407,10 @@ impl<E: TcExtension + Default> Handler for EmulatorService<E> {
     fn resume(&mut self, token: u64, ok: bool) -> Slice {
         if token & EXEC_WAIT_BIT != 0 {
             self.tick();
-            return Slice::Done(if ok {
-                Answer::Ok
-            } else {
-                Answer::Protocol(ProtocolError::Busy)
+            return Slice::Done(match (ok, self.stopping) {
+                (true, _) => Answer::Ok,
+                (false, true) => Answer::Protocol(ProtocolError::Stopped),
+                (false, false) => Answer::Protocol(ProtocolError::Busy),
             });
         }
         let slice = match self.tools.as_mut().and_then(|t| t.0.as_mut()) {

@@ -41,6 +41,21 @@ static uoi_descriptor obj(int32_t bus, int32_t device, int32_t index, int32_t su
     return d;
 }
 
+/* "Ask for the size first": size 0 gives the text's length, and a buffer
+ * of that length + 1 holds it whole. */
+static void error_copy_sizes(addipos *a)
+{
+    char buf[512];
+    size_t len = strlen(addipos_error_text(a));
+    truth("addipos_error_copy size 0 gives the length", addipos_error_copy(a, buf, 0) == len);
+    truth("addipos_error_copy NULL gives the length", addipos_error_copy(a, NULL, 0) == len);
+    truth("the length fits the buffer", len > 0 && len + 1 <= sizeof buf);
+    if (len + 1 <= sizeof buf) {
+        truth("addipos_error_copy copies it whole", addipos_error_copy(a, buf, len + 1) == len
+                                                        && strcmp(buf, addipos_error_text(a)) == 0);
+    }
+}
+
 static void null_pointers(addipos *a)
 {
     uoi_descriptor plane = obj(1300, 0, 3, 0);
@@ -55,6 +70,7 @@ static void null_pointers(addipos *a)
     expect("uoi_init NULL descriptor", uoi_init(a, NULL, &h), ADDIPOS_E_ARGUMENT);
     expect("uoi_init NULL handle", uoi_init(a, &plane, NULL), ADDIPOS_E_ARGUMENT);
     truth("an argument error is explained", strstr(addipos_error_text(a), "NULL") != NULL);
+    error_copy_sizes(a);
     expect("uoi_init", uoi_init(a, &plane, &h), ADDIPOS_OK);
     expect("uoi_read_int NULL value", uoi_read_int(a, h, NULL), ADDIPOS_E_ARGUMENT);
     expect("uoi_read_double NULL value", uoi_read_double(a, h, NULL), ADDIPOS_E_ARGUMENT);
@@ -137,6 +153,8 @@ static void axes_out_of_range(addipos *a)
     expect("tc_js mask bit 8", tc_js(a, 0x1FF), ADDIPOS_E_ARGUMENT);
     expect("tc_cir ijk bit 3", tc_cir(a, 0, 3, p, 8, ijk, 100), ADDIPOS_E_ARGUMENT);
     expect("coordinate beyond 1e9", (p[0] = 2e9, tc_lin(a, 1, p, 100)), ADDIPOS_E_RANGE);
+    expect("a negative feed", (p[0] = 1, tc_lin(a, 1, p, -5)), ADDIPOS_E_RANGE);
+    truth("the feed error names the feed", strstr(addipos_error_text(a), "feed") != NULL);
     expect("tc_ssf axis 7", tc_ssf(a, 7, 2001), ADDIPOS_OK);
     expect("tc_js all axes", tc_js(a, 0xFF), ADDIPOS_OK);
     expect("huge EXEC on an empty spooler", tc_exec(a, 0xFFFFFFFFFFFFFFFEull), ADDIPOS_OK);

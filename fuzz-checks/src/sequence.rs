@@ -103,6 +103,18 @@ impl Connection {
         let Op::Ext(code) = op else {
             return;
         };
+        if code == emulator::INFO_OP || code == emulator::WRITE_IF_OP {
+            // The emulator's own ops, not TC requests: an INFO answer (to
+            // INFO, or to a write it did not carry out) reads back.
+            if let Answer::Ext(p) = ans {
+                let info = emulator::EmulatorInfo::from_wire(ans);
+                assert!(
+                    p.is_empty() || info.is_some(),
+                    "answer {ans:?} to op {code:#x}"
+                );
+            }
+            return;
+        }
         let Some(reply) = Reply::from_wire(op, ans) else {
             panic!("answer {ans:?} to op {code:#x} is no TC reply");
         };

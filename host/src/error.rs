@@ -50,8 +50,13 @@ uoi::code_list! {
         TooManyHandles = 0xADD0_0008,
         /// A recording could not be started.
         Record = 0xADD0_0009,
-        /// The server refused a request as malformed.
+        /// The server refused a request as malformed, or answered what
+        /// the library cannot read; the TCP connection is closed (the
+        /// next call connects again).
         Protocol = 0xADD0_000A,
+        /// The server stopped the request before its end (it is shutting
+        /// down); what ran up to there stays run.
+        Stopped = 0xADD0_000B,
         /// A fault inside the library (a caught panic); the connection
         /// may be in an unknown state.
         Internal = 0xADD0_00FF,

@@ -103,6 +103,11 @@ pub const ADDIPOS_E_RECORD: u32 = 0xADD00009;
 /// the library cannot read (not an `addipos serve` of this version).
 /// (Code 0xADD0000A.)
 pub const ADDIPOS_E_PROTOCOL: u32 = 0xADD0000A;
+/// The server stopped the request before its end (`tc_exec` while
+/// `addipos serve` shuts down): the motion did not run to its end; what
+/// ran up to there stays run.
+/// (Code 0xADD0000B.)
+pub const ADDIPOS_E_STOPPED: u32 = 0xADD0000B;
 /// A fault inside the library; the connection may be in an unknown
 /// state: close it.
 /// (Code 0xADD000FF.)
@@ -216,10 +221,10 @@ fn words(call: &str, mask: u32, pos: *const f64) -> std::result::Result<AxisWord
     Ok(w)
 }
 
-/// A feed: `feed <= 0` is the modal one.
+/// A feed: 0 is the modal one; a negative feed (and NaN) is handed on,
+/// and refused with Range, as in Python (docs/host-api.md, decision 384).
 fn feed_of(feed: f64) -> Option<f64> {
-    // NaN is handed on: the emulator refuses it with Range.
-    (feed > 0.0 || feed.is_nan()).then_some(feed)
+    (feed != 0.0).then_some(feed)
 }
 
 /// The handle `h`, or the null-handle failure.
@@ -244,8 +249,9 @@ pub extern "C" fn addipos_version() -> *const c_char {
 /// `"embedded"`, `"embedded:realtime"`, `"embedded:realtime=10"`,
 /// `"embedded:config=FILE"` (options joined by commas): an emulator
 /// inside this process. `"HOST:PORT"`, `"localhost:PORT"` or a bare
-/// port: a running `addipos serve`, which this version cannot open yet
-/// (NULL, and `addipos_open_error` says so). With `$ADDIPOS_RECORD` set,
+/// port: a running `addipos serve` (options `,token=TOKEN` or
+/// `,token_file=FILE` give its access token; else `$ADDIPOS_TOKEN_FILE`
+/// or `$ADDIPOS_TOKEN`). With `$ADDIPOS_RECORD` set,
 /// the connection records its session as a trace into that file. NULL on
 /// failure: `addipos_open_error()` says why.
 ///
@@ -315,9 +321,11 @@ pub extern "C" fn addipos_error_text(a: *const Addipos) -> *const c_char {
 }
 
 /// Copies the last failure's text into `buf` (at most `size` bytes,
-/// NUL included, cut if longer); returns the text's full length. For a
-/// NULL or closed connection, or NULL `buf`, copies nothing and returns
-/// 0.
+/// NUL included, cut if longer); returns the text's full length, without
+/// the NUL. Ask for the size first: with `size` 0 (or `buf` NULL) nothing
+/// is copied and the length is returned, so a buffer of length + 1 bytes
+/// holds the whole text. For a NULL or closed connection, copies nothing
+/// and returns 0.
 ///
 /// # Safety
 ///
@@ -331,10 +339,10 @@ pub unsafe extern "C" fn addipos_error_copy(
     let copied = catch_unwind(AssertUnwindSafe(|| {
         let m = registry::get(a.addr())?;
         let text = m.last_failure();
-        let n = text.len().min(size.checked_sub(1)?);
-        if buf.is_null() {
-            return None;
-        }
+        let Some(room) = size.checked_sub(1).filter(|_| !buf.is_null()) else {
+            return Some(text.len());
+        };
+        let n = text.len().min(room);
         // SAFETY: `buf` is not NULL and holds `size` bytes (the caller's
         // promise); `n + 1 <= size`, and `text` is our own string.
         unsafe {
@@ -495,7 +503,8 @@ fn with_words(
 }
 
 /// Spools a feed line to the axes of `mask` (bit i: `pos[i]` given, 0 X
-/// .. 7 V; others keep their value); `feed <= 0`: the modal feed.
+/// .. 7 V; others keep their value); `feed` 0: the modal feed (a
+/// negative feed is `ADDIPOS_E_RANGE`).
 ///
 /// # Safety
 ///
@@ -521,7 +530,8 @@ pub unsafe extern "C" fn tc_rap(a: *mut Addipos, mask: u32, pos: *const f64) -> 
 
 /// Spools an arc in the main plane, counter-clockwise when `ccw` is not
 /// 0: end point from `mask`/`pos`, centre offsets `I J K` from the start
-/// from `ijk_mask` (bits 0..2) and `ijk`; `feed <= 0`: the modal feed.
+/// from `ijk_mask` (bits 0..2) and `ijk`; `feed` 0: the modal feed (a
+/// negative feed is `ADDIPOS_E_RANGE`).
 ///
 /// # Safety
 ///
@@ -596,7 +606,10 @@ pub extern "C" fn tc_rs(a: *mut Addipos) -> u32 {
 /// until the spooler is empty. Stepped: runs them now. In real time:
 /// waits until the clock has run them (or the spooler is empty), never
 /// ahead of the clock. Returns at the latest after the connection's
-/// timeout with `ADDIPOS_E_TIMEOUT`; what ran stays run.
+/// timeout with `ADDIPOS_E_TIMEOUT`; what ran stays run. A server that
+/// shuts down during the wait answers `ADDIPOS_E_STOPPED` (the motion did
+/// not run to its end); `addipos_close` from another thread ends the wait
+/// at once with `ADDIPOS_E_CONNECTION`.
 #[no_mangle]
 pub extern "C" fn tc_exec(a: *mut Addipos, cycles: u64) -> u32 {
     let cycles = (cycles != ADDIPOS_EXEC_ALL).then_some(cycles);

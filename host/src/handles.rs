@@ -54,6 +54,24 @@ impl std::fmt::Display for Handle {
     }
 }
 
+/// The Clean epoch a handle was issued in: the server that issued it
+/// (its identity, as `INFO` reports it; 0 for an embedded emulator) and
+/// the Cleans it had carried out. A handle is void in any other epoch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Epoch {
+    /// The identity of the server.
+    pub server: u64,
+    /// The Cleans carried out.
+    pub cleans: u64,
+}
+
+impl From<u64> for Epoch {
+    /// The epoch after `cleans` Cleans of an embedded emulator.
+    fn from(cleans: u64) -> Self {
+        Self { server: 0, cleans }
+    }
+}
+
 /// What a handle names.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Target {
@@ -68,7 +86,7 @@ pub struct Target {
 struct Slot {
     target: Target,
     /// The Clean epoch it was issued in.
-    epoch: u64,
+    epoch: Epoch,
     generation: u8,
     live: bool,
 }
@@ -93,7 +111,8 @@ impl Handles {
     }
 
     /// A new handle to `target`, issued in Clean epoch `epoch`.
-    pub fn issue(&mut self, target: Target, epoch: u64) -> Result<Handle> {
+    pub fn issue(&mut self, target: Target, epoch: impl Into<Epoch>) -> Result<Handle> {
+        let epoch = epoch.into();
         if self.free.is_empty() && self.slots.len() == MAX_HANDLES {
             self.reclaim_stale(epoch);
         }
@@ -133,7 +152,7 @@ impl Handles {
     /// Frees the slots of handles issued before Clean epoch `epoch`: they
     /// answer StaleHandle already, and go on doing so (their generation
     /// moves on).
-    fn reclaim_stale(&mut self, epoch: u64) {
+    fn reclaim_stale(&mut self, epoch: Epoch) {
         for (i, s) in self.slots.iter_mut().enumerate() {
             if s.live && s.epoch != epoch {
                 s.live = false;
@@ -169,7 +188,7 @@ impl Handles {
 
     /// What `h` names and the Clean epoch it was issued in, if it is one
     /// of this connection's live handles.
-    pub fn lookup(&self, h: Handle, call: &str) -> Result<(Target, u64)> {
+    pub fn lookup(&self, h: Handle, call: &str) -> Result<(Target, Epoch)> {
         let slot = self.slots[self.slot_of(h, call)?];
         Ok((slot.target, slot.epoch))
     }
@@ -177,9 +196,9 @@ impl Handles {
     /// What `h` names, if it is live and was issued in Clean epoch
     /// `epoch` (the emulator's count now).
     #[cfg(test)]
-    pub fn resolve(&self, h: Handle, epoch: u64, call: &str) -> Result<Target> {
+    pub fn resolve(&self, h: Handle, epoch: impl Into<Epoch>, call: &str) -> Result<Target> {
         let (target, issued) = self.lookup(h, call)?;
-        if issued != epoch {
+        if issued != epoch.into() {
             return Err(Self::voided(h, target, call));
         }
         Ok(target)
@@ -190,9 +209,9 @@ impl Handles {
         Error::new(
             ErrorCode::StaleHandle,
             format!(
-                "{call}: handle {h} ({}) was initialised before a Clean ({} = 1): \
-                     Clean rejects every TC object, so every handle issued before it is void; \
-                     initialise the object again with uoi_init",
+                "{call}: handle {h} ({}) was initialised before a Clean ({} = 1), or by a \
+                     server that has restarted since: Clean rejects every TC object, so every \
+                     handle issued before it is void; initialise the object again with uoi_init",
                 target.addr,
                 tc_objects::TcObject::Clean.address()
             ),

@@ -27,6 +27,7 @@
 //! ```
 
 mod error;
+mod explain;
 pub mod ffi;
 mod handles;
 mod link;
@@ -36,15 +37,17 @@ pub mod record;
 mod registry;
 mod serve_record;
 mod served;
+mod served_target;
 pub mod target;
 
 pub use error::{Error, ErrorCode, Result};
-pub use handles::{Handle, MAX_HANDLES};
+pub use handles::{Epoch, Handle, MAX_HANDLES};
 pub use machine::{Machine, DEFAULT_TIMEOUT, RECORD_ENV};
 pub use objects::{find_object, Descriptor};
 pub use record::RecordHeader;
 pub use serve_record::ServeRecorder;
 pub use served::CONNECT_TIMEOUT;
+pub use served_target::{ServedTarget, TOKEN_ENV, TOKEN_FILE_ENV};
 pub use target::{EmbeddedOptions, Target};
 
 pub use emulator::RealTimeFactor;

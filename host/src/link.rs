@@ -11,6 +11,7 @@ use tc_module::ExecLeft;
 use tc_request::{Reply, Request, SpoolRecord};
 
 use crate::error::{Error, ErrorCode, Result};
+use crate::handles::Epoch;
 use crate::record::RecordHeader;
 use crate::target::EmbeddedOptions;
 
@@ -26,15 +27,32 @@ pub struct Limits<'a> {
     /// Set when the connection is being closed: the wait ends with
     /// [`ErrorCode::Connection`].
     pub closing: &'a AtomicBool,
+    /// Set by the caller to give the wait up (a Python program's Ctrl-C):
+    /// the wait ends with [`ErrorCode::Timeout`].
+    pub interrupt: &'a AtomicBool,
 }
 
 impl Limits<'_> {
+    /// Whether the connection is being closed or the caller gives up.
+    pub fn stopped(&self) -> bool {
+        self.closing.load(Ordering::Relaxed) || self.interrupt.load(Ordering::Relaxed)
+    }
+
     /// Whether the wait must end now; the error says why.
-    fn check(&self, what: &dyn Fn() -> String) -> Result<()> {
+    pub fn check(&self, what: &dyn Fn() -> String) -> Result<()> {
         if self.closing.load(Ordering::Relaxed) {
             return Err(Error::new(
                 ErrorCode::Connection,
                 format!("{}: the connection is being closed", what()),
+            ));
+        }
+        if self.interrupt.load(Ordering::Relaxed) {
+            return Err(Error::new(
+                ErrorCode::Timeout,
+                format!(
+                    "{}: the wait was given up by the caller (what ran stays run)",
+                    what()
+                ),
             ));
         }
         if Instant::now() >= self.deadline {
@@ -63,6 +81,9 @@ pub trait Link: Send {
     /// The real-time factor, if the target runs in real time.
     fn realtime(&self) -> Option<f64>;
 
+    /// The interpolation cycle in seconds.
+    fn cycle_s(&self) -> f64;
+
     /// Runs what the wall clock owes (real time; at most one `EXEC`
     /// slice); returns how many cycles ran (0 when stepped).
     fn tick(&mut self) -> u64;
@@ -70,13 +91,14 @@ pub trait Link: Send {
     /// Carries out one request.
     fn call(&mut self, req: &Request) -> Result<Reply>;
 
-    /// How many Cleans the emulator has carried out.
-    fn clean_epoch(&mut self) -> Result<u64>;
+    /// The emulator's Clean epoch: its server and the Cleans carried out.
+    fn clean_epoch(&mut self) -> Result<Epoch>;
 
-    /// Carries out `req` if the emulator's Clean count is still `epoch`
-    /// (that of the handle it goes through); `None`: a Clean came since,
-    /// and nothing was carried out that changes anything.
-    fn call_in_epoch(&mut self, req: &Request, epoch: u64) -> Result<Option<Reply>> {
+    /// Carries out `req` if the emulator's Clean epoch is still `epoch`
+    /// (that of the handle it goes through); `None`: a Clean (or a
+    /// restart of the server) came since, and nothing was carried out
+    /// that changes anything.
+    fn call_in_epoch(&mut self, req: &Request, epoch: Epoch) -> Result<Option<Reply>> {
         if self.clean_epoch()? != epoch {
             return Ok(None);
         }
@@ -246,6 +268,10 @@ impl Link for Embedded {
         self.opts.realtime.map(|f| f.get())
     }
 
+    fn cycle_s(&self) -> f64 {
+        self.opts.cycle.secs()
+    }
+
     fn tick(&mut self) -> u64 {
         match &mut self.clock {
             Some(c) => c.catch_up(&mut self.emu, Instant::now()),
@@ -257,8 +283,8 @@ impl Link for Embedded {
         Ok(self.emu.run(req))
     }
 
-    fn clean_epoch(&mut self) -> Result<u64> {
-        Ok(self.emu.clean_epoch())
+    fn clean_epoch(&mut self) -> Result<Epoch> {
+        Ok(Epoch::from(self.emu.clean_epoch()))
     }
 
     fn exec(

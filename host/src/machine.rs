@@ -17,14 +17,16 @@ use std::time::{Duration, Instant};
 
 use tc_module::{ArcDir, AxisPos, AxisWords, AXES};
 use tc_request::{Motion, Reply, Request, SpoolRecord};
-use uoi::Value;
+use uoi::{AccessError, Value};
 
 use crate::error::{Error, ErrorCode, Result};
+use crate::explain;
 use crate::handles::{Handle, Handles};
 use crate::link::{Embedded, Limits, Link};
 use crate::objects::{find_object, Descriptor};
 use crate::record::Recorder;
 use crate::served::Served;
+use crate::served_target::ServedTarget;
 use crate::target::{EmbeddedOptions, Target};
 
 /// How long a wait (`exec`) may last by default: the request timeout of
@@ -52,6 +54,9 @@ pub struct Machine {
     closing: AtomicBool,
     /// The target, as a target string names it.
     target: String,
+    /// Whether the target is a server (not an emulator inside the
+    /// process).
+    served: bool,
 }
 
 /// The state behind the lock.
@@ -137,8 +142,9 @@ impl Machine {
     /// As [`served`](Self::served), every request (the first, `INFO`,
     /// included) waiting at most `timeout` for its answer.
     pub fn served_within(addr: &str, timeout: Duration) -> Result<Self> {
-        let link = Served::connect(addr, timeout)?;
-        let m = Self::with_link(Box::new(link));
+        let link = Served::connect(&ServedTarget::parse(addr)?, timeout)?;
+        let mut m = Self::with_link(Box::new(link));
+        m.served = true;
         m.lock().timeout = timeout;
         Ok(m)
     }
@@ -164,6 +170,7 @@ impl Machine {
                 timeout: DEFAULT_TIMEOUT,
             }),
             closing: AtomicBool::new(false),
+            served: false,
         }
     }
 
@@ -175,6 +182,12 @@ impl Machine {
     /// The real-time factor, if the machine runs in real time.
     pub fn realtime(&self) -> Option<f64> {
         self.lock().link.realtime()
+    }
+
+    /// Whether [`exec`](Self::exec) waits for something outside the
+    /// calling thread (a clock, a server), rather than computing.
+    pub fn exec_waits(&self) -> bool {
+        self.served || self.realtime().is_some()
     }
 
     /// Locks the session (a call that panicked left it usable).
@@ -262,14 +275,14 @@ impl Machine {
 
     /// Reads an i32 object.
     pub fn read_int(&self, h: Handle) -> Result<i32> {
-        self.read(h, uoi::ValueType::I32, "uoi_read_int")
-            .map(|v| v.as_i32().unwrap_or_default())
+        let v = self.read(h, uoi::ValueType::I32, "uoi_read_int")?;
+        v.as_i32().ok_or_else(|| wrong_type(&v))
     }
 
     /// Reads an f64 object (an i32 object answers `TypeMismatch`).
     pub fn read_double(&self, h: Handle) -> Result<f64> {
-        self.read(h, uoi::ValueType::F64, "uoi_read_double")
-            .map(|v| v.as_f64().unwrap_or_default())
+        let v = self.read(h, uoi::ValueType::F64, "uoi_read_double")?;
+        v.as_f64().ok_or_else(|| wrong_type(&v))
     }
 
     /// Writes an i32 object.
@@ -382,12 +395,21 @@ impl Machine {
     /// after the timeout ([`set_timeout`](Self::set_timeout)) with
     /// `Timeout`; what ran stays run.
     pub fn exec(&self, cycles: Option<u64>) -> Result<()> {
+        self.exec_until(cycles, &AtomicBool::new(false))
+    }
+
+    /// As [`exec`](Self::exec), given up as soon as `interrupt` is set
+    /// (by another thread: a Python program's Ctrl-C): the wait ends at
+    /// once with `Timeout`; what ran stays run (a server target's
+    /// connection is dropped, the next call connects again).
+    pub fn exec_until(&self, cycles: Option<u64>, interrupt: &AtomicBool) -> Result<()> {
         let closing = &self.closing;
         self.with(|s| {
             s.tick();
             let limits = Limits {
                 deadline: Instant::now() + s.timeout,
                 closing,
+                interrupt,
             };
             let mut ran: Vec<Request> = Vec::new();
             let out = s.link.exec(cycles, limits, &mut |r| ran.push(r.clone()));
@@ -485,6 +507,15 @@ impl Machine {
     }
 }
 
+/// A value of the other type than the one asked for (a target never
+/// answers one: it is refused where the answer is read).
+fn wrong_type(v: &Value) -> Error {
+    Error::new(
+        ErrorCode::Protocol,
+        format!("a value of the other type was answered ({v}): not taken"),
+    )
+}
+
 fn unexpected(reply: &Reply) -> Error {
     Error::new(ErrorCode::Internal, format!("unexpected answer {reply:?}"))
 }
@@ -544,10 +575,53 @@ impl Session {
             self.note(&w);
         }
         match reply {
-            Reply::Access(e) => Err(Error::access(e, what())),
+            Reply::Access(e) => Err(self.explained(req, e, what())),
+            Reply::Protocol(uoi::wire::ProtocolError::Stopped) => Err(Error::new(
+                ErrorCode::Stopped,
+                format!(
+                    "{}: the server stopped the request before its end (it is shutting down)",
+                    what()
+                ),
+            )),
             Reply::Protocol(p) => Err(Error::new(ErrorCode::Protocol, format!("{}: {p}", what()))),
             other => Ok(other),
         }
+    }
+
+    /// The error of `req` refused with `e`, with why when the library can
+    /// tell (the range of the object, the smallest feed, the faulted
+    /// group: `crate::explain`).
+    fn explained(&mut self, req: &Request, e: AccessError, what: String) -> Error {
+        let why = match (req, e) {
+            (Request::Write(addr, v), AccessError::Range) => explain::write_range(*addr, *v),
+            (Request::Motion(m), AccessError::Range) => {
+                explain::motion_range(m, self.link.cycle_s())
+            }
+            (Request::Motion(_), AccessError::State) => self.faulted_groups(req, e),
+            _ => None,
+        };
+        let base = Error::access(e, what);
+        match why {
+            Some(why) => Error::new(base.code(), format!("{}: {why}", base.message())),
+            None => base,
+        }
+    }
+
+    /// The faulted groups, read from their ERROR registers (reads change
+    /// nothing; they are not part of the recording).
+    fn faulted_groups(&mut self, req: &Request, e: AccessError) -> Option<String> {
+        let errors: Vec<(u16, Option<i32>)> = explain::error_registers(req, e)
+            .into_iter()
+            .map(|(g, addr)| {
+                let read = self.link.call(&Request::Read(addr, uoi::ValueType::I32));
+                let bits = match read {
+                    Ok(Reply::Value(v)) => v.as_i32(),
+                    _ => None,
+                };
+                (g, bits)
+            })
+            .collect();
+        explain::faulted_groups(&errors)
     }
 
     /// Writes to the recording, if one goes on; a write error stops it

@@ -9,13 +9,21 @@
 //! not kept up with [`QUEUE_CHUNKS`] chunks, 4 MiB) or the file cannot be
 //! written, the recording stops with a message and the server goes on:
 //! a trace with a hole in it would not replay, so none is pretended.
+//!
+//! Nothing ever waits for the writer thread while it is blocked: a
+//! recording that stopped is left to its thread, and the end of a
+//! recording waits only while the writer makes progress (a FIFO whose
+//! reader stopped is given up after [`STALL_LIMIT`]). A FIFO is opened by
+//! the writer thread, so one without a reader does not hold the start
+//! (docs/decisions.md, decision 410).
 
 use std::fs::File;
 use std::io::{self, Write};
-use std::path::Path;
-use std::sync::mpsc::{sync_channel, Receiver, SyncSender, TrySendError};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError, SyncSender, TrySendError};
 use std::sync::{Arc, Mutex};
-use std::thread::JoinHandle;
+use std::time::Duration;
 
 use emulator::Journal;
 use tc_request::{Reply, Request, SpoolRecord};
@@ -25,8 +33,21 @@ use crate::record::{RecordHeader, Recorder};
 /// Chunks that may wait for the writer thread.
 pub const QUEUE_CHUNKS: usize = 64;
 
-/// Why the writer thread stopped, if it did.
+/// How long the end of a recording waits for a writer that writes
+/// nothing (a reader of the FIFO that stopped): the rest is then given
+/// up, never the server's stop.
+pub const STALL_LIMIT: Duration = Duration::from_secs(2);
+
+/// Why the recording stopped, if it did (the writer thread's error, or
+/// a queue the writer did not empty in time).
 type Failure = Arc<Mutex<Option<String>>>;
+
+/// Keeps the first reason in `failure`.
+fn fail(failure: &Failure, why: String) {
+    if let Ok(mut f) = failure.lock() {
+        f.get_or_insert(why);
+    }
+}
 
 /// The bytes of a recording on their way to the writer thread.
 struct ToWriter {
@@ -40,9 +61,14 @@ impl Write for ToWriter {
         let tx = self.tx.as_ref().ok_or_else(gone)?;
         match tx.try_send(buf.to_vec()) {
             Ok(()) => Ok(buf.len()),
-            Err(TrySendError::Full(_)) => Err(io::Error::other(format!(
-                "the disk did not keep up ({QUEUE_CHUNKS} chunks of the trace waited)"
-            ))),
+            Err(TrySendError::Full(_)) => {
+                let why =
+                    format!("the disk did not keep up ({QUEUE_CHUNKS} chunks of the trace waited)");
+                fail(&self.failure, why.clone());
+                // Nothing more goes to the writer: it may stay blocked.
+                self.tx = None;
+                Err(io::Error::other(why))
+            }
             Err(TrySendError::Disconnected(_)) => {
                 let why = self.failure.lock().ok().and_then(|f| f.clone());
                 Err(io::Error::other(
@@ -57,28 +83,72 @@ impl Write for ToWriter {
     }
 }
 
-/// Writes what comes through `rx` to `file`; the first error is kept in
-/// `failure` and ends the thread.
-fn write_all(mut file: File, rx: Receiver<Vec<u8>>, failure: Failure) {
+/// Where the writer thread writes: a file opened at the start, or a FIFO
+/// it opens itself (opening a FIFO waits for its reader, which must not
+/// hold the server's start).
+enum Target {
+    Opened(File),
+    Fifo(PathBuf),
+}
+
+impl Target {
+    /// `path` created; a FIFO is left for the writer thread to open.
+    fn create(path: &Path) -> io::Result<Self> {
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::FileTypeExt;
+            if std::fs::metadata(path).is_ok_and(|m| m.file_type().is_fifo()) {
+                return Ok(Self::Fifo(path.to_path_buf()));
+            }
+        }
+        File::create(path).map(Self::Opened)
+    }
+
+    fn open(self) -> io::Result<File> {
+        match self {
+            Self::Opened(f) => Ok(f),
+            Self::Fifo(p) => std::fs::OpenOptions::new().write(true).open(p),
+        }
+    }
+}
+
+/// What the writer thread shares: its failure, and the chunks written
+/// (how the end of a recording tells a slow writer from a stalled one).
+#[derive(Clone, Default)]
+struct Shared {
+    failure: Failure,
+    written: Arc<AtomicU64>,
+}
+
+/// Writes what comes through `rx` to `target`; the first error is kept
+/// in `failure` and ends the thread.
+fn write_all(target: Target, rx: Receiver<Vec<u8>>, shared: &Shared) {
     let result = (|| -> io::Result<()> {
+        let mut file = target.open()?;
+        shared.written.fetch_add(1, Ordering::Relaxed);
         for chunk in rx {
             file.write_all(&chunk)?;
+            shared.written.fetch_add(1, Ordering::Relaxed);
         }
         file.flush()?;
-        file.sync_data()
+        // A FIFO or terminal has nothing to sync.
+        let _ = file.sync_data();
+        Ok(())
     })();
     if let Err(e) = result {
-        if let Ok(mut f) = failure.lock() {
-            *f = Some(format!("cannot write the trace: {e}"));
-        }
+        fail(&shared.failure, format!("cannot write the trace: {e}"));
     }
 }
 
 /// The shared emulator's recording, streamed to a file.
 pub struct ServeRecorder {
     rec: Option<Recorder>,
-    writer: Option<JoinHandle<()>>,
-    failure: Failure,
+    /// Idle cycles of the real-time clock not written yet: one `EXEC n`
+    /// before the next entry or at the end.
+    idle: u64,
+    /// Says (by closing) that the writer thread has ended.
+    ended: Option<Receiver<()>>,
+    shared: Shared,
     path: String,
 }
 
@@ -89,52 +159,108 @@ impl std::fmt::Debug for ServeRecorder {
 }
 
 impl ServeRecorder {
-    /// Creates `path` and starts the trace with `header`.
+    /// Creates `path` and starts the trace with `header`. A FIFO is
+    /// opened by the writer thread, so a FIFO nobody reads yet does not
+    /// hold the caller.
     pub fn create(path: &Path, header: &RecordHeader) -> io::Result<Self> {
-        let file = File::create(path)?;
+        let target = Target::create(path)?;
         let (tx, rx) = sync_channel(QUEUE_CHUNKS);
-        let failure = Failure::default();
-        let f = failure.clone();
-        let writer = std::thread::Builder::new()
+        let (end_tx, end_rx) = sync_channel::<()>(0);
+        let shared = Shared::default();
+        let s = shared.clone();
+        // The thread is never joined: a writer blocked in write() must
+        // not hold whoever ends the recording (see `close`).
+        std::thread::Builder::new()
             .name("serve-record".into())
-            .spawn(move || write_all(file, rx, f))?;
+            .spawn(move || {
+                write_all(target, rx, &s);
+                drop(end_tx);
+            })?;
         let out = ToWriter {
             tx: Some(tx),
-            failure: failure.clone(),
+            failure: shared.failure.clone(),
         };
         let rec = Recorder::start(Box::new(out), header)?;
         Ok(Self {
             rec: Some(rec),
-            writer: Some(writer),
-            failure,
+            idle: 0,
+            ended: Some(end_rx),
+            shared,
             path: path.display().to_string(),
         })
     }
 
-    /// Runs `f` on the recorder; an error names the file.
+    /// Runs `f` on the recorder after the idle cycles merged so far; an
+    /// error names the file.
     fn with(&mut self, f: impl FnOnce(&mut Recorder) -> io::Result<()>) -> Result<(), String> {
         let rec = self
             .rec
             .as_mut()
             .ok_or_else(|| format!("{}: the recording has ended", self.path))?;
-        f(rec).map_err(|e| format!("{}: {e}", self.path))
+        let idle = std::mem::take(&mut self.idle);
+        let r = if idle > 0 {
+            rec.exchange(&Request::Exec(Some(idle)), &Reply::Ok, &[], [0, 1, 2])
+        } else {
+            Ok(())
+        };
+        r.and_then(|()| f(rec))
+            .map_err(|e| format!("{}: {e}", self.path))
     }
 
     /// Hands everything to the writer thread and waits until it is
-    /// written.
+    /// written, as long as the writer makes progress: a recording that
+    /// already failed is left at once, and a writer that writes nothing
+    /// for [`STALL_LIMIT`] is given up.
     fn close(&mut self) -> Result<(), String> {
+        let idle = if self.idle > 0 && self.rec.is_some() {
+            self.with(|_| Ok(()))
+        } else {
+            Ok(())
+        };
         let flushed = match self.rec.take() {
             Some(mut r) => r.flush().map_err(|e| format!("{}: {e}", self.path)),
             None => Ok(()),
         };
-        if let Some(w) = self.writer.take() {
-            let _ = w.join();
+        let failed = || self.shared.failure.lock().ok().and_then(|f| f.clone());
+        if let Some(ended) = self.ended.take() {
+            if failed().is_none() {
+                self.wait_for_writer(&ended)?;
+            }
         }
-        let failed = self.failure.lock().ok().and_then(|f| f.clone());
+        idle?;
         flushed?;
-        match failed {
+        match failed() {
             Some(why) => Err(format!("{}: {why}", self.path)),
             None => Ok(()),
+        }
+    }
+
+    /// Waits until the writer thread ends, or has written nothing for
+    /// [`STALL_LIMIT`].
+    fn wait_for_writer(&self, ended: &Receiver<()>) -> Result<(), String> {
+        const LOOK: Duration = Duration::from_millis(100);
+        let mut seen = self.shared.written.load(Ordering::Relaxed);
+        let mut quiet = Duration::ZERO;
+        loop {
+            match ended.recv_timeout(LOOK) {
+                Ok(()) | Err(RecvTimeoutError::Disconnected) => return Ok(()),
+                Err(RecvTimeoutError::Timeout) => {}
+            }
+            let now = self.shared.written.load(Ordering::Relaxed);
+            quiet = if now == seen {
+                quiet + LOOK
+            } else {
+                Duration::ZERO
+            };
+            seen = now;
+            if quiet >= STALL_LIMIT {
+                return Err(format!(
+                    "{}: the trace's reader took nothing for {} s; the rest of the \
+                     recording is given up",
+                    self.path,
+                    STALL_LIMIT.as_secs()
+                ));
+            }
         }
     }
 }
@@ -148,6 +274,14 @@ impl Journal for ServeRecorder {
         axis_nr: [u8; 3],
     ) -> Result<(), String> {
         self.with(|r| r.exchange(req, reply, spooled, axis_nr))
+    }
+
+    fn idle(&mut self, cycles: u64) -> Result<(), String> {
+        if self.rec.is_none() {
+            return Err(format!("{}: the recording has ended", self.path));
+        }
+        self.idle = self.idle.saturating_add(cycles);
+        Ok(())
     }
 
     fn note(&mut self, text: &str) -> Result<(), String> {
@@ -195,6 +329,26 @@ mod tests {
         assert!(r.note("late").is_err(), "an ended recording takes nothing");
     }
 
+    #[test]
+    fn idle_cycles_are_one_exec_before_the_next_entry_and_at_the_end() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("idle.trace");
+        let mut r = ServeRecorder::create(&path, &header()).unwrap();
+        for _ in 0..300 {
+            r.idle(3).unwrap();
+        }
+        r.exchange(&Request::Queue, &Reply::Queue(0), &[], [0, 1, 2])
+            .unwrap();
+        r.idle(2).unwrap();
+        r.idle(5).unwrap();
+        r.finish().unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(
+            text,
+            "@name serve\nEXEC 900 => ok\nQUEUE => 0\nEXEC 7 => ok\n"
+        );
+    }
+
     #[cfg(target_os = "linux")]
     #[test]
     fn a_disk_that_refuses_the_trace_stops_the_recording_with_a_message() {
@@ -212,5 +366,90 @@ mod tests {
         let e = failed.expect("the recording stops");
         assert!(e.contains("/dev/full"), "{e}");
         assert!(r.finish().is_err());
+    }
+
+    /// Runs `f` on a thread of its own and waits for it at most 20 s (a
+    /// hang is a failure, not a frozen test run).
+    #[cfg(unix)]
+    fn within_20s<T: Send + 'static>(f: impl FnOnce() -> T + Send + 'static) -> Option<T> {
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let _ = tx.send(f());
+        });
+        rx.recv_timeout(std::time::Duration::from_secs(20)).ok()
+    }
+
+    /// A FIFO at `dir/name`.
+    #[cfg(unix)]
+    fn fifo(dir: &Path, name: &str) -> std::path::PathBuf {
+        let path = dir.join(name);
+        let made = std::process::Command::new("mkfifo")
+            .arg(&path)
+            .status()
+            .unwrap();
+        assert!(made.success());
+        path
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_fifo_without_a_reader_does_not_hold_the_start() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = fifo(dir.path(), "no-reader");
+        let made = within_20s(move || {
+            let mut r = ServeRecorder::create(&path, &header()).map_err(|e| e.to_string())?;
+            r.exchange(&Request::Queue, &Reply::Queue(0), &[], [0, 1, 2])?;
+            drop(r);
+            Ok::<(), String>(())
+        });
+        assert_eq!(made, Some(Ok(())), "create and end returned");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_reader_that_stops_never_holds_the_end_of_the_recording() {
+        use std::os::unix::fs::OpenOptionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        let path = fifo(dir.path(), "stalled");
+        // A reader that opens the FIFO and never reads (O_NONBLOCK: the
+        // open does not wait for the writer).
+        let reader = std::fs::OpenOptions::new()
+            .read(true)
+            .custom_flags(0o4000)
+            .open(&path)
+            .unwrap();
+        let mut r = ServeRecorder::create(&path, &header()).unwrap();
+        let line = Request::Exec(Some(1));
+        let mut failed = None;
+        // The pipe takes 64 KiB, the queue 4 MiB: the recording stops
+        // within a few hundred thousand lines.
+        for _ in 0..2_000_000 {
+            if let Err(e) = r.exchange(&line, &Reply::Ok, &[], [0, 1, 2]) {
+                failed = Some(e);
+                break;
+            }
+        }
+        let e = failed.expect("the recording stops");
+        assert!(e.contains("did not keep up"), "{e}");
+        // The service drops a recording that failed: that must not wait
+        // for the writer blocked in write().
+        assert!(within_20s(move || drop(r)).is_some(), "the drop returned");
+        // A recording ended at shutdown while its reader stalls ends too.
+        let path2 = fifo(dir.path(), "stalled2");
+        let reader2 = std::fs::OpenOptions::new()
+            .read(true)
+            .custom_flags(0o4000)
+            .open(&path2)
+            .unwrap();
+        let ended = within_20s(move || {
+            let mut r = ServeRecorder::create(&path2, &header()).unwrap();
+            for _ in 0..40_000 {
+                r.exchange(&line, &Reply::Ok, &[], [0, 1, 2]).unwrap();
+            }
+            r.finish()
+        });
+        let e = ended.expect("finish returned").unwrap_err();
+        assert!(e.contains("took nothing"), "{e}");
+        drop((reader, reader2));
     }
 }

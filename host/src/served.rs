@@ -33,15 +33,17 @@ use std::net::SocketAddr;
 use std::time::Duration;
 
 use emulator::info_op::info_request;
-use emulator::{parse_address, Emulator, EmulatorInfo};
+use emulator::{parse_address, Emulator, EmulatorInfo, GuardedOutcome, GuardedWrite};
 use tc_module::CycleTime;
 use tc_request::{Reply, Request, SpoolRecord};
-use uoi::tcp::{BlockingClient, ClientError, ClientOptions, Waited};
-use uoi::wire::{Answer, Request as WireRequest};
+use uoi::tcp::{AccessToken, BlockingClient, ClientError, ClientOptions, Waited};
+use uoi::wire::{Answer, ProtocolError, Request as WireRequest};
 
 use crate::error::{Error, ErrorCode, Result};
+use crate::handles::Epoch;
 use crate::link::{Limits, Link};
 use crate::record::RecordHeader;
+use crate::served_target::ServedTarget;
 
 /// Longest wait for a server to accept a connection.
 pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(5);
@@ -51,6 +53,11 @@ pub struct Served {
     /// The address as the target string gave it.
     name: String,
     addr: SocketAddr,
+    /// The access token presented on connecting, if any.
+    token: Option<AccessToken>,
+    /// The process that opened the connection (a child after `fork`
+    /// must not use its parent's socket).
+    pid: u32,
     client: Option<BlockingClient>,
     timeout: Duration,
     /// What `INFO` answered last.
@@ -81,15 +88,17 @@ impl std::fmt::Debug for Served {
 }
 
 impl Served {
-    /// Connects to the server at `name` (`HOST:PORT`, `localhost:PORT`, a
-    /// bare `PORT`) and asks it `INFO`; every request waits at most
-    /// `timeout`.
-    pub fn connect(name: &str, timeout: Duration) -> Result<Self> {
+    /// Connects to the server `target` names and asks it `INFO`; every
+    /// request waits at most `timeout`.
+    pub fn connect(target: &ServedTarget, timeout: Duration) -> Result<Self> {
+        let name = target.address.as_str();
         let addr = parse_address(name)
             .map_err(|e| Error::new(ErrorCode::Connection, format!("target `{name}`: {e}")))?;
         let mut s = Self {
             name: name.to_string(),
             addr,
+            token: target.token.clone(),
+            pid: std::process::id(),
             client: None,
             timeout,
             info: EmulatorInfo {
@@ -99,6 +108,7 @@ impl Served {
                 cycle_s: CycleTime::DEFAULT.secs(),
                 spool_capacity: tc_module::DEFAULT_SPOOL_CAPACITY as u64,
                 start: [0.0; tc_module::AXES],
+                server: 0,
             },
             shadow: None,
             warning: None,
@@ -106,17 +116,28 @@ impl Served {
             accounted: 0,
             beside: 0,
         };
-        s.refresh()?;
+        s.refresh().map_err(|e| opening(e, name))?;
         Ok(s)
     }
 
     /// The client, connected now if the last call lost it.
     fn client(&mut self) -> Result<&mut BlockingClient> {
+        if self.pid != std::process::id() {
+            return Err(Error::new(
+                ErrorCode::Connection,
+                format!(
+                    "this connection to the server at {} was opened by process {} before a \
+                     fork: a child process cannot use it (the two would read each other's \
+                     answers); open a connection of its own in the child with addipos_open",
+                    self.name, self.pid
+                ),
+            ));
+        }
         if self.client.is_none() {
             let opts = ClientOptions {
                 connect_timeout: CONNECT_TIMEOUT,
                 request_timeout: self.timeout,
-                token: None,
+                token: self.token.clone(),
             };
             let c = BlockingClient::connect_with(&self.addr.to_string(), &opts)
                 .map_err(|e| self.failure(e, "connect"))?;
@@ -153,6 +174,10 @@ impl Served {
                     CONNECT_TIMEOUT.as_secs()
                 ),
             ),
+            ClientError::Io(io) if io.kind() == std::io::ErrorKind::Interrupted => (
+                ErrorCode::Connection,
+                format!("{what}: the wait was given up"),
+            ),
             ClientError::Io(io) => (
                 ErrorCode::Connection,
                 format!(
@@ -160,21 +185,43 @@ impl Served {
                      serve` running there? The next call connects again"
                 ),
             ),
+            ClientError::Protocol(ProtocolError::Unauthorized) => (
+                ErrorCode::Protocol,
+                format!(
+                    "{what}: the server at {at} asks for its access token: give it with \
+                     ADDIPOS_TOKEN, ADDIPOS_TOKEN_FILE or the target option token_file=FILE \
+                     (docs/host-api.md, \"Targets\")"
+                ),
+            ),
             ClientError::Protocol(p) => (
                 ErrorCode::Protocol,
-                format!("{what}: the server at {at} refused the request: {p}"),
+                format!("{what}: the server at {at} refused the request: {p}. {AGAIN}"),
             ),
             other => (
                 ErrorCode::Protocol,
                 format!(
-                    "{what}: the server at {at} answered what the library cannot read: {other}"
+                    "{what}: the server at {at} answered what the library cannot read: {other}. \
+                     {AGAIN}"
                 ),
             ),
         };
-        if code != ErrorCode::Protocol {
-            self.client = None;
-        }
+        // Whatever went wrong, the connection is not trusted any more:
+        // its answers may be out of step with its requests.
+        self.client = None;
         Error::new(code, text)
+    }
+
+    /// A protocol failure of an answer the library cannot take: the
+    /// connection is dropped (the next call connects again).
+    fn unreadable(&mut self, what: impl std::fmt::Display, ans: &Answer) -> Error {
+        self.client = None;
+        Error::new(
+            ErrorCode::Protocol,
+            format!(
+                "{what}: the server at {} answered {ans:?}, which is not an answer to it. {AGAIN}",
+                self.name
+            ),
+        )
     }
 
     /// Asks `INFO` and keeps the answer.
@@ -184,34 +231,56 @@ impl Served {
     }
 
     fn keep_info(&mut self, ans: &Answer) -> Result<EmulatorInfo> {
-        let info = EmulatorInfo::from_wire(ans).ok_or_else(|| {
-            Error::new(
+        let Some(info) = EmulatorInfo::from_wire(ans) else {
+            self.client = None;
+            if let Answer::Protocol(p) = ans {
+                return Err(self.failure(ClientError::Protocol(*p), "INFO"));
+            }
+            return Err(Error::new(
                 ErrorCode::Protocol,
                 format!(
                     "the server at {} does not answer INFO ({ans:?}): it is not an addipos serve \
                      of this version",
                     self.name
                 ),
-            )
-        })?;
+            ));
+        };
         self.info = info;
         Ok(info)
     }
 
     /// Sends `reqs` in one write and reads their answers.
     fn exchange(&mut self, reqs: &[WireRequest], what: &str) -> Result<Vec<Answer>> {
-        let out = self.client()?.pipeline(reqs);
+        self.exchange_until(reqs, what, &|| false)
+    }
+
+    /// As [`exchange`](Self::exchange), given up as soon as `stop` says
+    /// so (the connection is then dropped).
+    fn exchange_until(
+        &mut self,
+        reqs: &[WireRequest],
+        what: &str,
+        stop: &dyn Fn() -> bool,
+    ) -> Result<Vec<Answer>> {
+        let out = self.client()?.pipeline_until(reqs, stop);
         out.map_err(|e| self.failure(e, what))
     }
 
-    /// The reply of the server to `req`, decoded.
+    /// The reply of the server to `req`, decoded; an answer of another
+    /// shape than `req`'s (a value of the other type, a position to a
+    /// write, ...) is never taken as a reply: `Protocol`, and the
+    /// connection is dropped. A refusal of the protocol drops it too.
     fn reply(&mut self, req: &Request, ans: &Answer) -> Result<Reply> {
-        Reply::from_wire(req.wire_op(), ans).ok_or_else(|| {
-            Error::new(
-                ErrorCode::Protocol,
-                format!("{req}: the server at {} answered {ans:?}", self.name),
-            )
-        })
+        let reply = Reply::from_wire(req.wire_op(), ans).filter(|r| fits(req, r));
+        match reply {
+            None => Err(self.unreadable(req, ans)),
+            Some(r) => {
+                if matches!(r, Reply::Protocol(_)) {
+                    self.client = None;
+                }
+                Ok(r)
+            }
+        }
     }
 
     /// While recording: the shadow carries out `req` too; a different
@@ -259,14 +328,25 @@ impl Served {
     /// most [`PIN_TRIES`] times), so that the recording puts it after
     /// exactly the cycles it followed.
     fn send(&mut self, req: &Request, info: bool) -> Result<(Option<EmulatorInfo>, Answer)> {
+        self.send_as(req, req.to_wire(), info)
+    }
+
+    /// Sends `req` as `wire` (its guarded form, say): see
+    /// [`send`](Self::send).
+    fn send_as(
+        &mut self,
+        req: &Request,
+        wire: WireRequest,
+        info: bool,
+    ) -> Result<(Option<EmulatorInfo>, Answer)> {
         let pin = self.shadow.is_some() && self.info.realtime.is_some();
         let what = req.to_string();
         if !pin && !info {
-            let mut ans = self.exchange(&[req.to_wire()], &what)?;
+            let mut ans = self.exchange(&[wire], &what)?;
             return Ok((None, ans.swap_remove(0)));
         }
         let reads = matches!(req, Request::Read(..) | Request::Pos | Request::Queue);
-        let mut reqs = vec![info_request(), req.to_wire()];
+        let mut reqs = vec![info_request(), wire];
         if pin && reads {
             reqs.push(info_request());
         }
@@ -282,6 +362,99 @@ impl Served {
             }
         }
         Err(Error::new(ErrorCode::Internal, "no try"))
+    }
+}
+
+impl Served {
+    /// A write through a handle of Clean epoch `epoch`, as one `WRITE_IF`:
+    /// the server carries it out only if it is still the server, in the
+    /// epoch, the handle was issued in (`None`: it did not).
+    fn write_in_epoch(
+        &mut self,
+        addr: uoi::ObjectAddress,
+        value: uoi::Value,
+        epoch: Epoch,
+    ) -> Result<Option<Reply>> {
+        let guarded = GuardedWrite {
+            server: epoch.server,
+            cleans: epoch.cleans,
+            addr,
+            value,
+        };
+        let req = Request::Write(addr, value);
+        let (_, ans) = self.send_as(&req, guarded.to_wire(), false)?;
+        match GuardedOutcome::from_wire(&ans) {
+            Some(GuardedOutcome::Voided(info)) => {
+                self.info = info;
+                Ok(None)
+            }
+            Some(GuardedOutcome::Written(a)) => {
+                let reply = self.reply(&req, &a)?;
+                self.follow(&req, &reply);
+                Ok(Some(reply))
+            }
+            None => Err(self.unreadable(&req, &ans)),
+        }
+    }
+}
+
+/// The Clean epoch an `INFO` answer names.
+fn epoch_of(info: &EmulatorInfo) -> Epoch {
+    Epoch {
+        server: info.server,
+        cleans: info.cleans,
+    }
+}
+
+/// Said after a protocol failure.
+const AGAIN: &str = "The connection is closed; the next call connects again";
+
+/// An open that failed says so (there is no next call to connect again).
+fn opening(e: Error, name: &str) -> Error {
+    let text = e
+        .message()
+        .replace(" The next call connects again", " Nothing was opened");
+    let text = text.replace(AGAIN, &format!("No connection to {name} was opened"));
+    Error::new(e.code(), text)
+}
+
+/// Whether `reply` is of a shape that answers `req`: a value of the type
+/// asked for to a read, a position to `POS`, ...; a refusal answers
+/// anything.
+fn fits(req: &Request, reply: &Reply) -> bool {
+    match (req, reply) {
+        (_, Reply::Access(_) | Reply::Protocol(_)) => true,
+        (Request::Read(_, ty), Reply::Value(v)) => v.value_type() == *ty,
+        (Request::Pos, Reply::Pos(_)) => true,
+        (Request::Queue, Reply::Queue(_)) => true,
+        (Request::Read(..) | Request::Pos | Request::Queue, _) => false,
+        (Request::SpoolLog { .. }, Reply::Spool(..)) => true,
+        (_, Reply::Ok) => true,
+        _ => false,
+    }
+}
+
+/// What an `EXEC`'s reply means for `tc_exec`: every answer but `Ok` is
+/// an error; `Stopped` (the server shut down during the wait) its own.
+fn exec_outcome(what: &str, server: &str, reply: Reply) -> Result<()> {
+    match reply {
+        Reply::Ok => Ok(()),
+        Reply::Access(e) => Err(Error::access(e, what)),
+        Reply::Protocol(ProtocolError::Stopped) => Err(Error::new(
+            ErrorCode::Stopped,
+            format!(
+                "{what}: the server at {server} stopped the request before its end (it is \
+                 shutting down): the motion did not run to its end; what ran stays run"
+            ),
+        )),
+        Reply::Protocol(p) => Err(Error::new(
+            ErrorCode::Protocol,
+            format!("{what}: the server at {server} refused it: {p}. {AGAIN}"),
+        )),
+        other => Err(Error::new(
+            ErrorCode::Protocol,
+            format!("{what}: the server at {server} answered {other:?}. {AGAIN}"),
+        )),
     }
 }
 
@@ -313,6 +486,10 @@ impl Link for Served {
         self.info.realtime
     }
 
+    fn cycle_s(&self) -> f64 {
+        self.info.cycle_s
+    }
+
     fn tick(&mut self) -> u64 {
         if self.shadow.is_none() {
             return 0;
@@ -331,15 +508,18 @@ impl Link for Served {
         Ok(reply)
     }
 
-    fn call_in_epoch(&mut self, req: &Request, epoch: u64) -> Result<Option<Reply>> {
+    fn call_in_epoch(&mut self, req: &Request, epoch: Epoch) -> Result<Option<Reply>> {
+        if let Request::Write(addr, value) = req {
+            return self.write_in_epoch(*addr, *value, epoch);
+        }
         if !matches!(req, Request::Read(..)) {
-            if self.refresh()?.cleans != epoch {
+            if epoch_of(&self.refresh()?) != epoch {
                 return Ok(None);
             }
             return self.call(req).map(Some);
         }
         let (info, ans) = self.send(req, true)?;
-        if info.is_some_and(|i| i.cleans != epoch) {
+        if info.is_some_and(|i| epoch_of(&i) != epoch) {
             return Ok(None);
         }
         let reply = self.reply(req, &ans)?;
@@ -347,38 +527,43 @@ impl Link for Served {
         Ok(Some(reply))
     }
 
-    fn clean_epoch(&mut self) -> Result<u64> {
-        Ok(self.refresh()?.cleans)
+    fn clean_epoch(&mut self) -> Result<Epoch> {
+        Ok(epoch_of(&self.refresh()?))
     }
 
     fn exec(
         &mut self,
         cycles: Option<u64>,
-        _limits: Limits<'_>,
+        limits: Limits<'_>,
         ran: &mut dyn FnMut(&Request),
     ) -> Result<()> {
         let req = Request::Exec(cycles);
+        let what = format!("tc_exec {req}");
+        // The wait ends at once when the connection is being closed or
+        // the caller gives up (the connection is then dropped).
+        let ans = self.exchange_until(&[req.to_wire()], &what, &|| limits.stopped());
+        let ans = match ans {
+            Err(e) => return Err(limits.check(&|| what.clone()).err().unwrap_or(e)),
+            Ok(mut a) => a.swap_remove(0),
+        };
+        let reply = self.reply(&req, &ans)?;
         if self.info.realtime.is_none() {
-            self.call(&req)?;
-            ran(&req);
-            return Ok(());
-        }
-        // In real time the server waits for its clock; what ran meanwhile
-        // is the server's, written as the cycles it ran.
-        let ans = self.exchange(&[req.to_wire()], &req.to_string());
-        if self.shadow.is_some() {
+            self.follow(&req, &reply);
+            if self.shadow.is_some() {
+                self.accounted = self.refresh()?.cycles;
+            }
+            if reply == Reply::Ok {
+                ran(&req);
+            }
+        } else if self.shadow.is_some() {
+            // In real time the server waits for its clock; what ran
+            // meanwhile is the server's, written as the cycles it ran.
             let n = self.cycles_beside()?;
             if n > 0 {
                 ran(&Request::Exec(Some(n)));
             }
         }
-        match self.reply(&req, &ans?[0])? {
-            Reply::Ok => Ok(()),
-            other => Err(Error::new(
-                ErrorCode::Protocol,
-                format!("{req}: the server at {} answered {other:?}", self.name),
-            )),
-        }
+        exec_outcome(&what, &self.name, reply)
     }
 
     fn set_timeout(&mut self, timeout: Duration) -> Result<()> {

@@ -11,7 +11,8 @@
 //!   `addipos serve`'s form: `cycle_ms`, `spool_capacity` and `start` are
 //!   used; a path without commas);
 //! * `HOST:PORT`, `localhost:PORT`, `[::1]:PORT` or a bare `PORT`: a
-//!   running `addipos serve` (`crate::served`).
+//!   running `addipos serve` (`crate::served`), optionally followed by
+//!   `,token=TOKEN` or `,token_file=FILE` (`crate::served_target`).
 
 use std::path::PathBuf;
 
@@ -133,6 +134,8 @@ fn strip_prefix_ci<'t>(text: &'t str, prefix: &str) -> Option<&'t str> {
 /// Whether `text` has the shape of a server address: a bare port, or
 /// something ending in `:PORT`.
 fn is_address(text: &str) -> bool {
+    // Options (`,token=...`) follow the address.
+    let text = text.split(',').next().unwrap_or("").trim();
     let port = |p: &str| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit());
     match text.rsplit_once(':') {
         Some((host, p)) => !host.is_empty() && port(p),
@@ -176,8 +179,8 @@ fn factor(text: &str) -> Result<RealTimeFactor> {
 
 /// The emulator settings of a settings file.
 fn read_config(path: &std::path::Path) -> Result<EmbeddedOptions> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Error::argument(format!("config={}: cannot read: {e}", path.display())))?;
+    let text = emulator::read_settings_file(path)
+        .map_err(|e| Error::argument(format!("config={}: {}", path.display(), e.0)))?;
     EmbeddedOptions::from_config(&text)
         .map_err(|e| Error::argument(format!("config={}: {}", path.display(), e.message())))
 }

@@ -3,7 +3,7 @@
 use winnow::ascii::{space0, space1, Caseless};
 use winnow::combinator::{alt, cut_err, delimited, opt, preceded, terminated};
 use winnow::error::{ContextError, ErrMode, StrContext, StrContextValue};
-use winnow::token::take_till;
+use winnow::token::{take_till, take_while};
 use winnow::{ModalResult, Parser};
 
 use crate::expr::{integer, var, word_value, Expr};
@@ -19,6 +19,12 @@ pub fn command(i: &mut &str) -> ModalResult<Item> {
     '#'.parse_next(i)?;
     alt((
         preceded(Caseless("OTC"), cut_err(otc)),
+        preceded(Caseless("TANGFEED"), cut_err(tangfeed)),
+        preceded(Caseless("TRC"), cut_err(trc_options)),
+        preceded(
+            (Caseless("SET"), space1, Caseless("TANGFEED")),
+            cut_err(set_tangfeed),
+        ),
         preceded(Caseless("set"), cut_err(set_tool_param)),
         preceded(Caseless("get"), cut_err(get_tool_param)),
         preceded(Caseless("KIN"), cut_err(kin)),
@@ -32,6 +38,47 @@ pub fn command(i: &mut &str) -> ModalResult<Item> {
         }
         other => Err(other),
     })
+}
+
+/// `#TANGFEED`, `#TANGFEED [RMIN=<v>]`: the smallest arc radius G11
+/// adapts the feed of.
+fn tangfeed(i: &mut &str) -> ModalResult<Item> {
+    let rmin = opt(preceded(
+        space0,
+        delimited(
+            ('[', space0),
+            opt(preceded(assigned("RMIN"), cut_err(word_value))),
+            cut_err((space0, ']')).context(expected("RMIN=<v> and ']' closing #TANGFEED")),
+        ),
+    ))
+    .parse_next(i)?;
+    Ok(Item::TangFeed(rmin.flatten()))
+}
+
+/// `#TRC [NAME ...]`: the first option's name is kept for the run's error.
+fn trc_options(i: &mut &str) -> ModalResult<Item> {
+    let name = delimited(
+        (space0, '[', space0),
+        take_while(1.., |c: char| c.is_ascii_alphanumeric() || c == '_'),
+        take_till(0.., |c| c == ']'),
+    )
+    .context(expected("[OPTION ..] after #TRC"))
+    .parse_next(i)?;
+    cut_err(']')
+        .context(expected("']' closing the #TRC options"))
+        .parse_next(i)?;
+    Ok(Item::TrcOption(name.to_ascii_uppercase()))
+}
+
+/// `#SET TANGFEED RMIN [<v>]`, the older form of `#TANGFEED [RMIN=<v>]`.
+fn set_tangfeed(i: &mut &str) -> ModalResult<Item> {
+    let value = preceded(
+        (space1, Caseless("RMIN"), space0, '[', space0),
+        cut_err(terminated(crate::expr::expr, (space0, ']'))),
+    )
+    .context(expected("RMIN [<v>]"))
+    .parse_next(i)?;
+    Ok(Item::TangFeed(Some(value)))
 }
 
 fn on_off(i: &mut &str) -> ModalResult<bool> {

@@ -12,6 +12,7 @@
 //! comparisons, AND/OR, SIN COS TAN ASIN ACOS ATAN ABS SQRT INT ROUND EXP
 //! LN); `$FOR/$ENDFOR`, `$IF/$ELSE/$ENDIF`, `$WHILE/$ENDWHILE` (checked to
 //! pair up); `#OTC ON|OFF [..]` and `#OTC[..]` with every option;
+//! `#TANGFEED [RMIN=..]` and `#SET TANGFEED RMIN [..]`;
 //! `#set ToolParam(l; c; v)#` and `#get ToolParam(l; c; R)#`; `#KIN ID[n]`,
 //! `#TRAFO ON|OFF`, `#HSC ON[..]|OFF`.
 //!
@@ -26,8 +27,10 @@
 //! **Running.** [`run::run_blocks`] interprets a program into the requests
 //! of `tc-request` (object writes, motion commands, a final `EXEC`) sent to
 //! a [`run::Controller`]: modal state, parameters and variables, loops and
-//! conditions, the D table, `#OTC`. It has no geometry: the correction is
-//! the controller's. Its errors are typed ([`run::RunError`]: a
+//! conditions, the D table, `#OTC`, the selection modes and the feed
+//! adaptation. The correction is the controller's; the interpreter's own
+//! plane geometry only places what ISG's selection modes insert and finds
+//! the centre of an arc given by its radius. Its errors are typed ([`run::RunError`]: a
 //! [`run::RunErrorKind`] a caller can match, and the [`Location`] (line,
 //! block, column) of the word that caused it), and so are its warnings.
 //!

@@ -42,6 +42,15 @@ pub enum Item {
     Tool(Expr),
     /// `M`: machine function (`M30` ends the program).
     M(u32),
+    /// `R`: the radius of an arc given by its end point (`G2 X10 R5`);
+    /// negative for an arc of more than 180°.
+    ArcRadius(Expr),
+    /// `#TRC [OPTION ..]`: its first option's name (options of the radius
+    /// correction are not in this emulator: an error at run time).
+    TrcOption(String),
+    /// `#TANGFEED [RMIN=..]` (or `#SET TANGFEED RMIN [..]`): the smallest
+    /// programmed arc radius whose feed G11 adapts; `None` for 0.
+    TangFeed(Option<Expr>),
     /// `R1 = expr`, `V.P.NAME = expr`, `V.G.WZ_AKT.R = expr`.
     Assign(Var, Expr),
     /// `$FOR var = start, end, step`.
@@ -162,6 +171,14 @@ pub enum GCode {
     MaskingOff,
     /// G141: contour masking on.
     MaskingOn,
+    /// G236: direct TRC selection/deselection on the path (runs as G138).
+    TrcOnPath,
+    /// G237: perpendicular TRC selection/deselection.
+    TrcPerpendicular,
+    /// G238: TRC selection at an inside corner of a closed contour.
+    TrcInsideCorner,
+    /// G239: direct TRC selection, deselection without a block.
+    TrcWithoutBlock,
 }
 
 impl GCode {
@@ -190,6 +207,10 @@ impl GCode {
             139 => TrcIndirect,
             140 => MaskingOff,
             141 => MaskingOn,
+            236 => TrcOnPath,
+            237 => TrcPerpendicular,
+            238 => TrcInsideCorner,
+            239 => TrcWithoutBlock,
             _ => return None,
         })
     }

@@ -24,6 +24,7 @@ pub fn word(i: &mut &str) -> ModalResult<Item> {
     };
     let second = bytes.get(1).copied();
     match letter {
+        b'R' if !is_assignment(bytes) => valued(i, Item::ArcRadius),
         b'R' | b'P' if second.is_some_and(|c| c.is_ascii_digit()) => assignment(i),
         b'V' if second == Some(b'.') => assignment(i),
         b'G' => g_word(i),
@@ -42,6 +43,22 @@ pub fn word(i: &mut &str) -> ModalResult<Item> {
             None => refuse("address: not an address of this controller"),
         },
     }
+}
+
+/// Whether the `R` word at the start of `bytes` is a parameter
+/// assignment (`R1 = 5`, `R12=R1*2`): digits, spaces, then `=`. Any
+/// other `R` is the radius of an arc (`R10`, `R-5`, `R[R1*2]`).
+fn is_assignment(bytes: &[u8]) -> bool {
+    let digits = bytes[1..].iter().take_while(|c| c.is_ascii_digit()).count();
+    if digits == 0 {
+        return false;
+    }
+    let rest = &bytes[1 + digits..];
+    let spaces = rest
+        .iter()
+        .take_while(|c| **c == b' ' || **c == b'\t')
+        .count();
+    rest.get(spaces) == Some(&b'=')
 }
 
 /// The common words `X10`, `Y-5.5`, `G1`, `M30`: an address letter and a

@@ -93,11 +93,12 @@ fn a_d_word_out_of_range_and_warnings_at_their_words() {
     let e = stop("N4 G1 X1 D300\n");
     assert_eq!(e.kind, RunErrorKind::DataSet { d: 300 });
     assert_eq!(at(&e), (1, Some(4), 10));
+    // A mode run as G138 is told at the selection made under it.
     let (e, report) = run("N1 G17 G139 G41\n");
     assert!(e.is_none(), "{e:?}");
     let word = "G139";
     assert_eq!(report.warnings[0].kind, WarningKind::SelectionRule { word });
-    assert_eq!(at(&report.warnings[0]), (1, Some(1), 8));
+    assert_eq!(at(&report.warnings[0]), (1, Some(1), 13));
 }
 
 #[test]
@@ -116,21 +117,26 @@ fn an_otc_fault_at_its_command() {
 
 #[test]
 fn a_faulted_group_names_its_error_bits() {
-    // A full circle whose end is not on it: CenterError, then State.
+    // A full circle whose end is not on it: CenterError at N3, whose
+    // profile raised it (found when N4 is answered State).
     let text = "N1 G17 G1 X0 Y0\nN2 G41 X1\nN3 G2 X10 Y0 I3 J0\nN4 G1 X20\nN5 G40 X30\n";
     let e = stop(text);
-    let RunErrorKind::Faulted { error_bits, .. } = &e.kind else {
+    let RunErrorKind::CorrectionFault { bits } = &e.kind else {
         panic!("{e:?}")
     };
-    let bits = error_bits.as_deref().expect("the bits were read");
     assert!(bits.iter().any(|b| b == "CenterError"), "{e}");
-    assert!(e.to_string().contains("is faulted (ERROR: "), "{e}");
+    assert_eq!(at(&e), (3, Some(3), 7));
+    assert!(
+        e.to_string()
+            .contains("faulted on this block's profile (ERROR: "),
+        "{e}"
+    );
 }
 
 #[test]
 fn a_control_statement_beside_words_is_a_parse_error_at_the_second_word() {
     // The $IF line is in error, so its $ENDIF has no opening statement.
-    let (_, errors) = parse_program("N1 $IF 1 G1 X1\nN2 G1 X1 G236\n$ENDIF\n");
+    let (_, errors) = parse_program("N1 $IF 1 G1 X1\nN2 G1 X1 G77\n$ENDIF\n");
     assert_eq!(errors.len(), 3, "{errors:?}");
     assert!(errors[0].message.contains("stand alone"), "{}", errors[0]);
     assert_eq!(at_parse(&errors[0]), (1, Some(1), 10));

@@ -19,9 +19,9 @@ fn at(e: &NcError) -> (usize, Option<u32>, usize) {
 
 #[test]
 fn unknown_g_code_with_line_block_and_column() {
-    let e = only("N1 X0\nN20 G1 G236 X5");
+    let e = only("N1 X0\nN20 G1 G240 X5");
     assert_eq!(at(&e), (2, Some(20), 8));
-    assert!(e.message.contains("`G236`"), "{}", e.message);
+    assert!(e.message.contains("`G240`"), "{}", e.message);
     assert_eq!(
         e.to_string(),
         format!("line 2, block N20, column 8: {}", e.message)
@@ -61,13 +61,21 @@ fn malformed_commands_and_statements() {
         "#FOO",
         "$FOR = 1, 2",
         "$LOOP",
-        "R1 10",
         "V.Q.X = 1",
         "(no end",
     ] {
         let e = only(bad);
         assert_eq!((e.line, e.column), (1, 1), "{bad}: {e:?}");
     }
+}
+
+/// `R` with a number and no `=` is an arc's radius, so `R1 10` is the
+/// radius 1 and an unknown word `10`.
+#[test]
+fn an_r_word_without_equals_is_a_radius() {
+    let e = only("R1 10");
+    assert_eq!((e.line, e.column), (1, 4), "{e:?}");
+    assert!(errors("G2 X10 R5\nR5=2\nR7 = R5\nG3 X0 R-5\nG3 X1 R[R5*2]").is_empty());
 }
 
 /// A new user's `#OTC ON [RADIUS, FOO]` was told a `]` was missing; the

@@ -75,11 +75,14 @@ fn plane_tool_trc_and_transitions_come_before_the_motion() {
             "W 1300/1/1/3 i 1",
             "LIN X1 F100",
             "W 1300/1/1/3 i 0",
+            // After G40 and at the end: a fault of the last profile?
+            "R 1300/1/1/1 i",
             "LIN X2",
             "W 1300/2/1/1 i 0",
             "W 1300/1/1/9 i 1",
             "W 1300/1/1/3 i 1",
             "LIN X3",
+            "R 1300/1/1/1 i",
             "EXEC"
         ]
     );

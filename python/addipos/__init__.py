@@ -11,7 +11,7 @@ traces (:class:`Range`, :class:`State`, ...) with their CANopen
 :class:`Timeout`, ...) with codes ``0xADD000xx``. See docs/python.md.
 """
 
-from typing import Dict, NamedTuple, Optional, Tuple, Type
+from typing import Dict, Literal, NamedTuple, Optional, Tuple, Type
 
 from ._addipos import Handle, Machine, __version__, open
 
@@ -42,6 +42,7 @@ __all__ = [
     "TooManyHandles",
     "Record",
     "Protocol",
+    "Stopped",
     "Internal",
     "__version__",
 ]
@@ -65,7 +66,7 @@ class Element(NamedTuple):
     correction made of the programmed path."""
 
     #: ``"LIN"``, ``"RAP"`` or ``"CIR"``.
-    kind: str
+    kind: Literal["LIN", "RAP", "CIR"]
     #: Where it starts.
     start: Position
     #: Where it ends.
@@ -74,7 +75,7 @@ class Element(NamedTuple):
     feed: float
     #: Who spooled it: ``"Uncorrected"``, ``"Approach"``, ``"Corrected"``,
     #: ``"Transition"`` (an outside corner) or ``"Departure"``.
-    origin: str
+    origin: Literal["Uncorrected", "Approach", "Corrected", "Transition", "Departure"]
     #: An arc: ``True`` counter-clockwise, ``False`` clockwise; a line:
     #: ``None``.
     ccw: Optional[bool]
@@ -235,6 +236,14 @@ class Protocol(Error):
     CODE = 0xADD0000A
 
 
+class Stopped(Error):
+    """The server stopped the request before its end (it is shutting
+    down): ``m.exec`` did not run to its end; what ran stays run
+    (0xADD0000B)."""
+
+    CODE = 0xADD0000B
+
+
 class Internal(Error):
     """A fault inside the library; close the connection (0xADD000FF)."""
 
@@ -263,6 +272,7 @@ _CLASSES: Dict[int, Type[Error]] = {
         TooManyHandles,
         Record,
         Protocol,
+        Stopped,
         Internal,
     )
 }

@@ -1,7 +1,7 @@
 """Type stubs of the package addipos (docs/python.md)."""
 
 import os
-from typing import Dict, List, NamedTuple, Optional, Tuple, Type, Union, final
+from typing import Dict, List, Literal, NamedTuple, Optional, Tuple, Type, Union, final
 
 __all__ = [
     "open",
@@ -30,6 +30,7 @@ __all__ = [
     "TooManyHandles",
     "Record",
     "Protocol",
+    "Stopped",
     "Internal",
     "__version__",
 ]
@@ -38,6 +39,12 @@ __version__: str
 
 _Path = Union[str, "os.PathLike[str]"]
 _Axis = Union[str, int]
+#: The direction of an arc (any case; G2 is CW, G3 CCW).
+_Direction = Literal["CW", "CCW", "cw", "ccw", "G2", "G3", "G02", "G03"]
+#: The kind of a spooled element.
+_Kind = Literal["LIN", "RAP", "CIR"]
+#: Who spooled an element.
+_Origin = Literal["Uncorrected", "Approach", "Corrected", "Transition", "Departure"]
 
 class Position(NamedTuple):
     """The executed position of the 8 machine axes (``m.pos()``)."""
@@ -54,11 +61,11 @@ class Position(NamedTuple):
 class Element(NamedTuple):
     """One element the emulator spooled (``m.take_spooled()``)."""
 
-    kind: str
+    kind: _Kind
     start: Position
     end: Position
     feed: float
-    origin: str
+    origin: _Origin
     ccw: Optional[bool]
     centre: Optional[Tuple[float, float]]
 
@@ -136,7 +143,7 @@ class Machine:
         """RAP: a rapid line to the axes named."""
     def cir(
         self,
-        direction: str,
+        direction: _Direction,
         *,
         X: Optional[float] = ...,
         Y: Optional[float] = ...,
@@ -218,7 +225,7 @@ class Handle:
     def descriptor(self) -> Tuple[int, int, int, int]:
         """(bus, device, index, subindex)."""
     @property
-    def value_type(self) -> str:
+    def value_type(self) -> Literal["int", "double"]:
         """"int" or "double"."""
     @property
     def number(self) -> int:
@@ -256,6 +263,7 @@ class BadHandle(Error): ...
 class TooManyHandles(Error): ...
 class Record(Error): ...
 class Protocol(Error): ...
+class Stopped(Error): ...
 class Internal(Error): ...
 
 _CLASSES: Dict[int, Type[Error]]

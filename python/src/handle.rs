@@ -9,6 +9,7 @@ use uoi::ValueType;
 
 use crate::errors;
 use crate::link::Link;
+use crate::numbers;
 
 /// A handle to one object of a connection (from `Machine.init`).
 ///
@@ -53,12 +54,36 @@ pub fn read_double(link: &Link, py: Python<'_>, h: addipos::Handle) -> PyResult<
     link.call(py, |m| m.read_double(h))
 }
 
-/// Writes an i32 object through `h`; a Python int beyond i32 is
-/// `addipos.Argument`.
-pub fn write_int(link: &Link, py: Python<'_>, h: addipos::Handle, value: i64) -> PyResult<()> {
-    let v = i32::try_from(value)
-        .map_err(|_| errors::argument(py, format!("write_int: {value} is not a 32-bit integer")))?;
+/// Writes an i32 object through `h`; a Python int beyond i32 (of any
+/// size), or a value that is not an int, is `addipos.Argument`.
+pub fn write_int(
+    link: &Link,
+    py: Python<'_>,
+    h: addipos::Handle,
+    value: &Bound<'_, PyAny>,
+) -> PyResult<()> {
+    let v = match numbers::saturating_int(value) {
+        None => {
+            return Err(errors::argument(
+                py,
+                format!("write_int: {} is not an integer", repr(value)),
+            ))
+        }
+        Some(v) => i32::try_from(v).map_err(|_| {
+            errors::argument(
+                py,
+                format!("write_int: {value} is not a 32-bit integer (-2147483648..2147483647)"),
+            )
+        })?,
+    };
     link.call(py, |m| m.write_int(h, v))
+}
+
+/// `repr(value)`, for a message.
+pub fn repr(value: &Bound<'_, PyAny>) -> String {
+    value
+        .repr()
+        .map_or_else(|_| "the value".to_string(), |r| r.to_string())
 }
 
 /// Writes an f64 object through `h`.
@@ -79,7 +104,7 @@ impl Handle {
     }
 
     /// Writes an i32 object.
-    fn write_int(&self, py: Python<'_>, value: i64) -> PyResult<()> {
+    fn write_int(&self, py: Python<'_>, value: &Bound<'_, PyAny>) -> PyResult<()> {
         write_int(&self.link, py, self.raw, value)
     }
 
@@ -100,12 +125,7 @@ impl Handle {
     /// Writes the object as its type says (`write_int` or `write_double`).
     fn write(&self, py: Python<'_>, value: &Bound<'_, PyAny>) -> PyResult<()> {
         match self.ty {
-            ValueType::I32 => {
-                let v: i64 = value.extract().map_err(|_| {
-                    errors::argument(py, format!("write: {value} is not an integer"))
-                })?;
-                self.write_int(py, v)
-            }
+            ValueType::I32 => self.write_int(py, value),
             ValueType::F64 => {
                 let v: f64 = value
                     .extract()

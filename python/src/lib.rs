@@ -13,8 +13,10 @@
 
 mod errors;
 mod handle;
+mod interruptible;
 mod link;
 mod machine;
+mod numbers;
 mod pyside;
 mod spooled;
 mod words;

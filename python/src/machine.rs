@@ -13,7 +13,9 @@ use pyo3::types::{PyDict, PyTuple};
 
 use crate::errors;
 use crate::handle::{self, Handle};
+use crate::interruptible;
 use crate::link::Link;
+use crate::numbers;
 use crate::pyside;
 use crate::spooled;
 use crate::words::{self, Allowed};
@@ -88,9 +90,12 @@ impl Machine {
         slf
     }
 
+    /// Closes the connection, with the GIL released (another thread's
+    /// wait ends at once; other Python threads go on meanwhile).
     #[pyo3(signature = (*_exc))]
-    fn __exit__(&self, _exc: &Bound<'_, PyTuple>) -> bool {
-        self.link.close();
+    fn __exit__(&self, py: Python<'_>, _exc: &Bound<'_, PyTuple>) -> bool {
+        let link = Arc::clone(&self.link);
+        py.detach(move || link.close());
         false
     }
 
@@ -142,18 +147,25 @@ impl Machine {
     fn init(
         &self,
         py: Python<'_>,
-        bus: i64,
-        device: i64,
-        index: i64,
-        subindex: i64,
+        bus: &Bound<'_, PyAny>,
+        device: &Bound<'_, PyAny>,
+        index: &Bound<'_, PyAny>,
+        subindex: &Bound<'_, PyAny>,
     ) -> PyResult<Handle> {
-        // A number beyond i32 names no object, as one beyond 0..65535.
-        let part = |n: i64| i32::try_from(n).unwrap_or(-1);
+        // A number beyond i32, of any size, names no object, as one beyond
+        // 0..65535 (NoObject, not OverflowError).
+        let part = |name: &str, n: &Bound<'_, PyAny>| match numbers::saturating_int(n) {
+            Some(v) => Ok(i32::try_from(v).unwrap_or(-1)),
+            None => Err(errors::argument(
+                py,
+                format!("init: {name}={} is not an integer", handle::repr(n)),
+            )),
+        };
         let d = Descriptor {
-            bus_number: part(bus),
-            device_number: part(device),
-            index: part(index),
-            sub_index: part(subindex),
+            bus_number: part("bus", bus)?,
+            device_number: part("device", device)?,
+            index: part("index", index)?,
+            sub_index: part("subindex", subindex)?,
         };
         let raw = self.link.call(py, move |m| m.handle(&d))?;
         // The object exists: the library has just found it.
@@ -181,7 +193,12 @@ impl Machine {
     }
 
     /// Writes an i32 object through handle `h`.
-    fn write_int(&self, py: Python<'_>, h: &Bound<'_, Handle>, value: i64) -> PyResult<()> {
+    fn write_int(
+        &self,
+        py: Python<'_>,
+        h: &Bound<'_, Handle>,
+        value: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
         handle::write_int(&self.link, py, Self::handle_of(h), value)
     }
 
@@ -278,8 +295,22 @@ impl Machine {
 
     /// `SSF`: special function `function` to an axis (a name or 0..7);
     /// `m.ssf("X", 2001)` spools the held profile.
-    fn ssf(&self, py: Python<'_>, axis: &Bound<'_, PyAny>, function: i32) -> PyResult<()> {
+    fn ssf(
+        &self,
+        py: Python<'_>,
+        axis: &Bound<'_, PyAny>,
+        function: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
         let a = words::axis(py, "ssf", axis)?;
+        let function = numbers::i32_of(function).ok_or_else(|| {
+            errors::argument(
+                py,
+                format!(
+                    "ssf: function {} is not a 32-bit integer (-2147483648..2147483647)",
+                    handle::repr(function)
+                ),
+            )
+        })?;
         self.motion(py, move |m| m.ssf(a, function))
     }
 
@@ -292,15 +323,29 @@ impl Machine {
     /// the spooler is empty. Stepped it runs them now; in real time it
     /// waits for the clock. Raises `addipos.Timeout` after the timeout
     /// (what ran stays run).
+    ///
+    /// The GIL is released while it waits; in real time or on a server,
+    /// Ctrl-C (or any signal handler that raises) ends the wait within a
+    /// few milliseconds and raises there (`KeyboardInterrupt`); what ran
+    /// stays run.
     #[pyo3(signature = (cycles=None))]
     fn exec(&self, py: Python<'_>, cycles: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
         let n = match cycles {
             None => None,
             Some(c) => Some(c.extract::<u64>().map_err(|_| {
-                errors::argument(py, format!("exec: cycles={c} is not a count ≥ 0"))
+                errors::argument(
+                    py,
+                    format!("exec: cycles={} is not a count ≥ 0", handle::repr(c)),
+                )
             })?),
         };
-        self.link.call(py, move |m| m.exec(n))
+        let machine = self.link.machine().map_err(|e| errors::to_py(py, &e))?;
+        if !machine.exec_waits() {
+            // Stepped and embedded: computing, not waiting (and bounded by
+            // the timeout): no thread of its own.
+            return self.link.call(py, move |m| m.exec(n));
+        }
+        interruptible::exec(py, machine, n)
     }
 
     /// The executed position of the 8 axes, an `addipos.Position`

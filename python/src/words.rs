@@ -60,6 +60,11 @@ pub fn read(
         })?;
         *slot = Some(number);
     }
+    // One rule with the C library: F=0 is the modal feed (as leaving F
+    // out); a negative feed is refused by the emulator with Range.
+    if w.feed == Some(0.0) {
+        w.feed = None;
+    }
     Ok(w)
 }
 

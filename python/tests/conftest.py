@@ -41,15 +41,13 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
-@pytest.fixture
-def server(binary, tmp_path):
-    """A running ``addipos serve`` of its own (a fresh emulator, as an
-    embedded connection has) on a free loopback port, no tool files kept;
-    yields its target string ``127.0.0.1:PORT``."""
+def serve(binary, tmp_path, *extra):
+    """Starts ``addipos serve`` with ``extra`` arguments on a free loopback
+    port, no tool files kept; yields its target string, stops it after."""
     port = free_port()
     data = tmp_path / "serve-data"
     proc = subprocess.Popen(
-        [str(binary), "serve", "--listen", f"127.0.0.1:{port}", "--no-persist", "--data-dir", str(data)],
+        [str(binary), "serve", "--listen", f"127.0.0.1:{port}", "--no-persist", "--data-dir", str(data), *extra],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
     )
@@ -69,6 +67,20 @@ def server(binary, tmp_path):
     finally:
         proc.terminate()
         proc.wait(timeout=10)
+
+
+@pytest.fixture
+def server(binary, tmp_path):
+    """A running ``addipos serve`` of its own (a fresh emulator, as an
+    embedded connection has) on a free loopback port, no tool files kept;
+    yields its target string ``127.0.0.1:PORT``."""
+    yield from serve(binary, tmp_path)
+
+
+@pytest.fixture
+def realtime_server(binary, tmp_path):
+    """As ``server``, in real time (``--realtime 1``)."""
+    yield from serve(binary, tmp_path, "--realtime", "1")
 
 
 @pytest.fixture(params=["embedded", "served"])

@@ -87,6 +87,26 @@ def test_an_int_beyond_32_bits_is_an_argument_error(m):
         index.write("three")
 
 
+def test_ints_of_any_size_give_the_librarys_errors_not_overflow(m):
+    # Beyond 64 bits too: the library's error, never OverflowError.
+    index = m.init(*WKZINDEX)
+    for big in (2**64, -(2**70)):
+        with pytest.raises(addipos.Argument):
+            index.write_int(big)
+        with pytest.raises(addipos.Argument):
+            m.write_int(index, big)
+        with pytest.raises(addipos.Argument):
+            index.write(big)
+    with pytest.raises(addipos.NoObject):
+        m.init(2**70, 1, 1, 1)
+    with pytest.raises(addipos.NoObject):
+        m.init(1300, -(2**80), 1, 1)
+    with pytest.raises(addipos.Argument):
+        m.ssf("X", 2**40)
+    with pytest.raises(addipos.Argument):
+        m.exec(2**70)
+
+
 def test_clean_voids_every_handle_issued_before_it(m):
     index, clean = m.init(*WKZINDEX), m.init(*CLEAN)
     index.write_int(4)
@@ -167,8 +187,9 @@ def test_every_access_error_of_the_object_table_is_a_class_with_its_code():
 def test_the_library_codes_are_classes_outside_the_access_errors():
     own = [addipos.StaleHandle, addipos.NullHandle, addipos.Argument, addipos.Connection,
            addipos.NotSupported, addipos.Timeout, addipos.BadHandle, addipos.TooManyHandles,
-           addipos.Record, addipos.Protocol, addipos.Internal]
+           addipos.Record, addipos.Protocol, addipos.Stopped, addipos.Internal]
     for cls in own:
         assert issubclass(cls, addipos.Error) and not issubclass(cls, addipos.AccessError)
         assert cls.CODE >> 16 == 0xADD0, cls
     assert type(addipos._error(0x12345678, "unknown")) is addipos.Error
+    assert addipos.Stopped.CODE == 0xADD0000B

@@ -133,3 +133,49 @@ def test_an_explicit_record_wins_over_the_environment(tmp_path, monkeypatch):
     assert (tmp_path / "mine.trace").exists()
     assert not (tmp_path / "env.trace").exists()
 
+
+
+def test_ctrl_c_during_a_wait_raises_keyboard_interrupt_at_once():
+    # A signal during the wait: the wait is given up, KeyboardInterrupt is
+    # raised (not Timeout at the end of the 60 s), and what ran stays run.
+    with addipos.open("embedded:realtime", timeout=60) as m:
+        m.lin(X=1000, F=600)  # 100 s of path
+        timer = threading.Timer(0.2, _thread_interrupt_main)
+        timer.start()
+        try:
+            with pytest.raises(KeyboardInterrupt):
+                m.exec()
+        finally:
+            timer.cancel()
+        assert m.queue() == 1, "the line still runs"
+        # Given up at the signal, not at the timeout: 60 s of the line
+        # would be 600 mm; the bound leaves 10 s for a slow machine.
+        assert 0 < m.pos().X < 100
+
+
+def _thread_interrupt_main():
+    import _thread
+
+    _thread.interrupt_main()
+
+
+def test_exec_quotes_what_it_was_given():
+    with addipos.open() as m:
+        with pytest.raises(addipos.Argument) as e:
+            m.exec("10")
+        assert "cycles='10'" in str(e.value)
+
+
+def test_one_feed_rule_with_c_zero_is_modal_and_negative_is_range():
+    with addipos.open() as m:
+        m.lin(X=10, F=600)
+        m.lin(X=20, F=0)  # the modal feed, as feed 0 in C
+        m.spool_log(True)
+        m.lin(X=30, F=0)
+        assert m.take_spooled()[0].feed == 600
+        with pytest.raises(addipos.Range) as e:
+            m.lin(X=40, F=-5)
+        assert "negative" in str(e.value)
+        with pytest.raises(addipos.Range) as e:
+            m.lin(X=40, F=0.1)
+        assert "smallest feed" in str(e.value)

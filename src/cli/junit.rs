@@ -5,6 +5,7 @@ use std::io::Write;
 
 use quick_xml::events::{BytesDecl, BytesEnd, BytesStart, BytesText, Event};
 use quick_xml::Writer;
+use trace::printable;
 
 /// How one trace's replay ended, as a test case.
 #[derive(Debug, Clone, Default)]
@@ -24,10 +25,20 @@ pub struct CaseResult {
     pub error: Option<String>,
 }
 
+/// What a trace without a request fails with (decision 412).
+pub const NO_REQUEST: &str =
+    "no request in the trace: an empty or cut-short trace checks nothing, so it fails";
+
 impl CaseResult {
-    /// Whether the trace passed.
+    /// Whether the trace passed: read to its end, at least one request
+    /// replayed, no mismatch.
     pub fn passed(&self) -> bool {
-        self.mismatches == 0 && self.error.is_none()
+        self.mismatches == 0 && self.error.is_none() && self.steps > 0
+    }
+
+    /// Whether the trace was read to its end without finding a request.
+    pub fn no_request(&self) -> bool {
+        self.error.is_none() && self.steps == 0
     }
 
     /// The body of a failure: the lines shown, and how many more there were.
@@ -41,33 +52,57 @@ impl CaseResult {
     }
 }
 
-/// Writes the JUnit XML of `cases` (suite `name`) to `out`.
-pub fn write_junit(out: impl Write, name: &str, cases: &[CaseResult]) -> std::io::Result<()> {
+/// The suite of a report: its name (with the shard, if one), when it
+/// ran and where.
+#[derive(Debug, Clone)]
+pub struct Suite {
+    /// `name` of the suite (and of `testsuites`).
+    pub name: String,
+    /// The start, UTC in ISO 8601 without a zone, as
+    /// the schema asks (`2026-11-28T02:40:00`).
+    pub timestamp: String,
+    /// The machine's host name.
+    pub hostname: String,
+}
+
+/// Seconds as a JUnit time: three decimals, never negative (a sum of no
+/// times is -0 in floating point).
+fn seconds(t: f64) -> String {
+    format!("{:.3}", t.max(0.0) + 0.0)
+}
+
+/// Writes the JUnit XML of `cases` (suite `suite`) to `out`. Every text
+/// from a trace (file names, mismatches, errors) has its control
+/// characters escaped, so the file is well-formed XML 1.0.
+pub fn write_junit(out: impl Write, suite: &Suite, cases: &[CaseResult]) -> std::io::Result<()> {
     let mut w = Writer::new_with_indent(out, b' ', 2);
     let failures = cases
         .iter()
-        .filter(|c| c.error.is_none() && c.mismatches > 0)
+        .filter(|c| c.error.is_none() && !c.passed())
         .count();
     let errors = cases.iter().filter(|c| c.error.is_some()).count();
-    let time: f64 = cases.iter().map(|c| c.secs).sum();
+    let time = cases.iter().fold(0.0, |t, c| t + c.secs);
     let counts = [
         ("tests", cases.len().to_string()),
         ("failures", failures.to_string()),
         ("errors", errors.to_string()),
         ("skipped", "0".to_string()),
-        ("time", format!("{time:.3}")),
+        ("time", seconds(time)),
     ];
     w.write_event(Event::Decl(BytesDecl::new("1.0", Some("UTF-8"), None)))?;
+    let name = printable(&suite.name);
     let mut suites = BytesStart::new("testsuites");
-    suites.push_attribute(("name", name));
+    suites.push_attribute(("name", name.as_ref()));
     // The schema CI tools read has no `skipped` on `testsuites`.
     let totals = counts.iter().filter(|(k, _)| *k != "skipped");
     suites.extend_attributes(totals.map(|(k, v)| (*k, v.as_str())));
     w.write_event(Event::Start(suites))?;
-    let mut suite = BytesStart::new("testsuite");
-    suite.push_attribute(("name", name));
-    suite.extend_attributes(counts.iter().map(|(k, v)| (*k, v.as_str())));
-    w.write_event(Event::Start(suite))?;
+    let mut el = BytesStart::new("testsuite");
+    el.push_attribute(("name", name.as_ref()));
+    el.extend_attributes(counts.iter().map(|(k, v)| (*k, v.as_str())));
+    el.push_attribute(("timestamp", printable(&suite.timestamp).as_ref()));
+    el.push_attribute(("hostname", printable(&suite.hostname).as_ref()));
+    w.write_event(Event::Start(el))?;
     for c in cases {
         write_case(&mut w, c)?;
     }
@@ -79,9 +114,9 @@ pub fn write_junit(out: impl Write, name: &str, cases: &[CaseResult]) -> std::io
 /// One `testcase`, with its `failure` or `error` if it did not pass.
 fn write_case<W: Write>(w: &mut Writer<W>, c: &CaseResult) -> std::io::Result<()> {
     let mut case = BytesStart::new("testcase");
-    case.push_attribute(("name", c.file.as_str()));
+    case.push_attribute(("name", printable(&c.file).as_ref()));
     case.push_attribute(("classname", "addipos.replay"));
-    case.push_attribute(("time", format!("{:.3}", c.secs).as_str()));
+    case.push_attribute(("time", seconds(c.secs).as_str()));
     case.push_attribute(("assertions", c.steps.to_string().as_str()));
     if c.passed() {
         return w.write_event(Event::Empty(case));
@@ -89,6 +124,7 @@ fn write_case<W: Write>(w: &mut Writer<W>, c: &CaseResult) -> std::io::Result<()
     w.write_event(Event::Start(case))?;
     let (tag, message, kind, text) = match &c.error {
         Some(e) => ("error", e.clone(), "TraceError", c.failure_text()),
+        None if c.no_request() => ("failure", NO_REQUEST.into(), "NoRequest", String::new()),
         None => {
             let first = c.shown.first().cloned().unwrap_or_default();
             let message = format!("{} mismatches; first: {first}", c.mismatches);
@@ -96,10 +132,10 @@ fn write_case<W: Write>(w: &mut Writer<W>, c: &CaseResult) -> std::io::Result<()
         }
     };
     let mut el = BytesStart::new(tag);
-    el.push_attribute(("message", message.as_str()));
+    el.push_attribute(("message", printable(&message).as_ref()));
     el.push_attribute(("type", kind));
     w.write_event(Event::Start(el))?;
-    w.write_event(Event::Text(BytesText::new(&text)))?;
+    w.write_event(Event::Text(BytesText::new(&printable(&text))))?;
     w.write_event(Event::End(BytesEnd::new(tag)))?;
     w.write_event(Event::End(BytesEnd::new("testcase")))
 }

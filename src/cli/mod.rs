@@ -47,7 +47,8 @@ reached or gives no UOI answer).";
 
 /// Exit statuses of `replay`.
 pub const REPLAY_EXIT: &str = "Exit status: 0 every trace passed (an empty --shard part \
-too); 1 a trace differs or could not be read or parsed; 2 nothing could be replayed (bad \
+too); 1 a trace differs, holds no request, or could not be read or parsed; 2 nothing could \
+be replayed (bad \
 arguments such as --shard 4/3, a path that does not exist, a folder without *.trace files, a \
 server that cannot be reached, gives no UOI answer or cannot set up a fresh emulator, a \
 --junit file that cannot be written).";
@@ -59,8 +60,9 @@ program or the tool file cannot be read, a tool file with bad lines, bad argumen
 
 /// Exit statuses of `plot`.
 pub const PLOT_EXIT: &str = "Exit status: 0 the picture is written; 1 the program or trace \
-failed (the picture is still written, up to the failure); 2 could not start (the input \
-cannot be read or parsed, the output cannot be written, bad arguments).";
+does not parse (nothing is drawn; `run` and `replay` exit 1 for it too) or failed (the \
+picture is still written, up to the failure); 2 could not start (the input cannot be read, \
+the output cannot be written, bad arguments).";
 
 /// Exit statuses of `objects`.
 pub const OBJECTS_EXIT: &str = "Exit status: 0 the reference is printed; 2 bad arguments.";

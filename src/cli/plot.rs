@@ -32,14 +32,16 @@ pub struct PlotArgs {
     pub group: u8,
 }
 
-/// The paths of an NC program, and whether its run failed.
-fn nc_paths(args: &PlotArgs, name: &str) -> Result<(Paths, bool), String> {
-    let text =
-        std::fs::read_to_string(&args.file).map_err(|e| format!("{name}: cannot read: {e}"))?;
-    let tools = read_tool_values(args.tools.as_deref(), args.group)?;
+/// The paths of an NC program, and whether its run failed; a program
+/// that does not parse is a failure (exit 1, as from `run`), one that
+/// cannot be read is trouble (exit 2).
+fn nc_paths(args: &PlotArgs, name: &str) -> Result<(Paths, bool), Failure> {
+    let text = std::fs::read_to_string(&args.file)
+        .map_err(|e| Failure::trouble(format!("{name}: cannot read: {e}")))?;
+    let tools = read_tool_values(args.tools.as_deref(), args.group).map_err(Failure::trouble)?;
     let run = run_nc_with_tools(&text, &tools);
     if let Some(e) = run.parse_errors.first() {
-        return Err(format!("{name}: {e}"));
+        return Err(Failure::failed(format!("{name}: {e}")));
     }
     for e in run.error.iter().chain(&run.report.faults) {
         eprintln!("error: {name}: {e}");
@@ -60,12 +62,16 @@ fn paths_shown(header: &Header, steps: &[PlotStep]) -> Paths {
 pub fn cmd_plot(args: &PlotArgs) -> Outcome {
     let name = args.file.display().to_string();
     let is_trace = args.file.extension().is_some_and(|e| e == "trace");
-    let paths = if is_trace {
-        load_trace(&args.file).map(|t| (paths_shown(&t.header, &trace_steps(&t)), false))
+    let (paths, failed) = if is_trace {
+        // A trace that cannot be read is trouble; one that does not parse
+        // fails (exit 1), as from `replay`.
+        std::fs::File::open(&args.file)
+            .map_err(|e| Failure::trouble(format!("{name}: cannot read: {e}")))?;
+        let t = load_trace(&args.file).map_err(Failure::failed)?;
+        (paths_shown(&t.header, &trace_steps(&t)), false)
     } else {
-        nc_paths(args, &name)
+        nc_paths(args, &name)?
     };
-    let (paths, failed) = paths.map_err(Failure::trouble)?;
     if paths.truncated {
         eprintln!(
             "note: {name}: only the first {MAX_STEPPED_CYCLES} cycles are drawn one by one; \

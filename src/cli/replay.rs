@@ -12,9 +12,9 @@ use clap::Args;
 use indicatif::ProgressBar;
 
 use trace::remote::RemoteTarget;
-use trace::{fresh_emulator, replay_stream, trace_files, Target, TraceReader};
+use trace::{fresh_emulator, printable, replay_stream, trace_files, Target, TraceReader};
 
-use super::junit::{write_junit, CaseResult};
+use super::junit::{write_junit, CaseResult, Suite, NO_REQUEST};
 use super::progress::bytes_bar;
 use super::remote_args::{connect, RemoteArgs};
 use super::shard::Shard;
@@ -62,20 +62,18 @@ pub struct ReplayArgs {
 fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
     let mut out = Vec::new();
     for p in paths {
+        let shown = printable(&p.display().to_string()).into_owned();
         let meta = std::fs::metadata(p).map_err(|e| match e.kind() {
-            std::io::ErrorKind::NotFound => format!("{}: no such file or folder", p.display()),
-            _ => format!("{}: {e}", p.display()),
+            std::io::ErrorKind::NotFound => format!("{shown}: no such file or folder"),
+            _ => format!("{shown}: {e}"),
         })?;
         if !meta.is_dir() {
             out.push(p.clone());
             continue;
         }
-        let files = trace_files(p).map_err(|e| format!("{}: {e}", p.display()))?;
+        let files = trace_files(p).map_err(|e| format!("{shown}: {e}"))?;
         if files.is_empty() {
-            return Err(format!(
-                "no traces found: {} holds no *.trace file",
-                p.display()
-            ));
+            return Err(format!("no traces found: {shown} holds no *.trace file"));
         }
         out.extend(files);
     }
@@ -93,6 +91,7 @@ impl Reports<'_> {
     fn report(&mut self, line: String) {
         self.case.mismatches += 1;
         if self.max == 0 || self.case.shown.len() < self.max {
+            let line = printable(&line).into_owned();
             self.bar.suspend(|| println!("{line}"));
             self.case.shown.push(line);
         }
@@ -120,7 +119,8 @@ fn replay_file(
     max: usize,
     bar: &ProgressBar,
 ) -> Result<CaseResult, String> {
-    let name = path.display().to_string();
+    // A file name's control characters are escaped wherever it is shown.
+    let name = printable(&path.display().to_string()).into_owned();
     let mut out = Reports {
         case: CaseResult {
             file: name.clone(),
@@ -166,15 +166,27 @@ fn replay_file(
 /// Prints what a trace's replay ended with, beyond its mismatches.
 fn say(case: &CaseResult, verbose: bool, bar: &ProgressBar) {
     if let Some(e) = &case.error {
-        bar.suspend(|| println!("{e}"));
+        bar.suspend(|| println!("{}", printable(e)));
+    } else if case.no_request() {
+        bar.suspend(|| println!("{}: {NO_REQUEST}", case.file));
     } else if verbose && case.passed() {
         bar.suspend(|| println!("{}: ok ({} requests)", case.file, case.steps));
     }
 }
 
+/// `files` with each file once, at its first place (a file named twice,
+/// or named and found in a folder, is one trace: decision 413).
+fn each_once(files: Vec<PathBuf>) -> Vec<PathBuf> {
+    let mut seen = std::collections::HashSet::new();
+    files
+        .into_iter()
+        .filter(|f| seen.insert(std::fs::canonicalize(f).unwrap_or_else(|_| f.clone())))
+        .collect()
+}
+
 /// The traces to replay: those the arguments name, or this job's part.
 fn chosen_files(args: &ReplayArgs) -> Result<Vec<PathBuf>, Failure> {
-    let files = expand(&args.files).map_err(Failure::trouble)?;
+    let files = each_once(expand(&args.files).map_err(Failure::trouble)?);
     Ok(match args.shard {
         None => files,
         Some(shard) => {
@@ -186,9 +198,62 @@ fn chosen_files(args: &ReplayArgs) -> Result<Vec<PathBuf>, Failure> {
     })
 }
 
+/// The JUnit report's file, created before the replay so that a path
+/// that cannot be written is found at once, and its suite.
+struct Report {
+    path: PathBuf,
+    file: File,
+    suite: Suite,
+}
+
+impl Report {
+    fn create(path: &Path, shard: Option<Shard>) -> Result<Self, Failure> {
+        let file = File::create(path)
+            .map_err(|e| Failure::trouble(format!("{}: cannot write: {e}", path.display())))?;
+        let name = match shard {
+            Some(s) => format!("addipos replay, shard {s}"),
+            None => "addipos replay".into(),
+        };
+        let suite = Suite {
+            name,
+            timestamp: chrono::Utc::now().format("%Y-%m-%dT%H:%M:%S").to_string(),
+            hostname: host_name(),
+        };
+        Ok(Self {
+            path: path.to_path_buf(),
+            file,
+            suite,
+        })
+    }
+
+    fn write(self, cases: &[CaseResult]) -> Outcome {
+        write_junit(std::io::BufWriter::new(self.file), &self.suite, cases)
+            .map_err(|e| Failure::trouble(format!("{}: cannot write: {e}", self.path.display())))
+    }
+}
+
+/// This machine's name, as JUnit's `hostname` (`localhost` when it
+/// cannot be told).
+fn host_name() -> String {
+    #[cfg(unix)]
+    {
+        let uname = rustix::system::uname();
+        let name = uname.nodename().to_string_lossy();
+        if !name.is_empty() {
+            return name.into_owned();
+        }
+    }
+    "localhost".into()
+}
+
 /// Runs `addipos replay`: over the wire when `--server` is given.
 pub fn cmd_replay(args: &ReplayArgs) -> Outcome {
     let files = chosen_files(args)?;
+    let report = args
+        .junit
+        .as_deref()
+        .map(|p| Report::create(p, args.shard))
+        .transpose()?;
     let mut remote = args
         .server
         .as_deref()
@@ -203,7 +268,7 @@ pub fn cmd_replay(args: &ReplayArgs) -> Outcome {
     let bar = bytes_bar(total);
     let mut cases = Vec::with_capacity(files.len());
     for f in &files {
-        bar.set_message(f.display().to_string());
+        bar.set_message(printable(&f.display().to_string()).into_owned());
         let start = Instant::now();
         let mut case =
             replay_file(f, remote.as_mut(), args.max_reports, &bar).map_err(Failure::trouble)?;
@@ -214,10 +279,8 @@ pub fn cmd_replay(args: &ReplayArgs) -> Outcome {
     bar.finish_and_clear();
     let passed = cases.iter().filter(|c| c.passed()).count();
     println!("{passed} passed, {} failed", cases.len() - passed);
-    if let Some(path) = &args.junit {
-        File::create(path)
-            .and_then(|f| write_junit(std::io::BufWriter::new(f), "addipos replay", &cases))
-            .map_err(|e| Failure::trouble(format!("{}: cannot write: {e}", path.display())))?;
+    if let Some(r) = report {
+        r.write(&cases)?;
     }
     if passed == cases.len() {
         Ok(())

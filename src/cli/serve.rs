@@ -7,7 +7,9 @@ use std::path::{Path, PathBuf};
 
 use addipos::{RecordHeader, ServeRecorder};
 use emulator::tools::open::open_tools;
-use emulator::{parse_address, Config, ConfigError, EmulatorService, DEFAULT_CONFIG};
+use emulator::{
+    parse_address, read_settings_file, Config, ConfigError, EmulatorService, DEFAULT_CONFIG,
+};
 use opcua_face::{Face, FaceConfig};
 use tokio_util::sync::CancellationToken;
 use uoi::tcp::{AccessToken, Refused, Server};
@@ -40,7 +42,8 @@ async fn shutdown_signal() {
 /// The command line of `serve` (its help texts are these comments).
 #[derive(Debug, Default, clap::Args)]
 pub struct ServeArgs {
-    /// Settings file (TOML, keys as in config/default.toml).
+    /// Settings file (TOML, keys as in emulator/config/default.toml;
+    /// `--print-default-config` prints it).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
     /// Listen address, overriding the settings: HOST:PORT,
@@ -134,7 +137,7 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
     let source = config.map_or_else(|| "built-in settings".into(), |p| p.display().to_string());
     let text = match config {
         None => DEFAULT_CONFIG.to_string(),
-        Some(p) => std::fs::read_to_string(p).map_err(|e| format!("cannot read {source}: {e}"))?,
+        Some(p) => read_settings_file(p).map_err(|e| format!("{source}: {e}"))?,
     };
     let in_source = |e: ConfigError| format!("{source}: {e}");
     let mut cfg = Config::parse(&text).map_err(in_source)?;
@@ -223,10 +226,22 @@ fn record_header(cfg: &Config, realtime: Option<f64>) -> RecordHeader {
 }
 
 /// Runs the real-time clock of the shared emulator every
-/// [`REALTIME_TICK`] until the server stops.
-async fn tick_clock(core: uoi::tcp::CoreHandle) {
+/// [`REALTIME_TICK`] until the server stops; then the `EXEC` requests
+/// waiting for the clock are answered `Stopped` at once.
+async fn tick_clock(core: uoi::tcp::CoreHandle, stop: CancellationToken) {
     loop {
-        tokio::time::sleep(REALTIME_TICK).await;
+        tokio::select! {
+            () = tokio::time::sleep(REALTIME_TICK) => {}
+            () = stop.cancelled() => {
+                core.inspect(|h| {
+                    if let Some(s) = h.downcast_mut::<EmulatorService>() {
+                        s.stop_waits();
+                    }
+                })
+                .await;
+                return;
+            }
+        }
         let ticked = core
             .inspect(|h| {
                 if let Some(s) = h.downcast_mut::<EmulatorService>() {
@@ -293,8 +308,8 @@ fn opcua_listen_error(addr: SocketAddr, e: &std::io::Error) -> String {
 async fn serve_faces<H: uoi::tcp::Handler>(
     server: Server<H>,
     face: Option<Face>,
+    stop: CancellationToken,
 ) -> std::io::Result<()> {
-    let stop = CancellationToken::new();
     let signal = stop.clone();
     let watch = tokio::spawn(async move {
         tokio::select! {
@@ -347,9 +362,10 @@ pub fn cmd_serve(args: &ServeArgs, print_default_config: bool) -> Outcome {
         }
         None => None,
     };
-    let clock = realtime.then(|| rt.spawn(tick_clock(server.core())));
+    let stop = CancellationToken::new();
+    let clock = realtime.then(|| rt.spawn(tick_clock(server.core(), stop.clone())));
     let end = rt
-        .block_on(serve_faces(server, face))
+        .block_on(serve_faces(server, face, stop))
         .map_err(Failure::failed);
     if let Some(c) = clock {
         c.abort();

@@ -18,11 +18,16 @@ use emulator::{Config, DEFAULT_CONFIG};
 use super::{Failure, Outcome};
 use values::{Import, ToolSet};
 
-/// Exit statuses of the `tools` commands, for `--help`.
+/// Exit statuses of `tools import`, for `--help`.
 const TOOLS_EXIT_HELP: &str = "Exit status: 0 success; 1 the file to import is invalid \
 (every bad line is listed; nothing was changed); 2 could not run (bad arguments or settings, \
 a file that cannot be read or written, bad tool data in the data directory, a server holding \
 the data directory).";
+
+/// Exit statuses of `tools show` and `tools export`, which change
+/// nothing, for `--help`.
+const TOOLS_READ_EXIT_HELP: &str = "Exit status: 0 success; 2 could not run (bad arguments \
+or settings, a file that cannot be read or written, bad tool data in the data directory).";
 
 /// The `tools` subcommands.
 #[derive(Subcommand)]
@@ -31,7 +36,7 @@ pub enum ToolsCommand {
     ///
     /// One row per entry with every field in the bus unit (radius and
     /// laenge in mm).
-    #[command(after_help = TOOLS_EXIT_HELP)]
+    #[command(after_help = TOOLS_READ_EXIT_HELP)]
     Show {
         #[command(flatten)]
         dir: DirArgs,
@@ -49,7 +54,7 @@ pub enum ToolsCommand {
     /// differs from its default, in the tool files' units (radius and
     /// laenge in 0.1 µm); `#` starts a comment. Values read back
     /// bit-identical with `tools import`.
-    #[command(after_help = TOOLS_EXIT_HELP)]
+    #[command(after_help = TOOLS_READ_EXIT_HELP)]
     Export {
         #[command(flatten)]
         dir: DirArgs,

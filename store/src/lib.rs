@@ -18,6 +18,7 @@ mod file;
 mod journal;
 mod lock;
 mod open;
+mod replay;
 mod storage;
 mod store;
 mod table;
@@ -27,9 +28,10 @@ pub use field::{FileField, ToolField, ToolValue, ValueError};
 pub use file::{
     parse_group_file, parse_group_file_lenient, write_group_file, LineError, ParseError,
 };
-pub use journal::{replay as replay_journal, JournalError, Record, RecordError, Replay, TornTail};
+pub use journal::{JournalError, Record, RecordError, Replay, TornTail};
 pub use lock::{lock_exclusive, tools_dir, LockError, LOCK_FILE, TOOLS_DIR};
 pub use open::{open_tools, OpenTools};
+pub use replay::replay as replay_journal;
 pub use storage::{FaultKind, FaultyStorage, FsStorage, MemStorage, Op, Storage, JOURNAL_FILE};
 pub use store::{
     group_file_name, CompactionBound, OpenReport, StoreError, Strictness, ToolStore, FIRST_PAUSE,

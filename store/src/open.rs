@@ -36,11 +36,14 @@ fn log_report(dir: &Path, report: &OpenReport) {
         info!("removed {name}, left over from a tool file replacement cut short");
     }
     if let Some(t) = &report.torn_tail {
-        warn!(
-            line = t.line,
-            bytes = t.bytes,
-            "dropped the torn last record of the tool journal"
-        );
+        let what = match &report.journal_copy {
+            Some(copy) => format!(
+                "dropped the last batch of the tool journal, cut by a crash before it was \
+                 acknowledged (kept as it was in {copy})"
+            ),
+            None => "dropped the torn last record of the tool journal".into(),
+        };
+        warn!(line = t.line, bytes = t.bytes, "{what}");
     }
     for e in &report.file_errors {
         warn!("skipped a bad tool file line: {e}");
@@ -60,7 +63,14 @@ fn log_report(dir: &Path, report: &OpenReport) {
 /// file or journal record, and the way out.
 pub fn open_tools(data_dir: &Path, ignore_bad: bool) -> Result<OpenTools, String> {
     let dir = tools_dir(data_dir);
+    let existed = dir.is_dir();
     std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    if !existed {
+        // The new folder's entry survives a power cut.
+        File::open(data_dir)
+            .and_then(|d| d.sync_all())
+            .map_err(|e| format!("cannot flush {}: {e}", data_dir.display()))?;
+    }
     let lock = lock_exclusive(&dir).map_err(|e| e.to_string())?;
     let strictness = if ignore_bad {
         Strictness::Lenient

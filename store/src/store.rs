@@ -44,8 +44,11 @@ pub struct OpenReport {
     pub files_loaded: Vec<u8>,
     /// Journal records replayed.
     pub replayed: usize,
-    /// The torn last journal record, dropped (and cut off the journal).
+    /// The torn last journal record or batch, dropped (and cut off the
+    /// journal).
     pub torn_tail: Option<TornTail>,
+    /// Where the journal was kept before a torn batch was cut off it.
+    pub journal_copy: Option<String>,
     /// Temporary files of a replacement cut short, removed.
     pub removed_temporaries: Vec<String>,
     /// Bad tool file lines skipped (lenient open only).
@@ -126,16 +129,21 @@ impl<S: Storage> ToolStore<S> {
             .read_journal()
             .map_err(io_error(format!("reading {JOURNAL_FILE}")))?;
         let replay = match strictness {
-            Strictness::Strict => journal::replay(&bytes).map_err(|error| StoreError::Journal {
-                file: JOURNAL_FILE,
-                error,
-            })?,
-            Strictness::Lenient => journal::replay_lenient(&bytes),
+            Strictness::Strict => {
+                crate::replay::replay(&bytes).map_err(|error| StoreError::Journal {
+                    file: JOURNAL_FILE,
+                    error,
+                })?
+            }
+            Strictness::Lenient => crate::replay::replay_lenient(&bytes),
         };
         for record in &replay.records {
             self.apply(record);
         }
-        if replay.torn_tail.is_some() {
+        if let Some(torn) = &replay.torn_tail {
+            if torn.reason == journal::RecordError::TornBatch {
+                report.journal_copy = Some(self.keep_journal_copy(&bytes)?);
+            }
             self.storage
                 .truncate_journal(replay.valid_len)
                 .map_err(io_error(format!(
@@ -148,6 +156,30 @@ impl<S: Storage> ToolStore<S> {
         report.torn_tail = replay.torn_tail;
         report.journal_errors = replay.skipped;
         Ok(())
+    }
+
+    /// Keeps the journal as it was, before a torn batch is cut off it,
+    /// as `journal.wzj.torn-<UTC time>` beside it (made durable); returns
+    /// the copy's name.
+    fn keep_journal_copy(&mut self, bytes: &[u8]) -> Result<String, StoreError> {
+        let stamp = chrono::Utc::now().format("%Y%m%dT%H%M%SZ");
+        let mut name = format!("{JOURNAL_FILE}.torn-{stamp}");
+        let mut n = 2;
+        while self
+            .storage
+            .read_file(&name)
+            .map_err(io_error(format!("reading {name}")))?
+            .is_some()
+        {
+            name = format!("{JOURNAL_FILE}.torn-{stamp}-{n}");
+            n += 1;
+        }
+        self.storage
+            .write_file_atomic(&name, bytes)
+            .map_err(io_error(format!(
+                "keeping a copy of {JOURNAL_FILE} as {name} before cutting off its torn last batch"
+            )))?;
+        Ok(name)
     }
 
     /// The value of `key` in `group` (the field's default if never set).
@@ -195,10 +227,11 @@ impl<S: Storage> ToolStore<S> {
             // An earlier loss not yet repaired.
             self.recover()?;
         }
-        let bytes = encode_batch(records);
+        let mut bytes = self.batch_bytes(records);
         self.write_batch(&bytes)?;
         if !self.journal_in_place() {
             self.recover()?;
+            bytes = self.batch_bytes(records);
             self.write_batch(&bytes)?;
             if !self.journal_in_place() {
                 return Err(StoreError::JournalLost(
@@ -210,6 +243,18 @@ impl<S: Storage> ToolStore<S> {
         self.journal_len += bytes.len() as u64;
         self.journal_records += records.len() as u64;
         Ok(())
+    }
+
+    /// The bytes of one batch of `records`; an empty journal's first
+    /// batch starts with the line that marks a journal of batches.
+    fn batch_bytes(&self, records: &[Record]) -> Vec<u8> {
+        let batch = encode_batch(records);
+        if self.journal_len > 0 {
+            return batch;
+        }
+        let mut bytes = journal::format_line().into_bytes();
+        bytes.extend_from_slice(&batch);
+        bytes
     }
 
     /// After the journal was lost: every tool file rewritten from memory

@@ -154,6 +154,7 @@ fn profiles(steps: &[Step]) -> Vec<Profile> {
             start: pos(at),
             end: pos(s.to),
             feed: FEED,
+            arc_feed: FEED,
             rapid: false,
         });
         at = s.to;

@@ -43,7 +43,7 @@ mod spooler;
 mod tool_table;
 
 pub use bits::{ErrorBits, StatusBits};
-pub use correction::TransitionMode;
+pub use correction::{FeedAdaption, TransitionMode};
 pub use cycle::{Cycle, CycleModel, NoModel, PathPart, MAX_PARTS};
 pub use element::{ArcPath, ContourNormal, NormalRule, Origin, Path, SpoolElement};
 pub use executor::Executor;

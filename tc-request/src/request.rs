@@ -26,6 +26,17 @@ pub enum Request {
     /// `QUEUE`: motion waiting: elements in the spooler and plane-null
     /// profiles waiting with the held profile.
     Queue,
+    /// `FEED_ADAPT on rmin`: the feed adaptation of corrected arcs of NC
+    /// programs (`G10`/`G11`, `#TANGFEED RMIN`, docs/nc.md): from the next
+    /// profile on, a corrected arc of programmed radius `R >= rmin` spools
+    /// at `F * R'/R`. Not an object of the bus: the TC module's objects and
+    /// their answers stay as they are.
+    FeedAdaption {
+        /// `G11` (true) or `G10` (false).
+        on: bool,
+        /// The smallest programmed radius adapted, at least 0.
+        rmin: f64,
+    },
     /// Conformance replay: a fresh emulator in place of the one served.
     Setup {
         /// Initial machine position.

@@ -64,6 +64,7 @@ fn trace_request() -> BoxedStrategy<Request> {
         prop::option::of(0..=MAX_EXEC_CYCLES).prop_map(Request::Exec),
         Just(Request::Pos),
         Just(Request::Queue),
+        (any::<bool>(), 0.0..1e6f64).prop_map(|(on, rmin)| Request::FeedAdaption { on, rmin }),
     ]
     .boxed()
 }

@@ -59,7 +59,8 @@ pub fn parse_expect(req: &Request, text: &str) -> TextResult<Expect> {
     }
 }
 
-/// Parses a spool line (after `<`): `LIN X.. Y..` or `CIR CW|CCW X.. I..`.
+/// Parses a spool line (after `<`): `LIN X.. Y.. [F..]` or
+/// `CIR CW|CCW X.. I.. [F..]`.
 pub fn parse_spool(line: usize, text: &str) -> TextResult<SpoolExpect> {
     let tokens: Vec<&str> = text.split_whitespace().collect();
     let (verb, rest) = tokens
@@ -73,7 +74,7 @@ pub fn parse_spool(line: usize, text: &str) -> TextResult<SpoolExpect> {
     };
     let allow = Allow {
         centre: kind != SpoolKind::Line,
-        feed: false,
+        feed: true,
     };
     let w = parse_words(rest, allow)?;
     Ok(SpoolExpect {
@@ -81,5 +82,6 @@ pub fn parse_spool(line: usize, text: &str) -> TextResult<SpoolExpect> {
         kind,
         words: w.axes,
         centre: w.centre,
+        feed: w.feed,
     })
 }

@@ -24,10 +24,11 @@ mod parse;
 pub mod remote;
 mod replay;
 
-pub use echo::{shorten, MAX_ECHO_CHARS};
+pub use echo::{printable, shorten, MAX_ECHO_CHARS};
 pub use files::{load_corpus, load_trace, open_trace, trace_files};
 pub use model::{Expect, Header, SpoolExpect, SpoolKind, Step, Trace, TraceError, DEFAULT_TOL};
 pub use parse::{parse_trace, TraceReader, MAX_LINE_BYTES};
 pub use replay::{
-    format_record, fresh_emulator, replay, replay_on, replay_stream, Mismatch, Replayed, Target,
+    format_record, format_record_fed, fresh_emulator, replay, replay_on, replay_stream, Mismatch,
+    Replayed, Target,
 };

@@ -60,6 +60,8 @@ pub struct SpoolExpect {
     pub words: AxisWords,
     /// Centre offsets I J K from the element's start.
     pub centre: [Option<f64>; 3],
+    /// `F`: its feed in units/min, compared only where it is named.
+    pub feed: Option<f64>,
 }
 
 /// One request with its expectations.
@@ -129,6 +131,7 @@ impl fmt::Display for SpoolExpect {
             SpoolKind::Arc(d) => write!(f, "CIR {}", d.keyword())?,
         }
         write_axis_words(f, &self.words)?;
-        write_letters(f, &['I', 'J', 'K'], &self.centre)
+        write_letters(f, &['I', 'J', 'K'], &self.centre)?;
+        write_letters(f, &['F'], &[self.feed])
     }
 }

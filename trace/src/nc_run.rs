@@ -18,7 +18,7 @@ use tool_store::{ToolKey, ToolValue};
 
 use uoi::{Value, ValueType};
 
-use crate::replay::{format_record, fresh_emulator};
+use crate::replay::{format_record_fed, fresh_emulator};
 use emulator::Emulator;
 
 /// One request of the run, its answer and what it spooled.
@@ -311,7 +311,7 @@ impl SpoolLabels {
             .spooled
             .iter()
             .map(|rec| {
-                let el = format_record(rec, axis_nr);
+                let el = format_record_fed(rec, axis_nr);
                 format!("< {el}    # {}", label(rec.origin, held, x.at))
             })
             .collect();
@@ -353,7 +353,7 @@ pub fn trace_lines(x: &Exchange, axis_nr: [u8; 3]) -> String {
     }
     let _ = writeln!(t, "    {}", block_comment(x.at));
     for rec in &x.spooled {
-        let _ = writeln!(t, "< {}", format_record(rec, axis_nr));
+        let _ = writeln!(t, "< {}", format_record_fed(rec, axis_nr));
     }
     t
 }

@@ -160,6 +160,12 @@ pub fn format_record(e: &SpoolRecord, axis_nr: [u8; 3]) -> String {
     s
 }
 
+/// [`format_record`] with the element's feed (`F..`), as `addipos run`
+/// prints and writes it.
+pub fn format_record_fed(e: &SpoolRecord, axis_nr: [u8; 3]) -> String {
+    format!("{} F{}", format_record(e, axis_nr), e.feed)
+}
+
 fn element_matches(exp: &SpoolExpect, got: &SpoolRecord, axis_nr: [u8; 3], tol: f64) -> bool {
     let kind_ok = match (&exp.kind, &got.arc) {
         (SpoolKind::Line, None) => true,
@@ -171,7 +177,8 @@ fn element_matches(exp: &SpoolExpect, got: &SpoolRecord, axis_nr: [u8; 3], tol: 
         .iter()
         .zip(exp.centre)
         .all(|(&m, c)| centre_offset(got, m).is_none_or(|off| close(c.unwrap_or(0.0), off, tol)));
-    kind_ok && end_ok && centre_ok
+    let feed_ok = exp.feed.is_none_or(|f| close(f, got.feed, tol));
+    kind_ok && end_ok && centre_ok && feed_ok
 }
 
 fn check_spool(

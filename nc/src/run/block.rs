@@ -1,13 +1,15 @@
 //! One block: its words gathered into a plan, then carried out in the
 //! controller's order: plane, transitions, tool, `#OTC`, TRC, motion.
 
-use tc_request::{ArcDir, AxisWords, Motion, Request};
+use tc_request::{ArcDir, AxisPos, AxisWords, Motion};
 use uoi::Value;
 
 use super::eval::eval;
 use super::objects;
 use super::otc::whole;
-use super::{Interpreter, MotionKind, RunErrorKind, Side, WarningKind};
+use super::plane::{self, RadiusArc};
+use super::trc_state::{SelMode, Side};
+use super::{Interpreter, MotionKind, RunErrorKind, WarningKind};
 use crate::model::{Axis, Block, CentreAxis, GCode, Item, OtcCommand};
 
 /// TRC change a block asks for.
@@ -29,6 +31,11 @@ struct Plan<'b> {
     transition: Option<(i32, usize)>,
     tool: Option<(u32, usize)>,
     trc: Option<(Trc, usize)>,
+    /// `G05` in this block (tangential selection or deselection), with
+    /// its column.
+    tangential: Option<usize>,
+    /// `R`: the radius of an arc given by its end point.
+    radius: Option<f64>,
     otc: Vec<(&'b OtcCommand, usize)>,
     end: bool,
 }
@@ -94,6 +101,20 @@ impl Interpreter<'_> {
                 plan.tool = Some((d, self.col));
             }
             Item::Tool(_) => self.warn(WarningKind::ToolWord),
+            Item::TrcOption(name) => {
+                return Err(RunErrorKind::TrcOption(name.clone()));
+            }
+            Item::ArcRadius(e) => {
+                plan.radius = Some(self.value(e)?);
+                plan.motion_col.get_or_insert(self.col);
+            }
+            Item::TangFeed(rmin) => {
+                let rmin = match rmin {
+                    Some(e) => self.value(e)?,
+                    None => 0.0,
+                };
+                self.set_tangfeed(rmin)?;
+            }
             Item::M(30) => plan.end = true,
             Item::M(m) => return Err(RunErrorKind::MFunction(*m)),
             Item::Assign(var, e) => {
@@ -150,13 +171,17 @@ impl Interpreter<'_> {
             TrcOff => plan.trc = Some((Trc::Off, self.col)),
             TrcLeft => plan.trc = Some((Trc::On(Side::Left), self.col)),
             TrcRight => plan.trc = Some((Trc::On(Side::Right), self.col)),
-            // The engine's one selection rule is G138's; constant feed and
-            // no masking are what it does anyway.
-            TrcDirect | FeedConstant | MaskingOff => {}
-            TrcIndirect | TrcTangential => self.warn(WarningKind::SelectionRule {
-                word: if g == TrcIndirect { "G139" } else { "G05" },
-            }),
-            FeedAdapted => self.warn(WarningKind::FeedAdaption),
+            TrcTangential => plan.tangential = Some(self.col),
+            TrcDirect => self.set_mode(SelMode::Direct)?,
+            TrcIndirect => self.set_mode(SelMode::Indirect)?,
+            TrcOnPath => self.set_mode(SelMode::OnPath)?,
+            TrcPerpendicular => self.set_mode(SelMode::Perpendicular)?,
+            TrcInsideCorner => self.set_mode(SelMode::InsideCorner)?,
+            TrcWithoutBlock => self.set_mode(SelMode::WithoutBlock)?,
+            FeedConstant => self.set_feed_adaption(false)?,
+            FeedAdapted => self.set_feed_adaption(true)?,
+            // No masking is what the engine does anyway.
+            MaskingOff => {}
             MaskingOn => return Err(RunErrorKind::ContourMasking),
         }
         Ok(())
@@ -181,15 +206,12 @@ impl Interpreter<'_> {
             self.col = *col;
             self.otc(cmd)?;
         }
+        let tangential = plan.tangential.is_some_and(|col| self.tangential_acts(col));
         if let Some((trc, col)) = plan.trc {
             self.col = col;
             match trc {
-                Trc::Off if self.trc.is_some() => {
-                    self.write(objects::STATUS, Value::I32(0))?;
-                    self.trc = None;
-                }
-                Trc::On(side) if self.trc != Some(side) => self.start_trc(side)?,
-                _ => {}
+                Trc::Off => self.deselect(tangential)?,
+                Trc::On(side) => self.select(side, tangential)?,
             }
         }
         if let Some(col) = plan.motion_col {
@@ -198,22 +220,9 @@ impl Interpreter<'_> {
         self.motion_of(plan)
     }
 
-    fn start_trc(&mut self, side: Side) -> Result<(), RunErrorKind> {
-        if self.trc.is_some() {
-            self.write(objects::STATUS, Value::I32(0))?;
-        }
-        let addr = match side {
-            Side::Left => objects::LEFT,
-            Side::Right => objects::RIGHT,
-        };
-        self.write(addr, Value::I32(1))?;
-        self.write(objects::STATUS, Value::I32(1))?;
-        self.trc = Some(side);
-        Ok(())
-    }
-
     /// `D n`: the tool entry, and the D table's radius and length.
     fn select_tool(&mut self, d: u32) -> Result<(), RunErrorKind> {
+        self.radius_change()?;
         let data = if d == 0 {
             Some((0.0, 0.0))
         } else {
@@ -244,6 +253,7 @@ impl Interpreter<'_> {
             return Err(RunErrorKind::NoMotionKind);
         };
         let mut words: AxisWords = plan.words;
+        let start = self.pos;
         for (w, pos) in words.iter_mut().zip(self.pos.iter_mut()) {
             if let Some(v) = w {
                 if self.incremental {
@@ -253,7 +263,15 @@ impl Interpreter<'_> {
             }
         }
         let feed = self.feed_pending.take();
+        let is_arc = matches!(kind, MotionKind::Cw | MotionKind::Ccw);
+        let centre = match plan.radius {
+            Some(r) if is_arc => self.centre_of_radius(kind, &start, &plan.centre, r)?,
+            _ => plan.centre,
+        };
         let motion = match kind {
+            MotionKind::Rapid | MotionKind::Linear if plan.radius.is_some() => {
+                return Err(RunErrorKind::RadiusWord("needs G2 or G3"));
+            }
             MotionKind::Rapid | MotionKind::Linear if has_centre => {
                 return Err(RunErrorKind::CentreWithoutArc);
             }
@@ -266,10 +284,47 @@ impl Interpreter<'_> {
                     ArcDir::Ccw
                 },
                 words,
-                centre: plan.centre,
+                centre,
                 feed,
             },
         };
-        self.send(&Request::Motion(motion))
+        self.motion(motion, start)
+    }
+}
+
+impl Interpreter<'_> {
+    /// The centre offsets `I J K` of an arc from `start` to the position
+    /// reached, given by its radius `r` (docs/nc.md, "Arcs by radius").
+    fn centre_of_radius(
+        &self,
+        kind: MotionKind,
+        start: &AxisPos,
+        centre: &[Option<f64>; 3],
+        r: f64,
+    ) -> Result<[Option<f64>; 3], RunErrorKind> {
+        if centre.iter().any(Option::is_some) {
+            return Err(RunErrorKind::RadiusWord("together with I, J or K"));
+        }
+        let (h, v) = plane::plane_axes(self.plane);
+        let (s, e) = ([start[h], start[v]], [self.pos[h], self.pos[v]]);
+        let c = match plane::centre_from_radius(s, e, r, kind == MotionKind::Ccw) {
+            Ok(c) => c,
+            Err(RadiusArc::FullCircle) => {
+                return Err(RunErrorKind::RadiusWord(
+                    "with start = end: a full circle needs I, J or K",
+                ))
+            }
+            Err(RadiusArc::TooShort { half_chord }) => {
+                return Err(RunErrorKind::RadiusTooShort {
+                    radius: r,
+                    half_chord,
+                })
+            }
+        };
+        let mut out = [None; 3];
+        // The plane axes are X, Y or Z: the centre words I, J, K.
+        out[h] = Some(c[0] - s[0]);
+        out[v] = Some(c[1] - s[1]);
+        Ok(out)
     }
 }

@@ -189,6 +189,50 @@ pub enum RunErrorKind {
         /// (`ToolType (P-ERR-21391): ..`).
         name: &'static str,
     },
+    /// A fault of the correction (KorrError, CalcError, PlaneError,
+    /// CenterError) raised by the profile of the block it names: the run
+    /// stops there (docs/nc.md, "Faults").
+    #[error(
+        "the correction faulted on this block's profile (ERROR: {}); nothing of it or of the \
+         profile held with it was spooled",
+        .bits.join(", ")
+    )]
+    CorrectionFault {
+        /// The names of the ERROR bits set.
+        bits: Vec<String>,
+    },
+    /// `R` with `G0`/`G1`, with `I J K`, or for a full circle.
+    #[error("R (an arc's radius) {0}")]
+    RadiusWord(&'static str),
+    /// An arc by radius whose radius is shorter than half its chord.
+    #[error("R{radius}: no arc of that radius joins start and end (the smallest is {half_chord})")]
+    RadiusTooShort {
+        /// The radius programmed.
+        radius: f64,
+        /// Half the chord: the smallest radius.
+        half_chord: f64,
+    },
+    /// ISG 90191: G41/G42 while the correction runs, with G237 in force.
+    #[error("G41/G42 while TRC runs with G237 in force (ISG 90191): deselect with G40 first")]
+    PerpendicularReselect,
+    /// ISG 21317: G238 programmed while the correction runs.
+    #[error("G238 programmed while TRC runs (ISG 21317): G238 must be in force before G41/G42")]
+    InsideCornerWhileRunning,
+    /// A contour the G238 selection cannot run.
+    #[error("G238: {0}")]
+    InsideCorner(&'static str),
+    /// An arc as the first motion after a G239 deselection.
+    #[error(
+        "an arc right after a G239 deselection: its programmed start is not where the tool \
+         stands (program a line first)"
+    )]
+    ArcAfterG239,
+    /// A `#TRC [..]` option: not in this emulator.
+    #[error("#TRC option {0} is not in this emulator (docs/nc.md)")]
+    TrcOption(String),
+    /// `#TANGFEED [RMIN=..]` with a negative radius.
+    #[error("#TANGFEED: RMIN must be 0 or more, not {0}")]
+    TangFeedRmin(f64),
     /// A line the parser refuses (or a failed read), met by a run of a
     /// program that was not checked first.
     #[error("{0}")]
@@ -224,15 +268,16 @@ pub enum WarningKind {
         "T accepted without effect: the TC module has no tool magazine; D selects the tool data"
     )]
     ToolWord,
-    /// G139 or G05 run as G138.
-    #[error("{word} runs as G138: the TC engine has one selection rule")]
+    /// G139, G236 or G05 run as G138: their geometry is given only in
+    /// the manual's figures.
+    #[error("{word} runs as G138: its geometry is given only in figures (docs/nc.md)")]
     SelectionRule {
-        /// `G139` or `G05`.
+        /// `G139`, `G236` or `G05`.
         word: &'static str,
     },
-    /// G11 run as G10.
-    #[error("G11 runs as G10: feed adaption is not modelled")]
-    FeedAdaption,
+    /// ISG 21316: G05 while G238 is in force is ignored.
+    #[error("G05 while G238 is in force is ignored (ISG 21316)")]
+    TangentialIgnored,
     /// A `D` word while the correction runs, for a data set the D table
     /// has no values for: the running radius stays.
     #[error(

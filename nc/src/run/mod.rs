@@ -2,8 +2,9 @@
 //! the requests of `tc-request` (object writes, motion commands, `EXEC`),
 //! which a [`Controller`] carries out. It keeps the modal state (motion
 //! kind, G90/G91 and the absolute position, feed, plane, tool, TRC side),
-//! the parameters and variables and the D table; it has no geometry of its
-//! own: the correction is the controller's.
+//! the parameters and variables and the D table, the selection mode and
+//! the feed adaptation. The correction is the controller's; the selection
+//! modes only add elements around it (`selection.rs`, `inside_corner.rs`).
 //!
 //! The program is pulled block by block; only the blocks of the outermost
 //! open `$FOR`/`$WHILE` are held so that the loop can jump back, `$IF` and
@@ -14,10 +15,15 @@ mod block;
 mod dtable;
 mod error;
 mod eval;
+mod feed;
 mod flow;
+mod inside_corner;
 mod objects;
 mod otc;
+mod plane;
+mod selection;
 mod structure;
+mod trc_state;
 mod vars;
 mod window;
 
@@ -33,6 +39,8 @@ use crate::stream::Blocks;
 pub use dtable::DTable;
 pub use error::{Located, RunError, RunErrorKind, Warning, WarningKind};
 pub use objects::{wear_axis, WEAR_RADIUS, WEAR_RADIUS_CONT};
+pub use trc_state::MAX_CONTOUR_BLOCKS;
+use trc_state::{FeedAdaption, Selection, Side};
 
 /// Most blocks one run executes (loops included) before it stops with an
 /// error.
@@ -104,13 +112,6 @@ enum MotionKind {
     Ccw,
 }
 
-/// TRC side of G41/G42.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Side {
-    Left,
-    Right,
-}
-
 /// The interpreter's state between blocks.
 struct Interpreter<'c> {
     report: &'c mut Report,
@@ -121,6 +122,13 @@ struct Interpreter<'c> {
     in_block: bool,
     /// Column of the word being carried out, for its errors.
     col: usize,
+    /// The place errors name instead, while a read `G238` contour runs
+    /// (each of its blocks in turn).
+    pinned: Option<Location>,
+    /// Selection and deselection of the correction.
+    sel: Selection,
+    /// Feed adaptation (`G10`/`G11`, `#TANGFEED`).
+    feed: FeedAdaption,
     pos: AxisPos,
     motion: Option<MotionKind>,
     incremental: bool,
@@ -230,8 +238,22 @@ fn run_window<S: window::BlockSource>(
             window.release_before(pc);
         }
     }
+    it.end_of_program().map_err(|e| it.error(e))?;
     it.send(&Request::Exec(None)).map_err(|e| it.error(e))?;
     Ok(())
+}
+
+impl Interpreter<'_> {
+    /// The program's end (`M30` or its last block): a `G238` contour
+    /// without its `G40` is an error; a fault of the correction not yet
+    /// answered stops the run.
+    fn end_of_program(&mut self) -> Result<(), RunErrorKind> {
+        if self.contour_open() {
+            return Err(RunErrorKind::InsideCorner("the contour has no G40"));
+        }
+        self.flush_contour()?;
+        self.check_fault()
+    }
 }
 
 /// An answer of the wrong kind to `request`.
@@ -250,6 +272,9 @@ impl<'c> Interpreter<'c> {
             at: At::default(),
             in_block: false,
             col: 1,
+            pinned: None,
+            sel: Selection::default(),
+            feed: FeedAdaption::default(),
             pos: [0.0; tc_request::AXES],
             motion: None,
             incremental: false,
@@ -275,10 +300,14 @@ impl<'c> Interpreter<'c> {
         };
         self.in_block = true;
         self.col = block.column(0);
+        self.pinned = None;
     }
 
     /// The current block and word, once a block is carried out.
     fn location(&self) -> Option<Location> {
+        if self.pinned.is_some() {
+            return self.pinned;
+        }
         self.in_block.then_some(Location {
             line: self.at.line,
             block_number: self.at.number,
@@ -288,10 +317,11 @@ impl<'c> Interpreter<'c> {
 
     /// An error at the current block and word.
     fn error(&self, kind: RunErrorKind) -> RunError {
-        RunError {
-            location: self.location(),
-            kind,
-        }
+        let location = match kind {
+            RunErrorKind::CorrectionFault { .. } => self.sel.fault_at.or(self.location()),
+            _ => self.location(),
+        };
+        RunError { location, kind }
     }
 
     /// Warning `kind` at the current block and word, for the report.
@@ -328,6 +358,9 @@ impl<'c> Interpreter<'c> {
     /// As [`Self::request`], for a request whose answer is only `ok` or
     /// an error (writes, motions, `EXEC`).
     fn send(&mut self, req: &Request) -> Result<(), RunErrorKind> {
+        if self.held(req)? {
+            return Ok(());
+        }
         let reply = self.ctl.call(req, self.at);
         if matches!(reply, Reply::Ok) {
             return Ok(());
@@ -352,6 +385,11 @@ impl<'c> Interpreter<'c> {
     fn refused(&mut self, req: &Request, reply: &Reply) -> Option<RunErrorKind> {
         let request = || Box::new(req.clone());
         Some(match reply {
+            Reply::Access(uoi::AccessError::State) if self.sel.fault_at.is_some() => {
+                RunErrorKind::CorrectionFault {
+                    bits: self.fault_bits().unwrap_or_default(),
+                }
+            }
             Reply::Access(uoi::AccessError::State) => RunErrorKind::Faulted {
                 request: request(),
                 error_bits: self.fault_bits(),

@@ -10,6 +10,8 @@ const GROUP: u16 = 1;
 
 /// Main plane (G17/G18/G19).
 pub const TC_PLANE: ObjectAddress = TcObject::TcPlane.address();
+/// ReInit: every group's held profile dropped, nothing spooled.
+pub const RE_INIT: ObjectAddress = TcObject::ReInit.address();
 /// Error bits of correction group 1.
 pub const ERROR: ObjectAddress = TcObject::Error.of(GROUP);
 /// Start (1) / end (0) of the correction.

@@ -1,6 +1,7 @@
 //! Parameters and variables: R and P parameters and `V.P.`/`V.L.`
 //! variables kept by the interpreter, `V.G.` variables read from (and
-//! `V.G.WZ_AKT.R` written to) the controller's objects.
+//! `V.G.WZ_AKT.R`, also named `V.G.WZR`, written to) the controller's
+//! objects.
 
 use tc_request::{Reply, Request};
 use uoi::{ObjectAddress, Value, ValueType};
@@ -30,7 +31,8 @@ impl Interpreter<'_> {
     fn global_object(key: &str) -> Option<(ObjectAddress, ValueType)> {
         use ValueType::{F64, I32};
         Some(match key {
-            "WZ_AKT.R" => (objects::RADIUS, F64),
+            // V.G.WZR is another name of V.G.WZ_AKT.R (docs/nc.md).
+            "WZ_AKT.R" | "WZR" => (objects::RADIUS, F64),
             "WZ_AKT.WEAR_RADIUS" => (objects::WEAR_RADIUS, F64),
             "WZ_AKT.WEAR_RADIUS_CONT" => (objects::WEAR_RADIUS_CONT, F64),
             "WZ_AKT.WEAR_CONST" => (objects::OTC_WEAR_CONST, F64),
@@ -77,7 +79,10 @@ impl Interpreter<'_> {
                     'P' | 'L' => {
                         self.v.insert(format!("{scope}.{key}"), value);
                     }
-                    'G' if key == "WZ_AKT.R" => self.write(objects::RADIUS, Value::F64(value))?,
+                    'G' if key == "WZ_AKT.R" || key == "WZR" => {
+                        self.radius_change()?;
+                        self.write(objects::RADIUS, Value::F64(value))?;
+                    }
                     _ => {
                         let name = format!("V.{scope}.{key}");
                         return Err(RunErrorKind::NotWritable { name });

@@ -1,5 +1,6 @@
 use super::*;
 use crate::field::ToolField;
+use crate::replay::{replay, replay_lenient};
 use proptest::prelude::*;
 
 fn set(group: u8, index: u16, field: ToolField, value: ToolValue) -> Record {
@@ -106,8 +107,8 @@ fn replay_gives_every_record() {
 #[test]
 fn torn_tail_at_every_byte_of_the_last_record_is_dropped() {
     let records = sample();
-    let before = encode_batch(&records[..5]);
-    let full = encode_batch(&records);
+    let before = encode_lines(&records[..5]);
+    let full = encode_lines(&records);
     for cut in before.len() + 1..full.len() {
         let r = replay(&full[..cut]).unwrap();
         assert_eq!(r.records, records[..5], "cut at {cut}");
@@ -125,7 +126,7 @@ fn torn_tail_at_every_byte_of_the_last_record_is_dropped() {
 /// it refuses the replay with its line, as anywhere else.
 #[test]
 fn complete_last_line_with_bad_checksum_is_corruption() {
-    let mut bytes = encode_batch(&sample());
+    let mut bytes = encode_lines(&sample());
     let at = bytes.len() - 4;
     bytes[at] ^= 0x01;
     let e = replay(&bytes).unwrap_err();
@@ -137,7 +138,7 @@ fn complete_last_line_with_bad_checksum_is_corruption() {
         }
     );
     // A bit flip in its text rather than its checksum: the same.
-    let mut bytes = encode_batch(&sample());
+    let mut bytes = encode_lines(&sample());
     let at = bytes.len() - 14;
     bytes[at] ^= 0x01;
     assert_eq!(replay(&bytes).unwrap_err().line, 6);
@@ -150,7 +151,7 @@ fn complete_last_line_with_bad_checksum_is_corruption() {
 
 #[test]
 fn a_torn_tail_is_only_ever_a_line_without_its_newline() {
-    let full = encode_batch(&sample());
+    let full = encode_lines(&sample());
     for cut in 1..full.len() {
         match replay(&full[..cut]) {
             Ok(r) => {
@@ -166,7 +167,7 @@ fn a_torn_tail_is_only_ever_a_line_without_its_newline() {
 
 #[test]
 fn bad_record_before_the_last_is_corruption_with_line() {
-    let mut bytes = encode_batch(&sample());
+    let mut bytes = encode_lines(&sample());
     // Flip a digit in line 2 ("g1 wz[1].radius 300000").
     let at = bytes.windows(6).position(|w| w == b"300000").unwrap();
     bytes[at] = b'4';
@@ -225,4 +226,114 @@ fn documented_examples_decode() {
     ] {
         assert!(Record::decode(line.as_bytes()).is_ok(), "{line}");
     }
+}
+
+/// A journal of batches as the store writes it: its first line, then
+/// each batch closed by its `batch` line.
+fn journal_of(batches: &[&[Record]]) -> Vec<u8> {
+    let mut bytes = format_line().into_bytes();
+    for b in batches {
+        bytes.extend(encode_batch(b));
+    }
+    bytes
+}
+
+/// `bytes` with the first `at` bytes of its part from `from` on never
+/// written (NUL): a power cut that kept the later part of the last write.
+fn torn_later(bytes: &[u8], from: usize, at: usize) -> Vec<u8> {
+    let mut torn = bytes.to_vec();
+    let end = (from + at).min(torn.len());
+    torn[from..end].iter_mut().for_each(|b| *b = 0);
+    torn
+}
+
+#[test]
+fn a_last_batch_torn_by_a_power_cut_is_dropped_at_every_cut() {
+    let records = sample();
+    let good = journal_of(&[&records[..2], &records[2..3]]);
+    let full = journal_of(&[&records[..2], &records[2..3], &records[3..]]);
+    let last = full.len() - good.len();
+    for at in 1..=last {
+        // The later part kept, NUL bytes before it.
+        let torn = torn_later(&full, good.len(), at);
+        let r = replay(&torn).unwrap_or_else(|e| panic!("later part from {at}: {e}"));
+        assert_eq!(r.records, records[..3], "later part from {at}");
+        let tail = r.torn_tail.unwrap();
+        // All of it NUL, its newline too: a line cut short.
+        let reason = if at < last {
+            RecordError::TornBatch
+        } else {
+            RecordError::Incomplete
+        };
+        assert_eq!(tail.reason, reason, "later part from {at}");
+        assert_eq!(
+            (tail.offset, r.valid_len),
+            (good.len() as u64, good.len() as u64)
+        );
+        // The earlier part kept, the rest never written.
+        let cut = &full[..good.len() + at - 1];
+        let r = replay(cut).unwrap_or_else(|e| panic!("earlier part to {at}: {e}"));
+        assert_eq!(r.records, records[..3], "earlier part to {at}");
+        assert_eq!(r.valid_len, good.len() as u64);
+    }
+    // Nothing torn: every record.
+    assert_eq!(replay(&full).unwrap().records, records);
+}
+
+#[test]
+fn the_first_batch_of_a_journal_torn_by_a_power_cut_is_dropped() {
+    let full = journal_of(&[&sample()]);
+    for at in 1..full.len() {
+        let torn = torn_later(&full, 0, at);
+        let r = replay(&torn).unwrap_or_else(|e| panic!("later part from {at}: {e}"));
+        // Only its first line torn: the batch is intact and counts.
+        let whole = at < format_line().len();
+        let expected = if whole { sample() } else { Vec::new() };
+        assert_eq!(r.records, expected, "later part from {at}");
+        assert_eq!(r.torn_tail.is_none(), whole, "later part from {at}");
+    }
+}
+
+#[test]
+fn a_damaged_batch_followed_by_an_intact_one_is_corruption() {
+    let records = sample();
+    let full = journal_of(&[&records[..2], &records[2..3], &records[3..]]);
+    let second = journal_of(&[&records[..2]]).len();
+    let torn = torn_later(&full, second, 10);
+    let e = replay(&torn).unwrap_err();
+    // Line 1 marks the form; lines 2-4 are the first batch.
+    assert_eq!(e.line, 5, "{e}");
+    assert!(matches!(e.error, RecordError::Batch(_)), "{e}");
+    assert!(
+        e.to_string().contains("acknowledged data is damaged"),
+        "{e}"
+    );
+    // Skipped when told to: the intact batches count.
+    let lenient = replay_lenient(&torn);
+    assert_eq!(lenient.records.len(), records.len() - 1);
+    assert_eq!(lenient.skipped.len(), 1);
+}
+
+#[test]
+fn a_flipped_bit_in_the_last_batch_is_corruption_not_a_torn_write() {
+    let full = journal_of(&[&sample()[..2], &sample()[2..]]);
+    // In the last record's text, then in the line closing the batch.
+    let trailer = full.windows(6).rposition(|w| w == b"batch ").unwrap();
+    for at in [trailer - 14, full.len() - 4] {
+        let mut bytes = full.clone();
+        bytes[at] ^= 0x01;
+        let e = replay(&bytes).unwrap_err();
+        assert_eq!(e.error, RecordError::Checksum, "flip at {at}: {e}");
+    }
+}
+
+#[test]
+fn a_journal_of_the_older_form_then_batches_reads_whole() {
+    let records = sample();
+    let mut bytes = encode_lines(&records[..3]);
+    bytes.extend(encode_batch(&records[3..5]));
+    bytes.extend(encode_batch(&records[5..]));
+    let r = replay(&bytes).unwrap();
+    assert_eq!(r.records, records);
+    assert_eq!((r.torn_tail, r.valid_len), (None, bytes.len() as u64));
 }

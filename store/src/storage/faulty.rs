@@ -33,6 +33,19 @@ pub enum FaultKind {
     /// The call does nothing and returns "no space left on device"
     /// ([`io::ErrorKind::StorageFull`]).
     Full,
+    /// The power fails during an append: of its bytes, the disk keeps
+    /// only those from `at` on, with NUL bytes before them where the
+    /// earlier part was never written (`later`: what a file system that
+    /// persisted the file's new size and its later blocks leaves), or
+    /// only the first `at` (not `later`). The call fails, and so does
+    /// every later call of any operation: the machine is off, nothing is
+    /// cleaned up. For other operations the same as `Fail`.
+    PowerCut {
+        /// Where the kept part starts (`later`) or ends.
+        at: usize,
+        /// Whether the later part is kept (else the earlier).
+        later: bool,
+    },
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -70,6 +83,8 @@ pub struct FaultyStorage<S> {
     faults: Vec<Fault>,
     calls: [usize; 6],
     volume: Option<Volume>,
+    /// A power cut happened: every call fails.
+    off: bool,
 }
 
 impl<S: Storage> FaultyStorage<S> {
@@ -80,6 +95,7 @@ impl<S: Storage> FaultyStorage<S> {
             faults: Vec::new(),
             calls: [0; 6],
             volume: None,
+            off: false,
         }
     }
 
@@ -142,9 +158,17 @@ impl<S: Storage> FaultyStorage<S> {
         &mut self.inner
     }
 
+    /// Whether a power cut has happened (every call fails since).
+    pub fn is_off(&self) -> bool {
+        self.off
+    }
+
     /// Counts a call of `op` and tells whether it fails.
     fn fault(&mut self, op: Op) -> Option<FaultKind> {
         self.calls[op as usize] += 1;
+        if self.off {
+            return Some(FaultKind::Fail);
+        }
         let n = self.calls[op as usize];
         self.faults
             .iter()
@@ -207,7 +231,21 @@ impl<S: Storage> Storage for FaultyStorage<S> {
     }
 
     fn append_journal(&mut self, bytes: &[u8]) -> io::Result<()> {
-        let (fits, error) = match self.fault(Op::Append) {
+        let fault = self.fault(Op::Append);
+        if let Some(FaultKind::PowerCut { at, later }) = fault {
+            self.off = true;
+            let at = at.min(bytes.len());
+            let kept = if later {
+                let mut torn = vec![0u8; at];
+                torn.extend_from_slice(&bytes[at..]);
+                torn
+            } else {
+                bytes[..at].to_vec()
+            };
+            self.inner.append_journal(&kept)?;
+            return Err(injected(Op::Append, FaultKind::Fail));
+        }
+        let (fits, error) = match fault {
             Some(FaultKind::Short(n)) => (
                 n.min(bytes.len()),
                 Some(injected(Op::Append, FaultKind::Fail)),

@@ -6,6 +6,12 @@ use std::io::{self, Read, Write};
 use std::path::{Path, PathBuf};
 
 /// Tool files and journal in one directory, created on the first write.
+///
+/// Every change of the directory's entries is made durable with an fsync
+/// of the directory: after a tool file is renamed into place, after
+/// leftover temporary files are removed, after the journal is created
+/// (at its first sync), after the directory itself is created (its
+/// parent).
 #[derive(Debug)]
 pub struct FsStorage {
     dir: PathBuf,
@@ -13,6 +19,27 @@ pub struct FsStorage {
     /// The journal or directory was just created: the next sync also
     /// syncs the directory so the new entry survives a power cut.
     dir_dirty: bool,
+    /// The file-system calls made, in order (tests check the order).
+    #[cfg(test)]
+    calls: Vec<FsCall>,
+}
+
+/// A file-system call of [`FsStorage`] that makes something durable or
+/// changes the directory, as the tests see them.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum FsCall {
+    /// fsync of a file (by name).
+    SyncFile(String),
+    /// A rename (from, to).
+    Rename(String, String),
+    /// A file removed.
+    Remove(String),
+    /// The journal opened with create, where it did not exist.
+    CreateJournal,
+    /// fdatasync of the journal.
+    SyncJournal,
+    /// fsync of a directory (its path).
+    SyncDir(PathBuf),
 }
 
 impl FsStorage {
@@ -22,7 +49,26 @@ impl FsStorage {
             dir: dir.into(),
             journal: None,
             dir_dirty: false,
+            #[cfg(test)]
+            calls: Vec::new(),
         }
+    }
+
+    /// Notes a call (kept in tests only).
+    #[cfg(test)]
+    fn note(&mut self, call: impl FnOnce() -> FsCall) {
+        self.calls.push(call());
+    }
+
+    /// Notes a call (kept in tests only).
+    #[cfg(not(test))]
+    fn note(&mut self, _: impl FnOnce() -> FsCall) {}
+
+    /// fsync of a directory: makes its entries (creations, renames,
+    /// removals) durable.
+    fn sync_dir(&mut self, dir: &Path) -> io::Result<()> {
+        self.note(|| FsCall::SyncDir(dir.to_path_buf()));
+        File::open(dir)?.sync_all()
     }
 
     /// The directory.
@@ -37,7 +83,8 @@ impl FsStorage {
         }
         fs::create_dir_all(&self.dir)?;
         if let Some(parent) = self.dir.parent().filter(|p| !p.as_os_str().is_empty()) {
-            sync_dir(parent)?;
+            let parent = parent.to_path_buf();
+            self.sync_dir(&parent)?;
         }
         Ok(())
     }
@@ -49,17 +96,15 @@ impl FsStorage {
             None => {
                 self.ensure_dir()?;
                 let path = self.dir.join(JOURNAL_FILE);
-                self.dir_dirty |= !path.exists();
+                if !path.exists() {
+                    self.dir_dirty = true;
+                    self.note(|| FsCall::CreateJournal);
+                }
                 OpenOptions::new().create(true).append(true).open(path)?
             }
         };
         Ok(self.journal.insert(file))
     }
-}
-
-/// fsync of a directory: makes its entries (creations, renames) durable.
-fn sync_dir(dir: &Path) -> io::Result<()> {
-    File::open(dir)?.sync_all()
 }
 
 /// The file may be read but not written.
@@ -85,7 +130,10 @@ impl Storage for FsStorage {
 
     fn write_file_atomic(&mut self, name: &str, bytes: &[u8]) -> io::Result<()> {
         self.ensure_dir()?;
-        let tmp = self.dir.join(temporary_name(name));
+        let tmp_name = temporary_name(name);
+        let tmp = self.dir.join(&tmp_name);
+        self.note(|| FsCall::SyncFile(tmp_name.clone()));
+        self.note(|| FsCall::Rename(tmp_name.clone(), name.to_owned()));
         let replaced = File::create(&tmp)
             .and_then(|mut file| {
                 file.write_all(bytes)?;
@@ -97,7 +145,8 @@ impl Storage for FsStorage {
             let _ = fs::remove_file(&tmp);
             return Err(e);
         }
-        sync_dir(&self.dir)
+        let dir = self.dir.clone();
+        self.sync_dir(&dir)
     }
 
     /// Reads the journal through the file later appends go to, so that a
@@ -124,8 +173,10 @@ impl Storage for FsStorage {
 
     fn sync_journal(&mut self) -> io::Result<()> {
         self.journal()?.sync_data()?;
+        self.note(|| FsCall::SyncJournal);
         if self.dir_dirty {
-            sync_dir(&self.dir)?;
+            let dir = self.dir.clone();
+            self.sync_dir(&dir)?;
             self.dir_dirty = false;
         }
         Ok(())
@@ -172,8 +223,14 @@ impl Storage for FsStorage {
         for entry in entries {
             let name = entry?.file_name().to_string_lossy().into_owned();
             if is_temporary(&name) && fs::remove_file(self.dir.join(&name)).is_ok() {
+                self.note(|| FsCall::Remove(name.clone()));
                 removed.push(name);
             }
+        }
+        if !removed.is_empty() {
+            // The removals stay removed after a power cut.
+            let dir = self.dir.clone();
+            self.sync_dir(&dir)?;
         }
         removed.sort();
         Ok(removed)
@@ -298,6 +355,67 @@ mod tests {
         fs::create_dir(s.dir()).unwrap();
         let free = s.available_space().unwrap();
         assert!(cfg!(not(unix)) || free.is_some_and(|f| f > 0), "{free:?}");
+    }
+
+    /// Every change of the directory's entries is followed by an fsync
+    /// of the directory; a file is synced before it is renamed into place.
+    #[test]
+    fn creations_renames_and_removals_are_made_durable_in_the_directory() {
+        let dir = tempfile::tempdir().unwrap();
+        let tools = dir.path().join("tools");
+        let mut s = FsStorage::new(&tools);
+        s.write_file_atomic("group01.wz", b"one\n").unwrap();
+        let tmp = "group01.wz.tmp".to_string();
+        assert_eq!(
+            s.calls,
+            [
+                FsCall::SyncDir(dir.path().to_path_buf()),
+                FsCall::SyncFile(tmp.clone()),
+                FsCall::Rename(tmp, "group01.wz".into()),
+                FsCall::SyncDir(tools.clone()),
+            ],
+            "the folder's creation, then the file synced, renamed, the folder synced"
+        );
+        s.calls.clear();
+        s.append_journal(b"a\n").unwrap();
+        s.sync_journal().unwrap();
+        s.append_journal(b"b\n").unwrap();
+        s.sync_journal().unwrap();
+        assert_eq!(
+            s.calls,
+            [
+                FsCall::CreateJournal,
+                FsCall::SyncJournal,
+                FsCall::SyncDir(tools.clone()),
+                FsCall::SyncJournal,
+            ],
+            "a new journal's entry is synced once, at its first sync"
+        );
+        s.calls.clear();
+        fs::remove_file(tools.join(JOURNAL_FILE)).unwrap();
+        assert!(!s.journal_in_place().unwrap());
+        s.append_journal(b"c\n").unwrap();
+        s.sync_journal().unwrap();
+        assert_eq!(
+            s.calls,
+            [
+                FsCall::CreateJournal,
+                FsCall::SyncJournal,
+                FsCall::SyncDir(tools.clone()),
+            ],
+            "a journal made anew too"
+        );
+        s.calls.clear();
+        fs::write(tools.join("group02.wz.tmp"), b"half").unwrap();
+        assert_eq!(s.remove_temporaries().unwrap(), ["group02.wz.tmp"]);
+        assert_eq!(
+            s.calls,
+            [
+                FsCall::Remove("group02.wz.tmp".into()),
+                FsCall::SyncDir(tools.clone()),
+            ],
+            "a removal, then the folder synced"
+        );
     }
 
     #[test]

@@ -154,7 +154,9 @@ fn torn_tail_is_dropped_reported_and_cut_off() {
         let (mut store, report) = open(mem);
         assert_eq!(snapshot(&store), good, "cut at {cut}");
         let tail = report.torn_tail.unwrap();
-        assert_eq!((tail.line, tail.offset), (3, good_len as u64));
+        // The journal's first line, two records and the line closing
+        // their batch before it.
+        assert_eq!((tail.line, tail.offset), (5, good_len as u64));
         assert_eq!(
             store.storage().journal().len(),
             good_len,
@@ -403,11 +405,18 @@ fn corrupt_last_complete_record_refuses_open_and_cuts_nothing() {
         .append(&[radius(1, 1, 1.0), radius(1, 2, 2.0), radius(1, 3, 3.0)])
         .unwrap();
     let mut mem = store.into_storage();
-    let at = mem.journal().len() - 12;
+    // In the last record, before the line that closes the batch.
+    let trailer = mem
+        .journal()
+        .windows(6)
+        .rposition(|w| w == b"batch ")
+        .unwrap();
+    let at = trailer - 12;
     mem.journal_mut()[at] ^= 0x04;
     let damaged = mem.journal().to_vec();
     let e = ToolStore::open(mem.clone(), Strictness::Strict).unwrap_err();
-    assert_eq!(e.to_string(), "journal.wzj:3: checksum mismatch");
+    // Line 1 marks a journal of batches.
+    assert_eq!(e.to_string(), "journal.wzj:4: checksum mismatch");
     let (store, report) = ToolStore::open(mem, Strictness::Lenient).unwrap();
     assert_eq!((report.torn_tail, report.journal_errors.len()), (None, 1));
     assert_eq!(store.values().count(), 2);
@@ -518,7 +527,9 @@ fn a_failed_look_at_the_journal_rewrites_from_memory() {
     assert_eq!(store.storage().calls(Op::WriteFile), 1, "group 1 rewritten");
     let expected = snapshot(&store);
     let disk = store.into_storage().into_inner();
-    assert_eq!(disk.journal(), radius(1, 2, 2.0).encode().as_bytes());
+    let mut made_anew = journal::format_line().into_bytes();
+    made_anew.extend(encode_batch(&[radius(1, 2, 2.0)]));
+    assert_eq!(disk.journal(), made_anew);
     assert_eq!(snapshot(&open(disk).0), expected);
 }
 

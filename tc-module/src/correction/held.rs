@@ -198,7 +198,7 @@ impl Held {
                 centre,
                 outward: self.off.tool_outside_arc(sigma),
             };
-            let (ccw, feed) = (sigma > 0.0, self.prof.feed);
+            let (ccw, feed) = (sigma > 0.0, self.prof.arc_feed);
             sink.arc(p, axes, (centre, ccw), feed, Origin::Corrected, rule);
         };
         let all_axes = Axes::Programmed(&self.prof.end);

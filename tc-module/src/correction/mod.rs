@@ -34,7 +34,7 @@ mod sink;
 pub use crate::geometry::Contour;
 use held::{Entry, Held, Hold, NullMove, MAX_HELD};
 use join::{corner, spool_transition};
-pub use profile::{Profile, TransitionMode};
+pub use profile::{FeedAdaption, Profile, TransitionMode};
 pub use sink::Sink;
 
 /// Most elements a transition spools (three lines).

@@ -16,8 +16,35 @@ pub struct Profile {
     pub end: AxisPos,
     /// Feed, units/min.
     pub feed: f64,
+    /// Feed of its corrected arc element(s): `feed`, or the adapted feed
+    /// under [`FeedAdaption`].
+    pub arc_feed: f64,
     /// A rapid move.
     pub rapid: bool,
+}
+
+/// Feed adaptation of corrected arcs (NC G10/G11, `#TANGFEED RMIN`; set
+/// with `TcModule::set_feed_adaption`, no register of the bus): the feed of a corrected arc becomes `F * R'/R`, R the
+/// programmed radius and `R' = R - σ d` the corrected one, so that F holds
+/// where the tool touches the contour; only for arcs with `R >= rmin`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FeedAdaption {
+    /// G11 adapts, G10 (default) does not.
+    pub on: bool,
+    /// RMIN: the smallest programmed radius adapted (default 0).
+    pub rmin: f64,
+}
+
+impl FeedAdaption {
+    /// The feed of the corrected arc of programmed radius `r` whose
+    /// corrected radius is `r_corr`, at programmed feed `feed`.
+    pub fn arc_feed(&self, feed: f64, r: f64, r_corr: f64) -> f64 {
+        if self.on && r >= self.rmin && r > 0.0 && r_corr > 0.0 {
+            feed * r_corr / r
+        } else {
+            feed
+        }
+    }
 }
 
 /// Transition inserted at outside corners (device 2 sub 1; NC G26/G25).

@@ -13,6 +13,7 @@ use crate::element::{ContourNormal, NormalRule, Origin, SpoolElement};
 use crate::extension::{Groups, TcExtension};
 use crate::geometry::tolerance::MIN_RADIUS;
 use crate::geometry::Contour;
+use crate::limits::MIN_STEP;
 use crate::plane::AxisWords;
 use crate::plane::AXES;
 use crate::rotation::Rotation;
@@ -195,6 +196,7 @@ impl<E: TcExtension> TcModule<E> {
         let plane = self.plane;
         let main = self.main_plane();
         let q = self.tool_position();
+        let adaption = self.feed_adaption;
         let Some(g) = self.groups[slot].as_mut() else {
             return Ok(());
         };
@@ -212,15 +214,31 @@ impl<E: TcExtension> TcModule<E> {
                 sigma: dir.sigma(),
             },
         };
+        let (d, mode) = (g.offset(), g.transition);
+        let arc_feed = match contour {
+            Contour::Arc {
+                from,
+                centre,
+                sigma,
+                ..
+            } if !cmd.rapid => {
+                let r = (from - centre).norm();
+                adaption.arc_feed(cmd.feed, r, r - sigma * d)
+            }
+            _ => cmd.feed,
+        };
+        if self.executor.step_at(arc_feed) < MIN_STEP {
+            return Err(Refusal::Access(AccessError::Range));
+        }
         let prof = Profile {
             contour,
             start: cmd.start,
             end: cmd.target,
             feed: cmd.feed,
+            arc_feed,
             rapid: cmd.rapid,
         };
         let mut sink = Sink::new(&mut self.spooler, q, gp, g.tool().length);
-        let (d, mode) = (g.offset(), g.transition);
         g.buffer.push(&prof, d, mode, &mut sink)
     }
 

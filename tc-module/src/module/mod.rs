@@ -13,6 +13,7 @@ mod dispatch;
 mod intake;
 mod registers;
 
+use crate::correction::FeedAdaption;
 use crate::cycle::{Cycle, CycleModel};
 use crate::element::{ContourNormal, Origin, SpoolElement};
 use crate::executor::Executor;
@@ -57,6 +58,9 @@ pub struct TcModule<E: TcExtension = NoExtension> {
     /// End of the last programmed profile in machine coordinates.
     contour_end: AxisPos,
     feed: f64,
+    /// Feed adaptation of corrected arcs (NC G10/G11, `#TANGFEED`): not a
+    /// register of the bus, set by [`TcModule::set_feed_adaption`].
+    feed_adaption: FeedAdaption,
     /// Set at STATUS=0: the next uncorrected element is the departure.
     departure: Option<Departure>,
     spooler: Spooler,
@@ -68,6 +72,16 @@ pub struct TcModule<E: TcExtension = NoExtension> {
 impl Default for TcModule<NoExtension> {
     fn default() -> Self {
         Self::new([0.0; AXES], CycleTime::DEFAULT, NoExtension)
+    }
+}
+
+impl<E: TcExtension> TcModule<E> {
+    /// Sets the feed adaptation of corrected arcs (NC programs' `G10`/`G11`
+    /// and `#TANGFEED RMIN`, docs/nc.md): from the next profile on, a
+    /// corrected arc of programmed radius `R >= rmin` spools at `F * R'/R`.
+    /// No object of the bus changes; a Clean sets it back to off.
+    pub fn set_feed_adaption(&mut self, adaption: FeedAdaption) {
+        self.feed_adaption = adaption;
     }
 }
 
@@ -84,6 +98,7 @@ impl<E: TcExtension> TcModule<E> {
             programmed: start,
             contour_end: start,
             feed: DEFAULT_FEED,
+            feed_adaption: FeedAdaption::default(),
             departure: None,
             spooler: Spooler::default(),
             executor: Executor::new(start, cycle),

@@ -6,7 +6,7 @@ use uoi::{AccessError, ObjectAddress, Value};
 
 use super::{TcModule, DEFAULT_AXIS_NR};
 use crate::bits::{ErrorBits, StatusBits};
-use crate::correction::TransitionMode;
+use crate::correction::{FeedAdaption, TransitionMode};
 use crate::extension::{Group, GroupAccess, TcExtension};
 use crate::group::Side;
 use crate::object_map::{TcObject, GROUP_COUNT};
@@ -174,6 +174,7 @@ impl<E: TcExtension> TcModule<E> {
         self.axis_nr = DEFAULT_AXIS_NR;
         self.plane = TcPlane::default();
         self.rotation = Rotation::default();
+        self.feed_adaption = FeedAdaption::default();
     }
 
     /// The group RESET: the group's registers and table back to default

@@ -88,6 +88,9 @@ impl fmt::Display for Request {
             Request::Exec(Some(n)) => write!(f, "EXEC {n}"),
             Request::Pos => f.write_str("POS"),
             Request::Queue => f.write_str("QUEUE"),
+            Request::FeedAdaption { on, rmin } => {
+                write!(f, "FEED_ADAPT {} {rmin}", u8::from(*on))
+            }
             Request::Setup { .. } => f.write_str("SETUP"),
             Request::SpoolLog { logging } => write!(f, "SPOOL_LOG {}", u8::from(*logging)),
         }

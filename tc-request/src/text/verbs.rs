@@ -27,6 +27,7 @@ pub fn parse_request(text: &str) -> TextResult<Request> {
         "EXEC" => exec,
         "POS" => pos,
         "QUEUE" => queue,
+        "FEED_ADAPT" => feed_adapt,
         other => return Err(format!("unknown request `{other}`")),
     };
     parse(rest)
@@ -183,6 +184,20 @@ fn pos(rest: &[&str]) -> TextResult<Request> {
 fn queue(rest: &[&str]) -> TextResult<Request> {
     no_more(rest, "QUEUE")?;
     Ok(Request::Queue)
+}
+
+/// `FEED_ADAPT 1 3`: G11 with RMIN 3; `FEED_ADAPT 0 0`: G10.
+fn feed_adapt(rest: &[&str]) -> TextResult<Request> {
+    let [on, rmin] = rest else {
+        return Err("FEED_ADAPT needs 0 or 1 and the smallest radius: `FEED_ADAPT 1 0`".into());
+    };
+    let on = match *on {
+        "0" => false,
+        "1" => true,
+        other => return Err(format!("FEED_ADAPT: `{other}` is not 0 or 1")),
+    };
+    let rmin = parse_f64(rmin)?;
+    Ok(Request::FeedAdaption { on, rmin })
 }
 
 #[cfg(test)]

@@ -93,6 +93,20 @@ pub struct SetupReq {
     pub spool_capacity: U64,
 }
 
+/// `FEED_ADAPT` request payload (16 bytes).
+#[derive(
+    Debug, Clone, Copy, PartialEq, FromBytes, IntoBytes, KnownLayout, Immutable, Unaligned,
+)]
+#[repr(C)]
+pub struct FeedAdaptReq {
+    /// 1: adapt (G11); 0: do not (G10).
+    pub on: u8,
+    /// Zero.
+    pub pad: [u8; 7],
+    /// The smallest programmed radius adapted.
+    pub rmin: F64,
+}
+
 /// `SPOOL_LOG` request payload.
 #[derive(
     Debug, Clone, Copy, PartialEq, Eq, FromBytes, IntoBytes, KnownLayout, Immutable, Unaligned,
@@ -163,6 +177,7 @@ mod tests {
         assert_eq!(std::mem::size_of::<QueueAns>(), 8);
         assert_eq!(std::mem::size_of::<SetupReq>(), 80);
         assert_eq!(std::mem::size_of::<SpoolLogReq>(), 4);
+        assert_eq!(std::mem::size_of::<FeedAdaptReq>(), 16);
         assert_eq!(std::mem::size_of::<SpoolLogAns>(), 4);
         assert_eq!(std::mem::size_of::<WireElement>(), 160);
     }

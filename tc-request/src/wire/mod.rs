@@ -11,7 +11,9 @@ use uoi::wire::{exact, Answer, Op, ProtocolError, Request as WireRequest};
 use zerocopy::{FromBytes, IntoBytes};
 
 pub use layout::SPOOL_BATCH;
-use layout::{ExecReq, PosAns, QueueAns, SetupReq, SpoolLogAns, SpoolLogReq, WireElement};
+use layout::{
+    ExecReq, FeedAdaptReq, PosAns, QueueAns, SetupReq, SpoolLogAns, SpoolLogReq, WireElement,
+};
 
 use crate::request::{Reply, Request, MAX_EXEC_CYCLES};
 
@@ -26,6 +28,8 @@ uoi::code_list! {
         Pos = 0x21,
         /// Spooler length.
         Queue = 0x22,
+        /// Feed adaptation of corrected arcs (NC G10/G11).
+        FeedAdapt = 0x12,
         /// A fresh emulator (conformance replay).
         Setup = 0x30,
         /// Take logged spool elements (conformance replay).
@@ -54,6 +58,14 @@ impl Request {
             }
             Request::Pos => ext(TcOp::Pos, &[]),
             Request::Queue => ext(TcOp::Queue, &[]),
+            Request::FeedAdaption { on, rmin } => {
+                let a = FeedAdaptReq {
+                    on: u8::from(*on),
+                    pad: [0; 7],
+                    rmin: (*rmin).into(),
+                };
+                ext(TcOp::FeedAdapt, a.as_bytes())
+            }
             Request::Setup {
                 start,
                 cycle_s,
@@ -85,6 +97,7 @@ impl Request {
             Request::Exec(_) => TcOp::Exec,
             Request::Pos => TcOp::Pos,
             Request::Queue => TcOp::Queue,
+            Request::FeedAdaption { .. } => TcOp::FeedAdapt,
             Request::Setup { .. } => TcOp::Setup,
             Request::SpoolLog { .. } => TcOp::SpoolLog,
         };
@@ -113,6 +126,16 @@ impl Request {
             TcOp::Pos | TcOp::Queue if !payload.is_empty() => return Err(bad),
             TcOp::Pos => Request::Pos,
             TcOp::Queue => Request::Queue,
+            TcOp::FeedAdapt => {
+                let a: &FeedAdaptReq = exact(payload)?;
+                if a.on > 1 || a.pad != [0; 7] {
+                    return Err(bad);
+                }
+                Request::FeedAdaption {
+                    on: a.on == 1,
+                    rmin: a.rmin.get(),
+                }
+            }
             TcOp::Setup => {
                 let s: &SetupReq = exact(payload)?;
                 Request::Setup {
@@ -198,7 +221,9 @@ impl Reply {
         };
         let Op::Ext(code) = op else { return None };
         match TcOp::from_code(code)? {
-            TcOp::Motion | TcOp::Exec | TcOp::Setup if payload.is_empty() => Some(Reply::Ok),
+            TcOp::Motion | TcOp::Exec | TcOp::Setup | TcOp::FeedAdapt if payload.is_empty() => {
+                Some(Reply::Ok)
+            }
             TcOp::Pos => Some(Reply::Pos(
                 PosAns::ref_from_bytes(payload).ok()?.pos.map(|v| v.get()),
             )),

@@ -263,6 +263,9 @@ pub fn answer_error(a: Answer) -> ClientError {
     }
 }
 
+/// How often [`BlockingClient::pipeline_until`] asks whether to give up.
+pub const STOP_POLL: Duration = Duration::from_millis(5);
+
 /// A blocking client: an async [`Client`] on its own small runtime.
 pub struct BlockingClient {
     rt: tokio::runtime::Runtime,
@@ -292,6 +295,35 @@ impl BlockingClient {
     /// Sends all requests, then reads all answers.
     pub fn pipeline(&mut self, reqs: &[Request]) -> Result<Vec<Answer>, ClientError> {
         self.rt.block_on(self.inner.pipeline(reqs))
+    }
+
+    /// As [`pipeline`](Self::pipeline), given up as soon as `stop`
+    /// answers true (it is asked every [`STOP_POLL`]): then an `Io` error
+    /// of kind `Interrupted`, and the connection is out of step (later
+    /// calls on it fail at once).
+    pub fn pipeline_until(
+        &mut self,
+        reqs: &[Request],
+        stop: &dyn Fn() -> bool,
+    ) -> Result<Vec<Answer>, ClientError> {
+        let inner = &mut self.inner;
+        self.rt.block_on(async {
+            let watch = async {
+                while !stop() {
+                    tokio::time::sleep(STOP_POLL).await;
+                }
+            };
+            tokio::select! {
+                r = inner.pipeline(reqs) => r,
+                () = watch => {
+                    inner.out_of_step = true;
+                    Err(ClientError::Io(io::Error::new(
+                        io::ErrorKind::Interrupted,
+                        "the wait was given up by the caller",
+                    )))
+                }
+            }
+        })
     }
 
     /// Reads an object.
