@@ -71,6 +71,8 @@ impl Rig {
             allow_remote: false,
             token: None,
             pki_dir: data.path().join("opcua"),
+            host_names: None,
+            subject: Default::default(),
         };
         let face = Face::bind(face_cfg, table, server.core())
             .await
@@ -763,4 +765,56 @@ async fn the_tool_tables_and_the_wear_of_otc_as_a_machine_tool() {
     assert_eq!(serial, Some(Variant::from("T-7")));
     ua.close().await;
     rig.stop().await;
+}
+
+/// The TCP ports process `pid` listens on: its sockets (the inodes of
+/// `/proc/PID/fd`) in state LISTEN in `/proc/net/tcp` and `tcp6`.
+fn listening_ports(pid: u32) -> Vec<u16> {
+    let mut inodes = std::collections::HashSet::new();
+    for fd in std::fs::read_dir(format!("/proc/{pid}/fd")).expect("fds") {
+        let target = std::fs::read_link(fd.expect("fd").path()).unwrap_or_default();
+        let target = target.to_string_lossy();
+        if let Some(inode) = target
+            .strip_prefix("socket:[")
+            .and_then(|s| s.strip_suffix(']'))
+        {
+            inodes.insert(inode.to_string());
+        }
+    }
+    let mut ports = Vec::new();
+    for table in ["/proc/net/tcp", "/proc/net/tcp6"] {
+        let text = std::fs::read_to_string(table).unwrap_or_default();
+        for row in text.lines().skip(1) {
+            let cols: Vec<&str> = row.split_whitespace().collect();
+            // local address, state (0A: LISTEN), inode.
+            let (local, state, inode) = (cols[1], cols[3], cols[9]);
+            if state == "0A" && inodes.contains(inode) {
+                let port = local.rsplit(':').next().expect("port");
+                ports.push(u16::from_str_radix(port, 16).expect("hex port"));
+            }
+        }
+    }
+    ports.sort_unstable();
+    ports
+}
+
+/// The port of a `HOST:PORT` or an `opc.tcp://HOST:PORT/` URL.
+fn port_of(addr: &str) -> u16 {
+    let tail = addr.trim_end_matches('/').rsplit(':').next().expect("port");
+    tail.parse().expect("port number")
+}
+
+/// The OPC UA library listens on no port of its own: a client on this
+/// machine cannot go round the door (its connection cap, activation
+/// deadline and chunk check). With a session open, the server listens on
+/// the configured UOI and OPC UA ports only.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn serve_opcua_listens_on_the_configured_ports_only() {
+    let serve = Serve::start(&[]);
+    let ua = Ua::open(&serve.url).await;
+    assert_eq!(ua.write(&id(1, 2, 6), 1.5).await, StatusCode::Good);
+    let mut want = vec![port_of(&serve.uoi), port_of(&serve.url)];
+    want.sort_unstable();
+    assert_eq!(listening_ports(serve.child.id()), want);
+    ua.close().await;
 }

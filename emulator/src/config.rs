@@ -86,6 +86,79 @@ pub struct OpcuaSettings {
     /// The machine's serial number in the Machine Tools model
     /// (`Identification/SerialNumber`, and its ProductInstanceUri).
     pub serial_number: String,
+    /// Host names clients connect with, besides the listen address (each
+    /// endpoint is described with each); absent: `localhost` and this
+    /// machine's name.
+    pub host_names: Option<Vec<String>>,
+    /// The subject of the server's certificate.
+    pub certificate: CertificateSettings,
+}
+
+/// The `[opcua.certificate]` settings: the subject of the OPC UA server's
+/// certificate besides its common name (the application's name). Empty
+/// parts are left out.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CertificateSettings {
+    /// Organisation (O).
+    pub organization: String,
+    /// Organisational unit (OU).
+    pub unit: String,
+    /// Country (C): two letters, or empty.
+    pub country: String,
+    /// State or province (ST).
+    pub state: String,
+}
+
+impl Default for CertificateSettings {
+    fn default() -> Self {
+        Self {
+            organization: "addipos-tc".into(),
+            unit: String::new(),
+            country: String::new(),
+            state: String::new(),
+        }
+    }
+}
+
+/// Characters a part of the certificate's subject may not hold (they
+/// separate or escape the parts of a distinguished name).
+#[cfg(feature = "opcua")]
+const SUBJECT_SPECIALS: &[char] = &[',', '=', '+', '\\', '"', '<', '>', ';', '#'];
+
+impl CertificateSettings {
+    /// The subject, checked: no part holds a separator of a
+    /// distinguished name or a control character, the country is two
+    /// letters or empty.
+    #[cfg(feature = "opcua")]
+    fn subject(&self) -> Result<opcua_face::CertSubject, ConfigError> {
+        for (key, v) in [
+            ("organization", &self.organization),
+            ("unit", &self.unit),
+            ("country", &self.country),
+            ("state", &self.state),
+        ] {
+            if v.chars()
+                .any(|c| c.is_control() || SUBJECT_SPECIALS.contains(&c))
+            {
+                return Err(ConfigError(format!(
+                    "[opcua.certificate] {key}: none of , = + \\ \" < > ; # in a certificate subject"
+                )));
+            }
+        }
+        let c = &self.country;
+        if !(c.is_empty() || (c.len() == 2 && c.chars().all(|x| x.is_ascii_alphabetic()))) {
+            return Err(ConfigError(format!(
+                "[opcua.certificate] country = \"{c}\": two letters (ISO 3166), or empty"
+            )));
+        }
+        Ok(opcua_face::CertSubject {
+            organization: self.organization.clone(),
+            unit: self.unit.clone(),
+            country: c.to_ascii_uppercase(),
+            state: self.state.clone(),
+        })
+    }
 }
 
 impl Default for OpcuaSettings {
@@ -94,6 +167,8 @@ impl Default for OpcuaSettings {
             enabled: false,
             listen: "127.0.0.1:4840".into(),
             serial_number: "1".into(),
+            host_names: None,
+            certificate: CertificateSettings::default(),
         }
     }
 }
@@ -267,6 +342,8 @@ impl Config {
             allow_remote: self.allow_remote,
             token: None,
             pki_dir: self.data_dir.join(OPCUA_PKI_DIR),
+            host_names: self.opcua.host_names.clone(),
+            subject: self.opcua.certificate.subject()?,
         }))
     }
 
@@ -337,6 +414,36 @@ mod tests {
             .unwrap_err()
             .0
             .contains("port"));
+    }
+
+    #[test]
+    #[cfg(feature = "opcua")]
+    fn opcua_host_names_and_the_certificate_subject_from_the_settings() {
+        let on = "[opcua]\nenabled = true\n";
+        let face = Config::parse(on).unwrap().opcua().unwrap().expect("on");
+        assert_eq!(face.host_names, None);
+        assert_eq!(face.subject.organization, "addipos-tc");
+        let text = format!(
+            "{on}host_names = [\"cell-7\"]\n[opcua.certificate]\norganization = \"Works\"\ncountry = \"de\""
+        );
+        let face = Config::parse(&text).unwrap().opcua().unwrap().expect("on");
+        assert_eq!(face.host_names, Some(vec!["cell-7".to_string()]));
+        assert_eq!(
+            (
+                face.subject.organization.as_str(),
+                face.subject.country.as_str()
+            ),
+            ("Works", "DE")
+        );
+        for bad in [
+            "organization = \"A, O=B\"",
+            "country = \"DEU\"",
+            "unit = \"x\\ny\"",
+        ] {
+            let text = format!("{on}[opcua.certificate]\n{bad}");
+            let err = Config::parse(&text).unwrap().opcua().unwrap_err().0;
+            assert!(err.contains("[opcua.certificate]"), "{bad}: {err}");
+        }
     }
 
     #[test]

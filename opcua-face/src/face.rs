@@ -8,7 +8,6 @@ use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use opcua::core::config::Config as _;
 use opcua::crypto::X509Data;
 use opcua::server::address_space::{add_namespaces, AddressSpace};
 use opcua::server::diagnostics::DiagnosticsNodeManagerBuilder;
@@ -25,10 +24,11 @@ use crate::guard::{self, Limits};
 use crate::layout::Table;
 use crate::machine::nodesets;
 use crate::manager::{ObjectNodes, NAMESPACE};
+use crate::pki::{self, CertSubject};
 use crate::points::Points;
 use crate::sampler::TICK;
 use crate::security::{endpoint, TokenGate, ENDPOINT_PATH};
-use crate::{nodes, pki, space};
+use crate::{nodes, space};
 
 /// The application's name, as OPC UA clients list it.
 pub const APPLICATION_NAME: &str = "addipos TC emulator";
@@ -39,6 +39,10 @@ const PRODUCT_URI: &str = "urn:addipos-tc";
 
 /// Most nodes one request may name (the library's own limit of a Read).
 const MAX_NODES_PER_REQUEST: usize = 10_000;
+
+/// Clients the door may have handed over that the library has not yet
+/// taken.
+const HANDOVER_QUEUE: usize = 16;
 
 /// Most chunks of one message: room for a Read of that many nodes.
 const MAX_CHUNKS: usize = 64;
@@ -56,6 +60,13 @@ pub struct FaceConfig {
     pub token: Option<AccessToken>,
     /// The certificate store's folder (the data directory's `opcua`).
     pub pki_dir: PathBuf,
+    /// The host names clients may connect with, besides the listen
+    /// address: each endpoint is described with each of them, and the
+    /// certificate names them. `None`: `localhost` and this machine's
+    /// name.
+    pub host_names: Option<Vec<String>>,
+    /// The subject of the server's certificate.
+    pub subject: CertSubject,
 }
 
 /// A bound face, ready to run.
@@ -95,6 +106,10 @@ impl Face {
         let addr = listener.local_addr()?;
         let host = endpoint_host(addr);
         let endpoint_url = format!("opc.tcp://{host}:{}{ENDPOINT_PATH}", addr.port());
+        let hosts = host_names(&host, cfg.host_names.as_deref());
+        let discovery = hosts
+            .iter()
+            .map(|h| format!("opc.tcp://{h}:{}{ENDPOINT_PATH}", addr.port()));
         let guarded = cfg.token.is_some();
         let mut builder = ServerBuilder::new()
             .application_name(APPLICATION_NAME)
@@ -106,17 +121,15 @@ impl Face {
             // certificates.
             .trust_client_certs(guarded)
             .host(host)
+            .host_names(hosts[1..].to_vec())
             .port(addr.port())
-            .discovery_urls(vec![endpoint_url.clone()])
+            .discovery_urls(discovery.collect())
             .subscription_poll_interval_ms(TICK.as_millis() as u64)
             .with_authenticator(Arc::new(TokenGate::new(cfg.token.clone())));
         let (id, ep) = endpoint(guarded);
         builder = builder.add_endpoint(id, ep);
         let (door, largest) = set_limits(&mut builder);
-        if pki::ensure_keypair(&cfg.pki_dir, &builder.config().application_description())? {
-            let cert = pki::cert_path(&cfg.pki_dir);
-            tracing::info!("made the OPC UA server certificate {}", cert.display());
-        }
+        ensure_certificate(&cfg, &hosts)?;
         // The library's own node managers (namespace 0 behind the size
         // check of `capped.rs`, diagnostics), then the face's.
         let builder = builder
@@ -147,9 +160,10 @@ impl Face {
         &self.endpoint_url
     }
 
-    /// Serves until `shutdown` completes, then closes every session. The
-    /// library listens on a loopback port of its own; clients come in
-    /// through the door (`guard.rs`) on the listen address.
+    /// Serves until `shutdown` completes, then closes every session.
+    /// Clients come in through the door (`guard.rs`) on the listen
+    /// address, which hands each to the library inside the process: the
+    /// library listens on no port of its own.
     pub async fn run(self, shutdown: impl Future<Output = ()>) -> io::Result<()> {
         let security = if self.guarded {
             "Basic256Sha256 Sign&Encrypt, access token as password"
@@ -164,19 +178,14 @@ impl Face {
             limits,
             ..
         } = self;
-        let public = listener.local_addr()?.port();
-        let inner = TcpListener::bind((std::net::Ipv4Addr::LOCALHOST, 0)).await?;
-        let inner_port = inner.local_addr()?.port();
-        let door = tokio::spawn(guard::serve(listener, inner.local_addr()?, limits));
+        let (handover, handed) = tokio::sync::mpsc::channel(HANDOVER_QUEUE);
+        let door = tokio::spawn(guard::serve(listener, handover, limits));
         let _close_door = DropAbort(door);
-        let run = server.run_with(inner);
+        let run = server.run_with_connections(handed);
         tokio::pin!(run);
         tokio::pin!(shutdown);
-        let advertise = advertise_door(&handle, inner_port, public);
-        tokio::pin!(advertise);
         let end = tokio::select! {
             end = &mut run => end,
-            end = &mut advertise => end,
             () = &mut shutdown => {
                 handle.cancel();
                 run.await
@@ -184,23 +193,6 @@ impl Face {
         };
         end.map_err(io::Error::other)
     }
-}
-
-/// The library advertises the port it listens on (the door's inner,
-/// loopback one) in every endpoint it describes: a client that connects
-/// to the endpoint GetEndpoints gave it (UaExpert, the async-opcua client)
-/// would go round the door, and a remote one would not reach the server
-/// at all. Once the library has stored its port, the door's public port is
-/// stored in its place; then this waits for ever (it never ends the
-/// server).
-async fn advertise_door(handle: &ServerHandle, inner: u16, public: u16) -> Result<(), String> {
-    use std::sync::atomic::Ordering;
-    let port = &handle.info().port;
-    while port.load(Ordering::Relaxed) != inner {
-        tokio::time::sleep(std::time::Duration::from_millis(1)).await;
-    }
-    port.store(public, Ordering::Relaxed);
-    std::future::pending().await
 }
 
 /// Stops the door's task when the face stops.
@@ -245,6 +237,45 @@ fn endpoint_host(addr: SocketAddr) -> String {
     }
 }
 
+/// Makes the server's certificate, naming `hosts`, unless the store keeps
+/// one still valid.
+fn ensure_certificate(cfg: &FaceConfig, hosts: &[String]) -> io::Result<()> {
+    let names = pki::Names {
+        application_name: APPLICATION_NAME,
+        application_uri: APPLICATION_URI,
+        hosts,
+        subject: &cfg.subject,
+    };
+    if pki::ensure_keypair(&cfg.pki_dir, &names)? {
+        let cert = pki::cert_path(&cfg.pki_dir);
+        tracing::info!("made the OPC UA server certificate {}", cert.display());
+    }
+    Ok(())
+}
+
+/// The host names the face answers to: `listen` (the listen address, or
+/// this machine's name), then `extra` (by default `localhost` and this
+/// machine's name), each once.
+fn host_names(listen: &str, extra: Option<&[String]>) -> Vec<String> {
+    let default;
+    let extra = match extra {
+        Some(given) => given,
+        None => {
+            default = std::iter::once("localhost".to_string())
+                .chain(X509Data::computer_hostnames())
+                .collect::<Vec<_>>();
+            &default
+        }
+    };
+    let mut hosts: Vec<String> = vec![listen.to_string()];
+    for h in extra {
+        if !h.is_empty() && !hosts.iter().any(|k| k.eq_ignore_ascii_case(h)) {
+            hosts.push(h.clone());
+        }
+    }
+    hosts
+}
+
 /// The face's node manager: its namespace, its nodes from `table`, and
 /// with a machine to show the companion NodeSets (their namespaces after
 /// the face's own, so it keeps its index).
@@ -281,4 +312,21 @@ fn object_nodes(
     let points = Points::new(map, table.readings, core.clone());
     let machine = machine.map(|m| (m, core, companions));
     ObjectNodes::new(ns, points, order, machine)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_listen_address_first_then_each_other_name_once() {
+        let given = ["LOCALHOST".to_string(), "cell-7".into(), "".into()];
+        let hosts = host_names("localhost", Some(&given));
+        assert_eq!(hosts, ["localhost", "cell-7"]);
+        let hosts = host_names("127.0.0.1", None);
+        assert_eq!(hosts[..2], ["127.0.0.1", "localhost"]);
+        let mut lower: Vec<_> = hosts.iter().map(|h| h.to_lowercase()).collect();
+        lower.dedup();
+        assert_eq!(lower.len(), hosts.len(), "{hosts:?}");
+    }
 }

@@ -1,6 +1,7 @@
 //! The door in front of the OPC UA library: clients connect here, and each
-//! connection is relayed to the library's own listener on loopback. The
-//! door bounds what a client can make the server hold, where the library
+//! connection is relayed to the library through a stream inside the
+//! process ([`Handover`]): the library listens on no port of its own, so
+//! the door is the only way in. The door bounds what a client can make the server hold, where the library
 //! alone does not:
 //! * connections: at most [`Limits::connections`] in all and
 //!   [`Limits::per_peer`] from one address, counted by the UOI server's
@@ -29,8 +30,10 @@
 use std::net::SocketAddr;
 use std::time::Duration;
 
-use tokio::io::{AsyncReadExt, AsyncWriteExt};
+use opcua::server::Stream;
+use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
+use tokio::sync::mpsc;
 use tokio::time::{sleep, timeout, Instant};
 use uoi::tcp::{PlaceLimits, Places};
 
@@ -41,6 +44,14 @@ const HEADER: usize = 8;
 
 /// Pause after a failed accept.
 const ACCEPT_PAUSE: Duration = Duration::from_millis(100);
+
+/// Bytes one in-process stream to the library buffers each way: a few
+/// of the largest chunks.
+const PIPE: usize = 256 * 1024;
+
+/// Where the door hands the library each client it lets in: the
+/// library's end of an in-process stream, and the client's address.
+pub type Handover = mpsc::Sender<(Stream, SocketAddr)>;
 
 /// Final message chunks (`MSG` … `F`) a client sends to create and
 /// activate a session.
@@ -81,9 +92,9 @@ impl Limits {
     }
 }
 
-/// Accepts clients on `public` and relays each to `inner`, within
-/// `limits`, until the task is dropped.
-pub async fn serve(public: TcpListener, inner: SocketAddr, limits: Limits) {
+/// Accepts clients on `public` and relays each to the library, handed
+/// over on `library`, within `limits`, until the task is dropped.
+pub async fn serve(public: TcpListener, library: Handover, limits: Limits) {
     let places = Places::new(PlaceLimits {
         all: limits.connections,
         per_peer: limits.per_peer,
@@ -109,11 +120,12 @@ pub async fn serve(public: TcpListener, inner: SocketAddr, limits: Limits) {
                 continue;
             }
         };
+        let library = library.clone();
         tokio::spawn(async move {
             let _place = place;
-            if let Ok(server) = TcpStream::connect(inner).await {
+            let (server, handed) = tokio::io::duplex(PIPE);
+            if library.send((Box::new(handed), peer)).await.is_ok() {
                 let _ = client.set_nodelay(true);
-                let _ = server.set_nodelay(true);
                 if let Err(why) = relay(client, server, &limits).await {
                     tracing::debug!(%peer, "OPC UA connection closed: {why}");
                 }
@@ -197,7 +209,7 @@ impl Chunks {
 /// Relays one connection until either side closes or a limit is hit.
 async fn relay(
     mut client: TcpStream,
-    mut server: TcpStream,
+    mut server: impl AsyncRead + AsyncWrite + Unpin,
     limits: &Limits,
 ) -> Result<(), String> {
     let mut chunks = Chunks::default();
@@ -258,26 +270,24 @@ mod tests {
 
     use super::*;
 
-    /// An inner server that echoes every connection.
-    async fn echo() -> SocketAddr {
-        let l = TcpListener::bind("127.0.0.1:0").await.unwrap();
-        let addr = l.local_addr().unwrap();
+    /// A library that echoes every connection handed to it.
+    fn echo() -> Handover {
+        let (handover, mut handed) = mpsc::channel::<(Stream, SocketAddr)>(4);
         tokio::spawn(async move {
-            while let Ok((mut s, _)) = l.accept().await {
+            while let Some((s, _)) = handed.recv().await {
                 tokio::spawn(async move {
-                    let (mut r, mut w) = s.split();
+                    let (mut r, mut w) = tokio::io::split(s);
                     let _ = tokio::io::copy(&mut r, &mut w).await;
                 });
             }
         });
-        addr
+        handover
     }
 
     async fn door(limits: Limits) -> SocketAddr {
-        let inner = echo().await;
         let public = TcpListener::bind("127.0.0.1:0").await.unwrap();
         let addr = public.local_addr().unwrap();
-        tokio::spawn(serve(public, inner, limits));
+        tokio::spawn(serve(public, echo(), limits));
         addr
     }
 
@@ -416,11 +426,10 @@ mod tests {
 
     #[tokio::test]
     async fn a_client_that_takes_no_answers_is_closed() {
-        // An inner server that answers without end.
-        let l = TcpListener::bind("127.0.0.1:0").await.unwrap();
-        let inner = l.local_addr().unwrap();
+        // A library that answers without end.
+        let (inner, mut handed) = mpsc::channel::<(Stream, SocketAddr)>(4);
         tokio::spawn(async move {
-            while let Ok((mut s, _)) = l.accept().await {
+            while let Some((mut s, _)) = handed.recv().await {
                 tokio::spawn(async move {
                     let block = vec![1u8; 64 * 1024];
                     while s.write_all(&block).await.is_ok() {}

@@ -50,5 +50,5 @@ pub use machine::{
     MACHINE_TOOL,
 };
 pub use manager::NAMESPACE;
-pub use pki::{OWN_CERT, OWN_KEY, RENEW_DAYS};
+pub use pki::{CertSubject, OWN_CERT, OWN_KEY, RENEW_DAYS};
 pub use sampler::TICK as FASTEST_SAMPLING;

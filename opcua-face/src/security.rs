@@ -55,8 +55,10 @@ impl AuthManager for TokenGate {
     async fn authenticate_anonymous_token(&self, _endpoint: &ServerEndpoint) -> Result<(), Error> {
         match self.token {
             None => Ok(()),
+            // The status the library answers itself for a token of a type
+            // the endpoint does not offer, as docs/opcua.md says.
             Some(_) => Err(Error::new(
-                StatusCode::BadIdentityTokenRejected,
+                StatusCode::BadIdentityTokenInvalid,
                 "anonymous users are refused: log in with the access token as password",
             )),
         }
@@ -80,7 +82,7 @@ impl AuthManager for TokenGate {
                 ))
             }
             None => Err(Error::new(
-                StatusCode::BadIdentityTokenRejected,
+                StatusCode::BadIdentityTokenInvalid,
                 "log in anonymously",
             )),
         }

@@ -256,6 +256,8 @@ async fn bind_face(pki: &tempfile::TempDir, token: Option<AccessToken>, core: Co
         allow_remote: false,
         token,
         pki_dir: pki.path().join("opcua"),
+        host_names: None,
+        subject: Default::default(),
     };
     Face::bind(cfg, table(), core).await.expect("face")
 }
@@ -449,6 +451,8 @@ async fn another_machines_address_needs_allow_remote_and_the_token() {
         allow_remote: false,
         token: None,
         pki_dir: pki.path().join("opcua"),
+        host_names: None,
+        subject: Default::default(),
     };
     let refused = |r: std::io::Result<Face>| match r {
         Ok(_) => panic!("bound"),
@@ -501,7 +505,21 @@ async fn the_guarded_face_wants_the_token_as_password_over_an_encrypted_endpoint
     )
     .await
     .expect("endpoints");
-    assert_eq!(endpoints.len(), 1, "{endpoints:?}");
+    // One endpoint, described once for each host name the server answers
+    // to (the address asked with first).
+    let urls: std::collections::HashSet<_> =
+        endpoints.iter().map(|e| e.endpoint_url.as_ref()).collect();
+    assert_eq!(urls.len(), endpoints.len(), "{urls:?}");
+    assert_eq!(endpoints[0].endpoint_url.as_ref(), rig.url, "{urls:?}");
+    assert!(urls.iter().any(|u| u.starts_with("opc.tcp://localhost:")));
+    let same = |e: &opcua::types::EndpointDescription| {
+        (
+            e.security_mode,
+            e.security_policy_uri.clone(),
+            e.user_identity_tokens.clone(),
+        )
+    };
+    assert!(endpoints.iter().all(|e| same(e) == same(&endpoints[0])));
     let e = &endpoints[0];
     assert_eq!(
         e.security_policy_uri.as_ref(),
@@ -527,7 +545,7 @@ async fn the_guarded_face_wants_the_token_as_password_over_an_encrypted_endpoint
     let anonymous = refused(Ua::connect(&rig.url, Login::Forged(offer_anonymous)).await);
     let open = refused(Ua::connect(&rig.url, Login::Forged(no_security)).await);
     let wrong = refused(Ua::connect(&rig.url, Login::Password("maint", "wrong-token-123")).await);
-    assert_eq!(anonymous, StatusCode::BadIdentityTokenRejected);
+    assert_eq!(anonymous, StatusCode::BadIdentityTokenInvalid);
     // No endpoint without security to open a session on.
     assert!(open.is_bad(), "{open}");
     assert_eq!(wrong, StatusCode::BadUserAccessDenied);

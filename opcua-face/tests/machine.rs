@@ -112,6 +112,8 @@ impl Rig {
             allow_remote: false,
             token: None,
             pki_dir: pki.path().join("opcua"),
+            host_names: None,
+            subject: Default::default(),
         };
         let face = Face::bind(face_cfg, table, server.core())
             .await

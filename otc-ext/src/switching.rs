@@ -29,6 +29,25 @@ pub(crate) fn check_units(g: &mut Access<'_>, axes: &[PlcUnit; AXES]) {
     }
 }
 
+/// Steps of booked wear per mm: wear is booked to 1e-10 mm. The sum of
+/// millions of per-cycle increments carries floating-point noise far
+/// below that (9.5 mm of wear read 9.500000000001434), and no controller
+/// or measurement resolves anything near it (docs/decisions.md, decision
+/// 444).
+const WEAR_STEPS_PER_MM: f64 = 1e10;
+
+/// `w` to the resolution of booked wear: the nearest step, as the double
+/// nearest to that decimal (a division by a power of ten).
+fn booked(w: f64) -> f64 {
+    let steps = (w * WEAR_STEPS_PER_MM).round();
+    // Far beyond any wear a tool entry takes (1e9 mm): left as it is.
+    if steps.abs() < 1e20 {
+        steps / WEAR_STEPS_PER_MM
+    } else {
+        w
+    }
+}
+
 /// `#OTC OFF`: the wear since ON is booked on the tool and read back
 /// through the V.G. values; every unit gives its offset back. A booking
 /// the tool entry refuses (a radius or length beyond ±1e9) changes
@@ -39,8 +58,8 @@ fn switch_off(g: &mut Access<'_>, axes: &mut [PlcUnit; AXES]) -> Result<(), Acce
     let units = TakenMut::lend(t, &mut s.radius_unit, axes);
     let w_disc = units.w_disc();
     let s = g.state();
-    let w_cont = s.wear.w_cont;
-    let w = w_cont + w_disc;
+    let w_cont = booked(s.wear.w_cont);
+    let w = booked(w_cont + w_disc);
     let dir = s.wear.last_dir.unwrap_or([0.0; AXES]);
     if s.proc_type == ProcType::Radius {
         g.reduce_radius(w)?;
@@ -115,5 +134,21 @@ impl OtcExtension {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod booking_tests {
+    use super::booked;
+
+    #[test]
+    fn booked_wear_has_no_floating_point_noise() {
+        assert_eq!(booked(9.500000000001434), 9.5);
+        assert_eq!(30.0 - booked(9.500000000001434), 20.5);
+        assert_eq!(booked(2.42356194490001), 2.4235619449);
+        assert_eq!(booked(-0.145), -0.145);
+        assert_eq!(booked(0.0), 0.0);
+        assert!(booked(f64::NAN).is_nan());
+        assert_eq!(booked(1e300), 1e300);
     }
 }
