@@ -29,6 +29,7 @@ use crate::points::Points;
 use crate::sampler::TICK;
 use crate::security::{endpoint, TokenGate, ENDPOINT_PATH};
 use crate::{nodes, space};
+use uoi::tcp::Places;
 
 /// The application's name, as OPC UA clients list it.
 pub const APPLICATION_NAME: &str = "addipos TC emulator";
@@ -77,6 +78,7 @@ pub struct Face {
     endpoint_url: String,
     guarded: bool,
     limits: Limits,
+    places: Arc<Places>,
 }
 
 /// Sets the library's limits the face needs (the sampling and publishing
@@ -145,6 +147,7 @@ impl Face {
                 largest,
             });
         let (server, handle) = builder.build().map_err(io::Error::other)?;
+        let places = guard::places(&door);
         Ok(Self {
             server,
             handle,
@@ -152,7 +155,14 @@ impl Face {
             endpoint_url,
             guarded,
             limits: door,
+            places,
         })
+    }
+
+    /// The door's count of OPC UA client connections open now (`open()`),
+    /// for a dashboard such as the web view.
+    pub fn connections(&self) -> Arc<Places> {
+        Arc::clone(&self.places)
     }
 
     /// The endpoint URL clients connect to.
@@ -176,10 +186,11 @@ impl Face {
             handle,
             listener,
             limits,
+            places,
             ..
         } = self;
         let (handover, handed) = tokio::sync::mpsc::channel(HANDOVER_QUEUE);
-        let door = tokio::spawn(guard::serve(listener, handover, limits));
+        let door = tokio::spawn(guard::serve(listener, handover, limits, places));
         let _close_door = DropAbort(door);
         let run = server.run_with_connections(handed);
         tokio::pin!(run);

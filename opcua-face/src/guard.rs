@@ -28,6 +28,7 @@
 //! second and retried after a pause, so it cannot flood the log.
 
 use std::net::SocketAddr;
+use std::sync::Arc;
 use std::time::Duration;
 
 use opcua::server::Stream;
@@ -92,14 +93,19 @@ impl Limits {
     }
 }
 
-/// Accepts clients on `public` and relays each to the library, handed
-/// over on `library`, within `limits`, until the task is dropped.
-pub async fn serve(public: TcpListener, library: Handover, limits: Limits) {
-    let places = Places::new(PlaceLimits {
+/// The door's places for `limits`: every client connection open counts.
+pub fn places(limits: &Limits) -> Arc<Places> {
+    Places::new(PlaceLimits {
         all: limits.connections,
         per_peer: limits.per_peer,
         per_peer_on_loopback: true,
-    });
+    })
+}
+
+/// Accepts clients on `public` and relays each to the library, handed
+/// over on `library`, within `limits` and the door's `places`, until the
+/// task is dropped.
+pub async fn serve(public: TcpListener, library: Handover, limits: Limits, places: Arc<Places>) {
     let mut last_complaint: Option<Instant> = None;
     loop {
         let (client, peer) = match public.accept().await {
@@ -287,7 +293,7 @@ mod tests {
     async fn door(limits: Limits) -> SocketAddr {
         let public = TcpListener::bind("127.0.0.1:0").await.unwrap();
         let addr = public.local_addr().unwrap();
-        tokio::spawn(serve(public, echo(), limits));
+        tokio::spawn(serve(public, echo(), limits, places(&limits)));
         addr
     }
 
@@ -442,7 +448,7 @@ mod tests {
             write_stall: Duration::from_millis(200),
             ..Limits::new(1024)
         };
-        tokio::spawn(serve(public, inner, limits));
+        tokio::spawn(serve(public, inner, limits, places(&limits)));
         let mut s = TcpStream::connect(addr).await.unwrap();
         sleep(Duration::from_millis(600)).await;
         // What the door passed on before it gave up is bounded by the

@@ -399,10 +399,11 @@ pub fn cmd_serve(args: &ServeArgs, print_default_config: bool) -> Outcome {
         None => None,
     };
     let web = match settings.web {
-        Some(cfg) => Some(
-            rt.block_on(web_view::WebFace::bind(cfg, server.core()))
-                .map_err(|e| Failure::trouble(e.to_string()))?,
-        ),
+        Some(mut cfg) => {
+            cfg.opcua_connections = face.as_ref().map(Face::connections);
+            let bound = rt.block_on(web_view::WebFace::bind(cfg, server.core()));
+            Some(bound.map_err(|e| Failure::trouble(e.to_string()))?)
+        }
         None => None,
     };
     let stop = CancellationToken::new();

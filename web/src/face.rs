@@ -12,7 +12,7 @@ use std::time::Duration;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
 use tokio::task::JoinSet;
-use uoi::tcp::{AccessPolicy, CoreHandle};
+use uoi::tcp::{AccessPolicy, CoreHandle, Places};
 
 use crate::events;
 use crate::http::{read_head, write_within, Answer};
@@ -44,6 +44,10 @@ pub struct WebConfig {
     pub slow_client: Duration,
     /// A request head not complete within this is the connection's end.
     pub request_timeout: Duration,
+    /// The OPC UA face's count of client connections
+    /// (`opcua_face::Face::connections`), shown beside the others; `None`
+    /// without the OPC UA face.
+    pub opcua_connections: Option<Arc<Places>>,
 }
 
 impl WebConfig {
@@ -57,6 +61,7 @@ impl WebConfig {
             max_connections: MAX_CONNECTIONS,
             slow_client: Duration::from_secs(5),
             request_timeout: Duration::from_secs(5),
+            opcua_connections: None,
         }
     }
 }
@@ -101,9 +106,9 @@ impl WebFace {
             .map_err(|e| WebError::Bind(at, e))?;
         Ok(Self {
             listener,
+            hub: Hub::with_opcua(cfg.opcua_connections.clone()),
             cfg: Arc::new(cfg),
             core,
-            hub: Hub::new(),
         })
     }
 
@@ -206,7 +211,10 @@ async fn serve(
 
 /// `/state`: the state now as JSON.
 async fn state(hub: &Hub, core: &CoreHandle) -> Answer {
-    match sampler::snapshot_now(core, hub.viewers()).await {
+    match sampler::snapshot_now(core, hub.viewers())
+        .await
+        .map(|s| hub.with_others(s))
+    {
         Some(s) => match serde_json::to_string_pretty(&s) {
             Ok(json) => Answer::ok("application/json", json),
             Err(e) => Answer::error("500 Internal Server Error", &e.to_string()),

@@ -8,6 +8,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use tokio::sync::watch;
+use uoi::tcp::Places;
 
 use crate::path::{Cursor, PathLog, PathUpdate};
 use crate::snapshot::Snapshot;
@@ -22,6 +23,8 @@ pub struct Hub {
     viewers: AtomicUsize,
     /// Wakes the sampler when the first page opens.
     opened: tokio::sync::Notify,
+    /// The OPC UA face's count of client connections, when it runs.
+    opcua: Option<Arc<Places>>,
 }
 
 /// The state and the path as the pages get them.
@@ -47,6 +50,7 @@ impl Default for Hub {
             version: watch::Sender::new(0),
             viewers: AtomicUsize::new(0),
             opened: tokio::sync::Notify::new(),
+            opcua: None,
         }
     }
 }
@@ -55,6 +59,21 @@ impl Hub {
     /// A hub, shared.
     pub fn new() -> Arc<Self> {
         Arc::new(Self::default())
+    }
+
+    /// A hub that shows `opcua`'s count of OPC UA connections, shared.
+    pub fn with_opcua(opcua: Option<Arc<Places>>) -> Arc<Self> {
+        Arc::new(Self {
+            opcua,
+            ..Self::default()
+        })
+    }
+
+    /// `snapshot` with the OPC UA connections open now (`None` without
+    /// the OPC UA face).
+    pub fn with_others(&self, mut snapshot: Snapshot) -> Snapshot {
+        snapshot.clients.opcua = self.opcua.as_ref().map(|p| p.open());
+        snapshot
     }
 
     fn lock(&self) -> MutexGuard<'_, Shown> {

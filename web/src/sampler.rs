@@ -45,7 +45,8 @@ pub async fn run(core: CoreHandle, hub: Arc<Hub>) {
                 return;
             };
             let Some(look) = look else { return };
-            hub.publish(look.snapshot, |path| {
+            let snapshot = look.snapshot.map(|s| hub.with_others(s));
+            hub.publish(snapshot, |path| {
                 for r in &look.spooled.records {
                     path.spooled(Element::of(r, look.plane));
                 }

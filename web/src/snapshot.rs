@@ -124,7 +124,8 @@ pub struct OtcView {
 pub struct Clients {
     /// UOI connections.
     pub uoi: usize,
-    /// OPC UA sessions: not counted by the face (`null`).
+    /// OPC UA client connections open (the OPC UA face's door counts
+    /// them); `null` without the OPC UA face.
     pub opcua: Option<usize>,
     /// Open pages of this view.
     pub web: usize,

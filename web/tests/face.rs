@@ -26,6 +26,11 @@ struct Served {
 }
 
 async fn served() -> Served {
+    served_with(WebConfig::new("127.0.0.1:0".parse().unwrap())).await
+}
+
+/// As [`served`], with the web face's settings `web`.
+async fn served_with(web: WebConfig) -> Served {
     let cfg = ServerConfig {
         listen: "127.0.0.1:0".parse().unwrap(),
         ..ServerConfig::default()
@@ -33,9 +38,7 @@ async fn served() -> Served {
     let service = EmulatorService::new([0.0; 8], CycleTime::DEFAULT);
     let server = Server::bind(cfg, service).await.unwrap();
     let core = server.core();
-    let face = WebFace::bind(WebConfig::new("127.0.0.1:0".parse().unwrap()), core.clone())
-        .await
-        .unwrap();
+    let face = WebFace::bind(web, core.clone()).await.unwrap();
     let web = face.local_addr().unwrap();
     // Dropping the sender ends both runs.
     let (stop, rx) = tokio::sync::watch::channel(());
@@ -267,4 +270,28 @@ async fn another_address_than_loopback_needs_leave_and_a_token() {
     // Allowed now; bound on loopback here, as tests use no other network.
     cfg.listen = "127.0.0.1:0".parse().unwrap();
     assert!(WebFace::bind(cfg, core).await.is_ok());
+}
+
+/// The OPC UA face's count of connections shows in `/state` (and `null`
+/// without it).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_opcua_connections_are_shown_when_the_face_counts_them() {
+    let s = served().await;
+    let state = exchange(s.web, "GET /state HTTP/1.1\r\n\r\n", 1 << 20).await;
+    assert!(state.contains("\"opcua\": null"), "{state}");
+    let places = uoi::tcp::Places::new(uoi::tcp::PlaceLimits {
+        all: 8,
+        per_peer: 8,
+        per_peer_on_loopback: true,
+    });
+    let mut web = WebConfig::new("127.0.0.1:0".parse().unwrap());
+    web.opcua_connections = Some(std::sync::Arc::clone(&places));
+    let s = served_with(web).await;
+    let ip = "127.0.0.1".parse().unwrap();
+    let seats = (places.take(ip).unwrap(), places.take(ip).unwrap());
+    let state = exchange(s.web, "GET /state HTTP/1.1\r\n\r\n", 1 << 20).await;
+    assert!(state.contains("\"opcua\": 2"), "{state}");
+    drop(seats);
+    let state = exchange(s.web, "GET /state HTTP/1.1\r\n\r\n", 1 << 20).await;
+    assert!(state.contains("\"opcua\": 0"), "{state}");
 }

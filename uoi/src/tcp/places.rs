@@ -63,6 +63,11 @@ impl Places {
         })
     }
 
+    /// Connections open now, in all.
+    pub fn open(&self) -> usize {
+        self.lock().all
+    }
+
     fn lock(&self) -> std::sync::MutexGuard<'_, Open> {
         self.open.lock().unwrap_or_else(|p| p.into_inner())
     }
