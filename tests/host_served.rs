@@ -358,7 +358,14 @@ fn the_whole_corpus_through_the_library_answers_as_traced_and_its_recordings_rep
     assert!(traces.len() >= 40, "{}", traces.len());
     let dir = tempfile::tempdir().unwrap();
     let mut files = Vec::new();
-    for (k, t) in traces.iter().enumerate() {
+    // FEED_ADAPT is an NC program's request (docs/trace-format.md): a
+    // legacy host program has no call for it, so its traces are left out.
+    let legacy = |t: &&trace::Trace| {
+        !t.steps
+            .iter()
+            .any(|s| matches!(s.request, Request::FeedAdaption { .. }))
+    };
+    for (k, t) in traces.iter().filter(legacy).enumerate() {
         let m = machine_for(t);
         let file = dir.path().join(format!("{k:03}.trace"));
         m.record(&file).unwrap();
