@@ -15,11 +15,9 @@ use opcua_face::{
     answer_value, ChannelState, Device, Identity, IndexKind, Machine, MachineSource, MachineView,
     Reading, Row, Table, ToolRecord,
 };
-use otc_ext::wear::units::TakenUnits;
-use otc_ext::wear::TakenMut;
-use otc_ext::{OtcExtension, OtcTool};
+use otc_ext::{running_wear, OtcExtension, OtcTool};
 use tc_module::object_map::object_table;
-use tc_module::{Group, TcModule, ToolEntry, WkzIndex, AXIS_NAMES, GROUPS, TC_BUS};
+use tc_module::{Group, ToolEntry, WkzIndex, AXIS_NAMES, GROUPS, TC_BUS};
 use tc_objects::TcObject;
 use tc_request::{Reply, Request};
 use tool_store::TOOL_ENTRIES;
@@ -230,20 +228,6 @@ fn record(
 /// Whether an entry is a tool: any field off its default, or wear.
 fn holds_data(r: &ToolRecord, e: &ToolEntry<OtcTool>) -> bool {
     *e != ToolEntry::default() || r.wear != 0.0 || r.running_wear.is_some()
-}
-
-/// The wear of group `g`'s running OTC period without the axis unit
-/// (read as an object after), and the axis whose unit it takes.
-fn running_wear(tc: &TcModule<OtcExtension>, g: &Group<OtcExtension>) -> (f64, Option<usize>) {
-    let s = &g.ext;
-    let taken = TakenUnits::of(s.proc_type, s.mode, tc.main_axes().plane.third);
-    let channel_only = TakenUnits {
-        axis: None,
-        ..taken
-    };
-    let mut unit = s.radius_unit;
-    let w_disc = TakenMut::lend(channel_only, &mut unit, &mut []).w_disc();
-    (s.wear.w_cont + w_disc, taken.axis)
 }
 
 /// Adds the applied value of axis `axis`'s PLC unit (its OffsetState

@@ -31,6 +31,7 @@ mod per_cycle;
 mod plc;
 mod quantity;
 mod registers;
+mod running;
 mod setting;
 mod state;
 mod switching;
@@ -42,6 +43,7 @@ pub use objects::{
 };
 pub use plc::{clamp_command, PlcUnit};
 pub use quantity::{TenthMicrons, TiltAngle, WearRate};
+pub use running::running_wear;
 pub use setting::{OtcMode, ProcType};
 pub use state::{OtcErrorBits, OtcGroup, OtcTool, GRINDING};
 pub use tc_module::TcExtension;

@@ -4,11 +4,9 @@
 //! clock. Serialised as the JSON of `/state` (docs/web.md).
 
 use emulator::EmulatorService;
-use otc_ext::wear::units::TakenUnits;
-use otc_ext::wear::TakenMut;
-use otc_ext::{OtcExtension, OtcGroup, GRINDING};
+use otc_ext::{running_wear, OtcExtension, OtcGroup, GRINDING};
 use serde::Serialize;
-use tc_module::{Group, TcModule, ToolEntry, WkzIndex, AXIS_NAMES, GROUPS, TOOL_ENTRIES};
+use tc_module::{Group, ToolEntry, WkzIndex, AXIS_NAMES, GROUPS, TOOL_ENTRIES};
 use tc_objects::{ErrorBits, OtcObject, StatusBits, TcObject};
 use uoi::{Value, ValueType};
 
@@ -183,7 +181,7 @@ fn group(emu: &mut emulator::Emulator, g: u16) -> Option<GroupView> {
     let axis_unit = axis_unit_mm(emu);
     let tc = emu.tc();
     let grp = tc.group_at(g)?;
-    let running = grp.ext.on.then(|| running_wear(tc, grp) + axis_unit);
+    let running = grp.ext.on.then(|| running_wear(tc, grp).0 + axis_unit);
     Some(GroupView {
         index: g,
         status,
@@ -240,28 +238,14 @@ fn otc(grp: &Group<OtcExtension>, running: Option<f64>) -> Option<OtcView> {
     })
 }
 
-/// The wear of `g`'s running OTC period on the channel unit.
-fn running_wear(tc: &TcModule<OtcExtension>, g: &Group<OtcExtension>) -> f64 {
-    let s = &g.ext;
-    let taken = TakenUnits::of(s.proc_type, s.mode, tc.main_axes().plane.third);
-    let channel_only = TakenUnits {
-        axis: None,
-        ..taken
-    };
-    let mut unit = s.radius_unit;
-    let w_disc = TakenMut::lend(channel_only, &mut unit, &mut []).w_disc();
-    s.wear.w_cont + w_disc
-}
-
 /// The offset applied by the PLC unit of the tool axis, mm (0 when none
 /// is taken).
 fn axis_unit_mm(emu: &mut emulator::Emulator) -> f64 {
     let tc = emu.tc();
-    let main = tc.main_axes().plane;
     let running = GROUPS
         .filter_map(|g| tc.group_at(g))
         .find(|g| g.ext.on)
-        .map(|g| TakenUnits::of(g.ext.proc_type, g.ext.mode, main.third).axis);
+        .map(|g| running_wear(tc, g).1);
     let Some(Some(axis)) = running else {
         return 0.0;
     };

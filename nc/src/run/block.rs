@@ -101,19 +101,8 @@ impl Interpreter<'_> {
                 plan.tool = Some((d, self.col));
             }
             Item::Tool(_) => self.warn(WarningKind::ToolWord),
-            Item::TrcOption(name) => {
-                return Err(RunErrorKind::TrcOption(name.clone()));
-            }
-            Item::ArcRadius(e) => {
-                plan.radius = Some(self.value(e)?);
-                plan.motion_col.get_or_insert(self.col);
-            }
-            Item::TangFeed(rmin) => {
-                let rmin = match rmin {
-                    Some(e) => self.value(e)?,
-                    None => 0.0,
-                };
-                self.set_tangfeed(rmin)?;
+            Item::TrcOption(_) | Item::ArcRadius(_) | Item::TangFeed(_) => {
+                self.trc_word(item, plan)?
             }
             Item::M(30) => plan.end = true,
             Item::M(m) => return Err(RunErrorKind::MFunction(*m)),
@@ -137,6 +126,27 @@ impl Interpreter<'_> {
                 self.assign(target, v)?;
             }
             _ => return Err(RunErrorKind::ControlNotAlone),
+        }
+        Ok(())
+    }
+
+    /// The words of the radius correction's ISG functions: `#TRC`, an
+    /// arc's `R`, `#TANGFEED`.
+    fn trc_word(&mut self, item: &Item, plan: &mut Plan) -> Result<(), RunErrorKind> {
+        match item {
+            Item::TrcOption(name) => return Err(RunErrorKind::TrcOption(name.clone())),
+            Item::ArcRadius(e) => {
+                plan.radius = Some(self.value(e)?);
+                plan.motion_col.get_or_insert(self.col);
+            }
+            Item::TangFeed(rmin) => {
+                let rmin = match rmin {
+                    Some(e) => self.value(e)?,
+                    None => 0.0,
+                };
+                self.set_tangfeed(rmin)?;
+            }
+            _ => {}
         }
         Ok(())
     }

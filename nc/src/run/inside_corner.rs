@@ -182,11 +182,7 @@ impl Interpreter<'_> {
         if matches!((b1, bn), (Seg::Arc { .. }, Seg::Arc { .. })) {
             return Err(self.blame(&contour.items[k1], why::FIRST_ARC));
         }
-        let side = if contour.side == Side::Right {
-            -1.0
-        } else {
-            1.0
-        };
+        let side = contour.side.sign();
         if !plane::is_inside_corner(&bn, &b1, d, side) {
             return Err(self.blame(at_bn, why::NOT_INSIDE));
         }

@@ -298,8 +298,7 @@ impl Interpreter<'_> {
     /// The signed offset `d = s * radius` for side `side`, the radius read
     /// from the controller (a negative radius flips the side).
     pub(super) fn offset_for(&mut self, side: Side) -> Result<f64, RunErrorKind> {
-        let s = if side == Side::Right { -1.0 } else { 1.0 };
-        Ok(s * self.read_object(objects::RADIUS, ValueType::F64)?)
+        Ok(side.sign() * self.read_object(objects::RADIUS, ValueType::F64)?)
     }
 
     /// A radius change (`D`, `V.G.WZ_AKT.R`): refused while a `G238`

@@ -15,6 +15,16 @@ pub(super) enum Side {
     Right,
 }
 
+impl Side {
+    /// +1 left, -1 right: the sign of the offset `d` of a positive radius.
+    pub(super) fn sign(self) -> f64 {
+        match self {
+            Side::Left => 1.0,
+            Side::Right => -1.0,
+        }
+    }
+}
+
 /// The selection and deselection mode (the modal group of `G138`..`G239`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum SelMode {
