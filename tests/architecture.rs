@@ -83,7 +83,7 @@ fn no_bus_1300_address_is_written_outside_the_table() {
                         .iter()
                         .map(|f| format!("{}:{}: {}", shown(&f.file), f.line, f.what)),
                 ),
-                Err(e) => found.push(e),
+                Err(e) => found.push(e.to_string()),
             }
         }
     }
@@ -92,6 +92,51 @@ fn no_bus_1300_address_is_written_outside_the_table() {
     assert!(
         found.is_empty(),
         "{} bus-1300 address(es) written outside {TABLE_DIR} (name them through tc_objects' keys):\n{}",
+        found.len(),
+        found.join("\n")
+    );
+}
+
+/// The checker's own tests, which write addresses on purpose to show that
+/// each rule finds them.
+const CHECKER_DIR: &str = "tests/architecture";
+
+/// Every Rust file of a package outside its shipped code: test modules
+/// under `src/`, and the files under `tests/`, `benches/` and `examples/`.
+fn every_rust_file(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+    ["src", "tests", "benches", "examples"]
+        .iter()
+        .flat_map(|sub| rust_files(&dir.join(sub)))
+        .collect()
+}
+
+#[test]
+fn no_bus_1300_address_is_written_in_tests_benches_or_examples() {
+    let root = root();
+    let table = root.join("objects");
+    let checker = root.join(CHECKER_DIR);
+    let mut found = Vec::new();
+    for dir in package_dirs(&root) {
+        for file in every_rust_file(&dir) {
+            if file.starts_with(&table) || file.starts_with(&checker) {
+                continue;
+            }
+            let text = read_disk(&file).unwrap_or_default();
+            match literals::scan_everything(&file, &text) {
+                Ok(findings) => found.extend(
+                    findings
+                        .iter()
+                        .map(|f| format!("{}:{}: {}", shown(&f.file), f.line, f.what)),
+                ),
+                Err(e) => found.push(e.to_string()),
+            }
+        }
+    }
+    found.sort();
+    found.dedup();
+    assert!(
+        found.is_empty(),
+        "{} bus-1300 address(es) written in tests, benches or examples (name them through tc_objects' keys):\n{}",
         found.len(),
         found.join("\n")
     );
