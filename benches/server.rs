@@ -1,4 +1,4 @@
-//! Loopback benchmark of the object server (issue 4), with a tokio-modbus
+//! Loopback benchmark of the object server, with a tokio-modbus
 //! TCP server answering read-holding-registers as a reference in the same
 //! run and with the same client pattern: a raw client that writes request
 //! frames and reads fixed-size answers.
