@@ -1,5 +1,5 @@
-//! Durable before acknowledged, with a disk that fails on purpose (issue
-//! 10): the emulator served over TCP keeps its tool data in a tool store
+//! Durable before acknowledged, with a disk that fails on purpose: the
+//! emulator served over TCP keeps its tool data in a tool store
 //! on a `FaultyStorage`. A write the disk refuses is answered `Storage`
 //! and changes nothing; later writes work; after a restart (the store
 //! reopened from what the disk holds, after a crash or a clean stop) no
