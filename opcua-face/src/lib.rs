@@ -27,6 +27,7 @@
 
 mod browse;
 mod capped;
+mod delegating;
 mod face;
 mod front;
 mod guard;
@@ -46,7 +47,7 @@ mod stored;
 pub use face::{Face, FaceConfig, APPLICATION_NAME, APPLICATION_URI};
 pub use layout::{answer_value, Device, IndexKind, Pick, Reading, Row, Table};
 pub use machine::{
-    ChannelState, Identity, Machine, MachineSource, MachineView, ToolRecord, MACHINERY,
+    ChannelState, Identity, MachineTool, MachineSource, MachineView, ToolRecord, MACHINERY,
     MACHINE_TOOL,
 };
 pub use manager::NAMESPACE;

@@ -26,7 +26,7 @@ use super::model::{
     channel_code, mt, Spaces, CHANNEL_STATE, MACHINE, NODE_VERSION, PROGRAM_STATE, TOOLS,
 };
 use super::tools::{self, ToolTemplates, LIVE, RUNNING_WEAR};
-use super::view::{ChannelState, Machine, MachineSource, MachineView, ToolRecord};
+use super::view::{ChannelState, MachineTool, MachineSource, MachineView, ToolRecord};
 use crate::manager::ObjectNodes;
 
 /// How often the face looks at the machine: the longest a change takes
@@ -79,7 +79,7 @@ impl Live {
     /// The live state of `machine`, shown through `templates`.
     pub fn new(
         at: Spaces,
-        machine: &Machine,
+        machine: &MachineTool,
         templates: ToolTemplates,
         program: ProgramStates,
     ) -> Self {

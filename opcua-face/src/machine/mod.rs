@@ -2,7 +2,7 @@
 //! `MachineToolType` instance in the Machinery `Machines` folder, with its
 //! identification, a monitored channel, and the tool list with each
 //! tool's life. The face knows no TC object: the object server hands it a
-//! [`Machine`], whose [`MachineSource`] looks at the server's handler
+//! [`MachineTool`], whose [`MachineSource`] looks at the server's handler
 //! (between two requests) and tells the machine's state and tools.
 //!
 //! * `nodesets`: the OPC Foundation's NodeSets, imported;
@@ -26,4 +26,4 @@ pub(crate) mod view;
 
 pub use live::{MAX_TOOLS, POLL};
 pub use nodesets::{MACHINERY, MACHINE_TOOL};
-pub use view::{ChannelState, Identity, Machine, MachineSource, MachineView, ToolRecord};
+pub use view::{ChannelState, Identity, MachineTool, MachineSource, MachineView, ToolRecord};

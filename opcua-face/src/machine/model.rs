@@ -10,7 +10,7 @@ use opcua::types::{LocalizedText, NodeId, QualifiedName, ReferenceTypeId, Varian
 use super::instance::{named, Root, Template};
 use super::types::Types;
 use super::units::{range, PERCENT};
-use super::view::{ChannelState, Machine};
+use super::view::{ChannelState, MachineTool};
 
 /// The NodeId (string) of the machine.
 pub(crate) const MACHINE: &str = "machine";
@@ -94,7 +94,7 @@ const OPTIONAL: [&str; 4] = [
 
 /// The machine instance with its channel, its values set (the tool list
 /// empty; the live values at their start).
-pub(crate) fn machine(types: &Types<'_>, at: Spaces, m: &Machine) -> Result<Template, String> {
+pub(crate) fn machine(types: &Types<'_>, at: Spaces, m: &MachineTool) -> Result<Template, String> {
     let root = Root {
         browse_name: QualifiedName::new(at.own, m.name.as_str()),
         reference: ReferenceTypeId::Organizes.into(),

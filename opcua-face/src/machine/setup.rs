@@ -15,7 +15,7 @@ use super::model::{self, mt, Spaces, MACHINE, TOOLS};
 use super::nodesets::{MACHINERY, MACHINE_TOOL};
 use super::tools;
 use super::types::Types;
-use super::view::Machine;
+use super::view::MachineTool;
 use crate::capped::Capped;
 
 /// The states of the active program the face shows.
@@ -29,7 +29,7 @@ pub(crate) fn start(
     tree: &DefaultTypeTree,
     context: &ServerContext,
     own: u16,
-    machine: &Machine,
+    machine: &MachineTool,
     core: CoreHandle,
 ) -> Result<DropGuard, String> {
     let index = |uri: &str| {
@@ -46,7 +46,7 @@ pub(crate) fn start(
         .node_managers
         .get_of_type::<Capped>()
         .ok_or("the server has no core node manager")?;
-    let core_space = core_nodes.address_space().read();
+    let core_space = core_nodes.inner().address_space().read();
     let mut space = manager.address_space().write();
     let (plan, templates, program) = {
         let types = Types::new(vec![&*space, &*core_space], tree);
