@@ -9,11 +9,16 @@
 //! * `types`: the type model they give (declarations, modelling rules);
 //! * `instance`: instances of a type with their mandatory members;
 //! * `model`: the machine instance; `tools`: a tool's nodes;
+//! * `handles`: the variables of both the face sets, by name, in one
+//!   table each, checked against the instances; `error`: why the machine
+//!   cannot be shown;
 //! * `view`: the machine as its source tells it (state, tools, identity);
 //! * `live`: the poll that keeps them up to date, with model-change
 //!   events when tools come and go.
 
+pub(crate) mod error;
 pub(crate) mod event;
+pub(crate) mod handles;
 pub(crate) mod instance;
 pub(crate) mod live;
 pub(crate) mod model;

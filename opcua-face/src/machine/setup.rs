@@ -9,6 +9,7 @@ use opcua::server::node_manager::ServerContext;
 use tokio_util::sync::{CancellationToken, DropGuard};
 use uoi::tcp::CoreHandle;
 
+use super::error::ModelError;
 use super::instance::Template;
 use super::live::{self, Live, Manager, ProgramStates};
 use super::model::{self, mt, Spaces, MACHINE, TOOLS};
@@ -31,12 +32,8 @@ pub(crate) fn start(
     own: u16,
     machine: &MachineTool,
     core: CoreHandle,
-) -> Result<DropGuard, String> {
-    let index = |uri: &str| {
-        tree.namespaces()
-            .get_index(uri)
-            .ok_or_else(|| format!("the namespace {uri} is not loaded"))
-    };
+) -> Result<DropGuard, ModelError> {
+    let index = |uri: &'static str| tree.namespaces().get_index(uri).ok_or(ModelError::Namespace(uri));
     let at = Spaces {
         own,
         mt: index(MACHINE_TOOL)?,
@@ -45,7 +42,7 @@ pub(crate) fn start(
     let core_nodes = context
         .node_managers
         .get_of_type::<Capped>()
-        .ok_or("the server has no core node manager")?;
+        .ok_or(ModelError::NoCoreManager)?;
     let core_space = core_nodes.inner().address_space().read();
     let mut space = manager.address_space().write();
     let (plan, templates, program) = {
