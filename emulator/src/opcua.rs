@@ -12,8 +12,8 @@ use std::any::Any;
 use std::sync::Arc;
 
 use opcua_face::{
-    answer_value, ChannelState, Device, Identity, IndexKind, MachineTool, MachineSource, MachineView,
-    Reading, Row, Table, ToolRecord,
+    answer_value, ChannelState, Device, Identity, IndexKind, MachineSource, MachineTool,
+    MachineView, Reading, Row, Table, ToolRecord,
 };
 use otc_ext::{running_wear, OtcExtension, OtcTool};
 use tc_module::object_map::object_table;

@@ -18,8 +18,7 @@ use opcua::server::node_manager::{
 use opcua::server::CreateMonitoredItem;
 use opcua::types::{
     ExpandedNodeId, MonitoringMode, NodeId, ReadAnnotationDataDetails, ReadAtTimeDetails,
-    ReadEventDetails, ReadProcessedDetails, ReadRawModifiedDetails, StatusCode,
-    TimestampsToReturn,
+    ReadEventDetails, ReadProcessedDetails, ReadRawModifiedDetails, StatusCode, TimestampsToReturn,
 };
 
 /// What a [`Delegating`] manager does in place of the manager inside it

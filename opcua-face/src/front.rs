@@ -43,10 +43,7 @@ impl<B: NodeManagerBuilder> NodeManagerBuilder for FrontBuilder<B> {
     fn build(self: Box<Self>, context: ServerContext) -> Arc<DynNodeManager> {
         let largest = self.largest;
         let built = Box::new(self.inner).build(context);
-        match Arc::clone(&built)
-            .into_any_arc()
-            .downcast::<Manager>()
-        {
+        match Arc::clone(&built).into_any_arc().downcast::<Manager>() {
             Ok(inner) => {
                 let front = Front {
                     machine: Mutex::new(None),

@@ -19,7 +19,7 @@ use opcua::types::{
     BrowseDirection, EUInformation, LocalizedText, NodeId, ObjectTypeId, ReferenceTypeId, Variant,
 };
 use opcua_face::{
-    ChannelState, Face, FaceConfig, Identity, MachineTool, MachineSource, MachineView, Table,
+    ChannelState, Face, FaceConfig, Identity, MachineSource, MachineTool, MachineView, Table,
     ToolRecord, MACHINERY, MACHINE_TOOL,
 };
 use tokio::sync::mpsc;

@@ -279,7 +279,9 @@ mod tests {
     #[test]
     fn every_variable_of_the_tables_is_in_the_instances_the_nodesets_give() {
         let mut tree = DefaultTypeTree::new();
-        let own_ns = tree.namespaces_mut().add_namespace(crate::manager::NAMESPACE);
+        let own_ns = tree
+            .namespaces_mut()
+            .add_namespace(crate::manager::NAMESPACE);
         let mut core = AddressSpace::new();
         core.add_namespace("http://opcfoundation.org/UA/", 0);
         core.import_node_set(&CoreNamespace, tree.namespaces_mut());

@@ -21,11 +21,11 @@ use tokio::time::MissedTickBehavior;
 use uoi::tcp::CoreHandle;
 
 use super::event::{verb, ModelChange};
-use super::instance::Template;
 use super::handles::{MachineVar, NodeTable, RunningVar};
+use super::instance::Template;
 use super::model::{channel_code, mt, Spaces, MACHINE, TOOLS};
 use super::tools::{self, ToolTemplates, LIFE, LIVE};
-use super::view::{ChannelState, MachineTool, MachineSource, MachineView, ToolRecord};
+use super::view::{ChannelState, MachineSource, MachineTool, MachineView, ToolRecord};
 use crate::manager::ObjectNodes;
 
 /// How often the face looks at the machine: the longest a change takes

@@ -31,4 +31,4 @@ pub(crate) mod view;
 
 pub use live::{MAX_TOOLS, POLL};
 pub use nodesets::{MACHINERY, MACHINE_TOOL};
-pub use view::{ChannelState, Identity, MachineTool, MachineSource, MachineView, ToolRecord};
+pub use view::{ChannelState, Identity, MachineSource, MachineTool, MachineView, ToolRecord};

@@ -119,13 +119,22 @@ pub(crate) fn machine(
     let values: [(MachineVar, Variant); 15] = [
         (MachineVar::Manufacturer, text(&id.manufacturer)),
         (MachineVar::Model, text(&id.model)),
-        (MachineVar::SoftwareRevision, id.software_revision.as_str().into()),
+        (
+            MachineVar::SoftwareRevision,
+            id.software_revision.as_str().into(),
+        ),
         (MachineVar::SerialNumber, id.serial_number.as_str().into()),
-        (MachineVar::ProductInstanceUri, id.product_instance_uri.as_str().into()),
+        (
+            MachineVar::ProductInstanceUri,
+            id.product_instance_uri.as_str().into(),
+        ),
         (MachineVar::OperationMode, AUTOMATIC.into()),
         (MachineVar::ChannelName, "Channel 1".into()),
         (MachineVar::ChannelMode, CHANNEL_AUTOMATIC.into()),
-        (MachineVar::ChannelState, channel_code(ChannelState::Idle).into()),
+        (
+            MachineVar::ChannelState,
+            channel_code(ChannelState::Idle).into(),
+        ),
         (MachineVar::FeedOverride, FEED_OVERRIDE.into()),
         (MachineVar::FeedOverrideRange, range(0.0, FEED_OVERRIDE)),
         (MachineVar::FeedOverrideUnits, PERCENT.value()),

@@ -88,10 +88,12 @@ pub(crate) fn import(
 ) -> Result<Vec<(String, u16)>, ModelError> {
     let mut loaded: Vec<(String, u16)> = Vec::new();
     for (name, xml) in FILES {
-        let set = NodeSet2Import::new_str("en", &compact_byte_strings(xml), Vec::new())
-            .map_err(|e| ModelError::NodeSet {
-                file: name,
-                reason: e.to_string(),
+        let set =
+            NodeSet2Import::new_str("en", &compact_byte_strings(xml), Vec::new()).map_err(|e| {
+                ModelError::NodeSet {
+                    file: name,
+                    reason: e.to_string(),
+                }
             })?;
         for uri in set.get_own_namespaces() {
             if loaded.iter().all(|(u, _)| *u != uri) {

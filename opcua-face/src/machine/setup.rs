@@ -33,7 +33,11 @@ pub(crate) fn start(
     machine: &MachineTool,
     core: CoreHandle,
 ) -> Result<DropGuard, ModelError> {
-    let index = |uri: &'static str| tree.namespaces().get_index(uri).ok_or(ModelError::Namespace(uri));
+    let index = |uri: &'static str| {
+        tree.namespaces()
+            .get_index(uri)
+            .ok_or(ModelError::Namespace(uri))
+    };
     let at = Spaces {
         own,
         mt: index(MACHINE_TOOL)?,

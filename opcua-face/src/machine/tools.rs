@@ -81,8 +81,7 @@ pub(crate) fn templates(
     let life = types.members(&tool_type, Some(&slot.node));
     let life_decl = named(&life, LIFE).ok_or(missing("ToolType", LIFE))?;
     let entries = types.children(&life_decl.node);
-    let entry =
-        named(&entries, "<ToolLifeEntry>").ok_or(missing("ToolLife", "<ToolLifeEntry>"))?;
+    let entry = named(&entries, "<ToolLifeEntry>").ok_or(missing("ToolLife", "<ToolLifeEntry>"))?;
     let life_entry = |name: &str| Root {
         browse_name: QualifiedName::new(at.own, name),
         reference: entry.reference.clone(),
