@@ -16,7 +16,6 @@ use async_trait::async_trait;
 use opcua::server::address_space::{
     is_supported_data_encoding, read_node_value, AddressSpace, DefaultTypeTree, NodeType,
 };
-use opcua::server::node_manager::memory::InMemoryNodeManager;
 use opcua::server::node_manager::{
     BrowseNode, DynNodeManager, NodeManager, NodeManagerBuilder, ReadNode, RequestContext,
     ServerContext,
@@ -28,8 +27,8 @@ use tokio_util::sync::DropGuard;
 use crate::browse::browse;
 use crate::capped::too_large;
 use crate::delegating::{Delegating, Overrides};
+use crate::machine::live::Manager;
 use crate::machine::setup;
-use crate::manager::ObjectNodes;
 
 /// Builds the face's in-memory node manager, then the front around it.
 pub(crate) struct FrontBuilder<B> {
@@ -56,9 +55,6 @@ impl<B: NodeManagerBuilder> NodeManagerBuilder for FrontBuilder<B> {
         }
     }
 }
-
-/// The face's in-memory node manager.
-type Manager = InMemoryNodeManager<ObjectNodes>;
 
 /// What the front changes of the face's manager: its start (the machine
 /// is built once every type is known), its reads and its browsing.

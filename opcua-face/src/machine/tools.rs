@@ -142,10 +142,10 @@ fn fixed(t: &mut Checked<ToolVar>, kinds: &[String]) {
     t.set(ToolVar::ToolKindNames, names);
     life_fields(t, WEAR_ENTRY);
     let t = t.template_mut();
-    t.describe("Radius", "Radius", "The tool's radius, mm");
-    t.describe("Length", "Length", "The tool's length, mm");
+    t.describe(ToolVar::Radius.path(), "Radius", "The tool's radius, mm");
+    t.describe(ToolVar::Length.path(), "Length", "The tool's length, mm");
     t.describe(
-        "ToolKind",
+        ToolVar::ToolKind.path(),
         "ToolKind",
         "The kind of tool (EnumStrings name each value)",
     );
