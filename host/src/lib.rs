@@ -35,20 +35,24 @@ mod machine;
 mod objects;
 pub mod record;
 mod registry;
+mod remote_session;
 mod serve_record;
 mod served;
 mod served_target;
 pub mod target;
+mod wire_client;
 
 pub use error::{Error, ErrorCode, Result};
 pub use handles::{Epoch, Handle, MAX_HANDLES};
 pub use machine::{Machine, DEFAULT_TIMEOUT, RECORD_ENV};
 pub use objects::{find_object, Descriptor};
 pub use record::RecordHeader;
+pub use remote_session::{RemoteSession, SessionError};
 pub use serve_record::ServeRecorder;
 pub use served::CONNECT_TIMEOUT;
 pub use served_target::{ServedTarget, TOKEN_ENV, TOKEN_FILE_ENV};
 pub use target::{EmbeddedOptions, Target};
+pub use wire_client::{WireClient, WireError};
 
 pub use emulator::RealTimeFactor;
 pub use tc_request::{ArcDir, AxisPos, AxisWords, SpoolRecord, AXES, AXIS_NAMES};

@@ -6,8 +6,8 @@ use std::time::Duration;
 
 use clap::Args;
 
+use addipos::{WireClient, WireError};
 use emulator::parse_address;
-use trace::remote::RemoteTarget;
 use uoi::tcp::{AccessToken, ClientError, ClientOptions, Waited};
 use uoi::wire::ProtocolError;
 
@@ -59,9 +59,9 @@ impl RemoteArgs {
 }
 
 /// A hint for an `Unauthorized` answer.
-pub fn token_hint(e: &ClientError) -> &'static str {
-    match e {
-        ClientError::Protocol(p) => protocol_hint(*p),
+pub fn token_hint(e: &WireError) -> &'static str {
+    match e.client_error() {
+        Some(ClientError::Protocol(p)) => protocol_hint(*p),
         _ => "",
     }
 }
@@ -80,7 +80,7 @@ pub fn protocol_hint(e: ProtocolError) -> &'static str {
 /// typed its address, or says why not: nothing listening, or something
 /// that is no UOI server (silent, or answering something else), found
 /// within the connection timeout (decision 312).
-pub fn connect(addr: &str, args: &RemoteArgs) -> Result<RemoteTarget, String> {
+pub fn connect(addr: &str, args: &RemoteArgs) -> Result<WireClient, String> {
     let resolved = parse_address(addr)?;
     let opts = args.options()?;
     let at = resolved.to_string();
@@ -98,13 +98,17 @@ pub fn connect(addr: &str, args: &RemoteArgs) -> Result<RemoteTarget, String> {
             "could not reach a UOI server at {addr} ({resolved}): got no UOI answer \
              (it answered something else, or closed the connection: {e})"
         ),
-        e => format!(
+        ClientError::Protocol(p) => format!(
             "cannot connect to {addr} ({resolved}): {e}{}",
-            token_hint(&e)
+            protocol_hint(p)
         ),
+        e => format!("cannot connect to {addr} ({resolved}): {e}"),
     };
-    RemoteTarget::probe(&at, &opts).map_err(cannot)?;
-    RemoteTarget::connect_with(&at, &opts).map_err(cannot)
+    WireClient::probe(&at, &opts).map_err(cannot)?;
+    WireClient::connect(&at, opts).map_err(|e| match e {
+        WireError::Connect(e) | WireError::Exchange(e) => cannot(e),
+        e => e.to_string(),
+    })
 }
 
 /// Whether a client error after the connection was made means the peer

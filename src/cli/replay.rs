@@ -11,8 +11,8 @@ use std::time::Instant;
 use clap::Args;
 use indicatif::ProgressBar;
 
-use trace::remote::RemoteTarget;
-use trace::{fresh_emulator, printable, replay_stream, trace_files, Target, TraceReader};
+use addipos::RemoteSession;
+use trace::{fresh_emulator, printable, replay_stream, trace_files, Header, Mismatch, TraceReader};
 
 use super::junit::{write_junit, CaseResult, Suite, NO_REQUEST};
 use super::progress::bytes_bar;
@@ -115,7 +115,7 @@ impl Reports<'_> {
 /// `Err` (the server is lost, the other traces cannot run either).
 fn replay_file(
     path: &Path,
-    remote: Option<&mut RemoteTarget>,
+    remote: Option<&mut RemoteSession>,
     max: usize,
     bar: &ProgressBar,
 ) -> Result<CaseResult, String> {
@@ -143,24 +143,28 @@ fn replay_file(
         }
     };
     let header = reader.header().clone();
-    let mut emulator;
-    let target: &mut dyn Target = match remote {
+    let mut report = |m: Mismatch| out.report(m.to_string());
+    let done = match remote {
         Some(r) => {
-            r.prepare(&header)
+            set_up(r, &header)
                 .map_err(|e| format!("{name}: the server did not set up a fresh emulator: {e}"))?;
-            r
+            replay_stream(&mut reader, r, &mut report)
         }
-        None => {
-            emulator = fresh_emulator(&header);
-            &mut emulator
-        }
+        None => replay_stream(&mut reader, &mut fresh_emulator(&header), &mut report),
     };
-    match replay_stream(&mut reader, target, &mut |m| out.report(m.to_string())) {
+    match done {
         Ok(done) => out.case.steps = done.steps,
         Err(e) => out.case.error = Some(e.to_string()),
     }
     out.finish();
     Ok(out.case)
+}
+
+/// A fresh conformance session on the server for a trace of `header`.
+fn set_up(session: &mut RemoteSession, header: &Header) -> Result<(), addipos::SessionError> {
+    // A capacity is at most 1,000,000: it fits u64.
+    let capacity = header.spool_capacity as u64;
+    session.set_up(header.start, header.cycle.secs(), capacity)
 }
 
 /// Prints what a trace's replay ended with, beyond its mismatches.
@@ -257,7 +261,7 @@ pub fn cmd_replay(args: &ReplayArgs) -> Outcome {
     let mut remote = args
         .server
         .as_deref()
-        .map(|s| connect(s, &args.remote))
+        .map(|s| connect(s, &args.remote).map(RemoteSession::new))
         .transpose()
         .map_err(Failure::trouble)?;
     let total: u64 = files

@@ -11,9 +11,12 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use nc::check_program_counted;
+use nc::nc_run::{
+    axis_text, run_checked_nc, trace_head, trace_lines, Exchange, NcOutcome, SpoolLabels,
+};
 use nc::run::RunError;
 use tool_store::{ToolKey, ToolValue};
-use trace::nc_run::{axis_text, run_checked_nc, trace_head, trace_lines, NcOutcome, SpoolLabels};
+use trace::{fresh_emulator, Header};
 
 use super::{Failure, Outcome};
 
@@ -157,7 +160,7 @@ fn run_streamed(
         .reader()
         .map_err(|e| format!("{name}: cannot read: {e}"))?;
     let mut labels = SpoolLabels::default();
-    let mut sink = |x: trace::nc_run::Exchange, axis_nr: [u8; 3]| -> io::Result<()> {
+    let mut sink = |x: Exchange, axis_nr: [u8; 3]| -> io::Result<()> {
         for line in labels.lines(&x, axis_nr) {
             writeln!(out, "{line}")
                 .map_err(|e| io::Error::new(e.kind(), format!("standard output: {e}")))?;
@@ -169,7 +172,10 @@ fn run_streamed(
         }
         Ok(())
     };
-    let outcome = run_checked_nc(reader, tools, &mut sink).map_err(|e| e.to_string())?;
+    // The emulator a trace without header options replays on.
+    let mut emulator = fresh_emulator(&Header::new("nc"));
+    let outcome =
+        run_checked_nc(&mut emulator, reader, tools, &mut sink).map_err(|e| e.to_string())?;
     print_end(&mut out, &outcome).map_err(|e| format!("standard output: {e}"))?;
     if let Some((mut w, path)) = trace {
         w.flush().map_err(|e| cannot_write(path, e))?;
