@@ -13,8 +13,14 @@ use std::process::Command;
 use nc::run::{RunErrorKind, WarningKind};
 use proptest::prelude::*;
 use tc_request::SpoolRecord;
-use trace::nc_run::{run_nc, NcRun};
-use trace::{parse_trace, replay};
+use nc::nc_run::NcRun;
+use trace::{fresh_emulator, parse_trace, replay, Header};
+
+/// A run on the emulator a trace without header options replays on.
+fn run_nc(text: &str) -> NcRun {
+    let Ok(run) = nc::nc_run::run_nc(&mut fresh_emulator(&Header::new("nc")), text);
+    run
+}
 
 const TOL: f64 = 1e-9;
 

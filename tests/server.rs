@@ -12,13 +12,27 @@ use std::time::Duration;
 use bytes::BytesMut;
 use emulator::EmulatorService;
 use tc_request::{Reply, Request as TcRequest};
-use trace::remote::{replay_remote, RemoteTarget};
-use uoi::tcp::{BlockingClient, Client, Server, ServerConfig};
+use addipos::{RemoteSession, WireClient};
+use uoi::tcp::{BlockingClient, Client, ClientError, Server, ServerConfig};
 use uoi::wire::{encode_request, Answer, Op, ProtocolError, Request, PREFIX_LEN};
 use uoi::{AccessError, ObjectAddress, Value, ValueType};
 
 mod common;
 use common::TestServer;
+
+/// Replays `t` on a fresh conformance session of the server.
+fn replay_remote(t: &trace::Trace, session: &mut RemoteSession) -> Vec<trace::Mismatch> {
+    let h = &t.header;
+    let capacity = h.spool_capacity as u64;
+    session.set_up(h.start, h.cycle.secs(), capacity).expect("setup");
+    trace::replay_on(t, session)
+}
+
+/// A conformance session on the server at `addr`.
+fn session(addr: &str) -> RemoteSession {
+    let wire = WireClient::connect(addr, Default::default()).expect("connect");
+    RemoteSession::new(wire)
+}
 
 fn corpus() -> Vec<trace::Trace> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("traces");
@@ -28,7 +42,7 @@ fn corpus() -> Vec<trace::Trace> {
 #[test]
 fn whole_corpus_passes_over_tcp() {
     let server = TestServer::local();
-    let mut target = RemoteTarget::connect(&server.addr.to_string()).expect("connect");
+    let mut target = session(&server.addr.to_string());
     let traces = corpus();
     assert!(traces.len() >= 40);
     let mut failed = Vec::new();
@@ -102,9 +116,9 @@ fn frame(id: u32, req: &Request) -> Vec<u8> {
 }
 
 /// A TC request's reply over a blocking client.
-fn call(c: &mut BlockingClient, req: &TcRequest) -> Result<Reply, String> {
-    let ans = c.call(&req.to_wire()).map_err(|e| e.to_string())?;
-    Reply::from_wire(req.wire_op(), &ans).ok_or_else(|| format!("{ans:?}"))
+fn call(c: &mut BlockingClient, req: &TcRequest) -> Result<Reply, ClientError> {
+    let ans = c.call(&req.to_wire())?;
+    Reply::from_wire(req.wire_op(), &ans).ok_or_else(|| ClientError::Unexpected(format!("{ans:?}")))
 }
 
 fn is_closed(s: &mut TcpStream) -> bool {
@@ -421,5 +435,5 @@ fn two_hundred_clients_a_thousand_requests_each() {
         .expect("finished within 120 s");
     assert_eq!(result, 200 * 1000);
     let mut c = BlockingClient::connect(&a.to_string()).expect("connect");
-    assert_eq!(call(&mut c, &TcRequest::Queue), Ok(Reply::Queue(0)));
+    assert_eq!(call(&mut c, &TcRequest::Queue).unwrap(), Reply::Queue(0));
 }

@@ -68,7 +68,7 @@ pub fn cmd_plot(args: &PlotArgs) -> Outcome {
         // fails (exit 1), as from `replay`.
         std::fs::File::open(&args.file)
             .map_err(|e| Failure::trouble(format!("{name}: cannot read: {e}")))?;
-        let t = load_trace(&args.file).map_err(Failure::failed)?;
+        let t = load_trace(&args.file).map_err(|e| Failure::failed(e.to_string()))?;
         (paths_shown(&t.header, &trace_steps(&t)), false)
     } else {
         nc_paths(args, &name)?

@@ -23,7 +23,7 @@ mod parse;
 mod replay;
 
 pub use echo::{printable, shorten, MAX_ECHO_CHARS};
-pub use files::{load_corpus, load_trace, open_trace, trace_files};
+pub use files::{load_corpus, load_trace, open_trace, trace_files, TraceFileError};
 pub use model::{Expect, Header, SpoolExpect, SpoolKind, Step, Trace, TraceError, DEFAULT_TOL};
 pub use parse::{parse_trace, TraceReader, MAX_LINE_BYTES};
 pub use replay::{fresh_emulator, replay, replay_on, replay_stream, Mismatch, Replayed};

@@ -18,22 +18,11 @@ use crate::run::{
 };
 use crate::{check_program, Blocks, NcError};
 
+mod exchange;
 mod text;
 
+pub use exchange::Exchange;
 pub use text::{axis_text, trace_head, trace_lines, SpoolLabels};
-
-/// One request of the run, its answer and what it spooled.
-#[derive(Debug, Clone)]
-pub struct Exchange {
-    /// The block it came from.
-    pub at: At,
-    /// The request.
-    pub request: Request,
-    /// The answer.
-    pub reply: Reply,
-    /// Elements it spooled.
-    pub spooled: Vec<SpoolRecord>,
-}
 
 /// A whole run: the exchanges, and what went wrong.
 #[derive(Debug, Clone, Default)]

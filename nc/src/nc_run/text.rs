@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 use tc_request::text::format_record_fed;
 use tc_request::{AxisPos, Origin, Reply, Request, AXIS_NAMES};
 
-use super::Exchange;
+use super::exchange::Exchange;
 use crate::run::At;
 
 /// `=> ...`: the answer as a trace expectation.
