@@ -31,11 +31,16 @@ impl Shard {
     }
 }
 
-impl FromStr for Shard {
-    type Err = String;
+/// A `--shard` that is not `K/N` with `1 <= K <= N`.
+#[derive(Debug, thiserror::Error)]
+#[error("`{0}` is not K/N with 1 <= K <= N (e.g. 2/4)")]
+pub struct BadShard(String);
 
-    fn from_str(s: &str) -> Result<Self, String> {
-        let bad = || format!("`{s}` is not K/N with 1 <= K <= N (e.g. 2/4)");
+impl FromStr for Shard {
+    type Err = BadShard;
+
+    fn from_str(s: &str) -> Result<Self, BadShard> {
+        let bad = || BadShard(s.to_string());
         let (k, n) = s.split_once('/').ok_or_else(bad)?;
         let k = k.trim().parse().map_err(|_| bad())?;
         let n = n.trim().parse().map_err(|_| bad())?;
