@@ -10,10 +10,10 @@
 
 use std::process::Command;
 
+use nc::nc_run::NcRun;
 use nc::run::{RunErrorKind, WarningKind};
 use proptest::prelude::*;
 use tc_request::SpoolRecord;
-use nc::nc_run::NcRun;
 use trace::{fresh_emulator, parse_trace, replay, Header};
 
 /// A run on the emulator a trace without header options replays on.

@@ -11,10 +11,10 @@ use std::process::Command;
 
 mod common;
 
-use nc::run::{run_program, At, Controller, Report, RunError, RunErrorKind};
-use tc_request::{Origin, Reply, Request, SpoolRecord};
 use addipos::{RemoteSession, WireClient};
 use nc::nc_run::NcRun;
+use nc::run::{run_program, At, Controller, Report, RunError, RunErrorKind};
+use tc_request::{Origin, Reply, Request, SpoolRecord};
 use tool_store::{ToolKey, ToolValue};
 use trace::{fresh_emulator, parse_trace, replay, Header};
 use uoi::{Value, ValueType};
@@ -36,7 +36,9 @@ fn run_nc_with_tools(text: &str, tools: &[(u8, ToolKey, ToolValue)]) -> NcRun {
 fn replay_remote(t: &trace::Trace, session: &mut RemoteSession) -> Vec<trace::Mismatch> {
     let h = &t.header;
     let capacity = h.spool_capacity as u64;
-    session.set_up(h.start, h.cycle.secs(), capacity).expect("setup");
+    session
+        .set_up(h.start, h.cycle.secs(), capacity)
+        .expect("setup");
     trace::replay_on(t, session)
 }
 

@@ -9,10 +9,10 @@ use std::net::TcpStream;
 use std::path::PathBuf;
 use std::time::Duration;
 
+use addipos::{RemoteSession, WireClient};
 use bytes::BytesMut;
 use emulator::EmulatorService;
 use tc_request::{Reply, Request as TcRequest};
-use addipos::{RemoteSession, WireClient};
 use uoi::tcp::{BlockingClient, Client, ClientError, Server, ServerConfig};
 use uoi::wire::{encode_request, Answer, Op, ProtocolError, Request, PREFIX_LEN};
 use uoi::{AccessError, ObjectAddress, Value, ValueType};
@@ -24,7 +24,9 @@ use common::TestServer;
 fn replay_remote(t: &trace::Trace, session: &mut RemoteSession) -> Vec<trace::Mismatch> {
     let h = &t.header;
     let capacity = h.spool_capacity as u64;
-    session.set_up(h.start, h.cycle.secs(), capacity).expect("setup");
+    session
+        .set_up(h.start, h.cycle.secs(), capacity)
+        .expect("setup");
     trace::replay_on(t, session)
 }
 

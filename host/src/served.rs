@@ -450,8 +450,9 @@ fn exec_outcome(what: &str, server: &str, reply: Reply) -> Result<()> {
     }
 }
 
-/// The server as a runner of requests: what the shadow of a recording
-/// spooled (the wire does not show the shared emulator's spooler).
+/// The server as a runner of requests. The wire does not show what the
+/// shared emulator spooled: the spooled elements are those of the shadow
+/// emulator a recording runs, and the axes X, Y, Z are its own.
 impl Runner for Served {
     type Error = Error;
 

@@ -126,11 +126,6 @@ impl WireClient {
         &self.name
     }
 
-    /// The options' connect timeout.
-    pub fn connect_timeout(&self) -> Duration {
-        self.opts.connect_timeout
-    }
-
     /// Sets how long the answers of one exchange may take; the connection
     /// is made again with it.
     pub fn set_request_timeout(&mut self, timeout: Duration) {

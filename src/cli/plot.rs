@@ -5,10 +5,10 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use nc::nc_run::run_nc_with_tools;
 use plot::{
     collect_paths_with, nc_steps, render, trace_steps, Paths, PlotStep, MAX_STEPPED_CYCLES,
 };
-use nc::nc_run::run_nc_with_tools;
 use trace::{fresh_emulator, load_trace, Header};
 
 use super::progress::count_bar;

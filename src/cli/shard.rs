@@ -32,7 +32,7 @@ impl Shard {
 }
 
 /// A `--shard` that is not `K/N` with `1 <= K <= N`.
-#[derive(Debug, thiserror::Error)]
+#[derive(Debug, PartialEq, Eq, thiserror::Error)]
 #[error("`{0}` is not K/N with 1 <= K <= N (e.g. 2/4)")]
 pub struct BadShard(String);
 

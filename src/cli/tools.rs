@@ -245,12 +245,10 @@ fn export(text: &str, file: Option<&Path>) -> Result<(), ToolsError> {
             print(text);
             Ok(())
         }
-        Some(p) => {
-            std::fs::write(p, text).map_err(|error| ToolsError::Unwritable {
-                path: p.display().to_string(),
-                error,
-            })
-        }
+        Some(p) => std::fs::write(p, text).map_err(|error| ToolsError::Unwritable {
+            path: p.display().to_string(),
+            error,
+        }),
     }
 }
 

@@ -57,9 +57,7 @@ pub fn open_trace(path: &Path) -> Result<TraceReader<BufReader<File>>, TraceFile
 /// (and line).
 pub fn load_trace(path: &Path) -> Result<Trace, TraceFileError> {
     let mut reader = open_trace(path)?;
-    let steps = reader
-        .by_ref()
-        .collect::<Result<Vec<Step>, TraceError>>()?;
+    let steps = reader.by_ref().collect::<Result<Vec<Step>, TraceError>>()?;
     Ok(Trace {
         header: reader.header().clone(),
         steps,

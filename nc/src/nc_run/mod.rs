@@ -141,7 +141,10 @@ pub fn run_nc<T: Runner + ?Sized>(target: &mut T, text: &str) -> Result<NcRun, T
 /// Writes the tool values of `tools` (group, entry and field, value) as
 /// requests, so that the trace of the run holds them too; WKZINDEX of each
 /// group touched is 0 again afterwards.
-fn preload<T: Runner + ?Sized>(rec: &mut Recorder<'_, '_, '_, T>, tools: &[(u8, ToolKey, ToolValue)]) {
+fn preload<T: Runner + ?Sized>(
+    rec: &mut Recorder<'_, '_, '_, T>,
+    tools: &[(u8, ToolKey, ToolValue)],
+) {
     let at = At::default();
     let wkz = |g: u8| TcObject::WkzIndex.of(u16::from(g));
     for (group, key, value) in tools {

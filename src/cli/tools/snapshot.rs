@@ -72,7 +72,9 @@ pub enum SnapshotError {
     #[error(transparent)]
     Store(#[from] StoreAt),
     /// The files changed at every try.
-    #[error("{0}: the tool files kept changing while being read (a server compacting?); try again")]
+    #[error(
+        "{0}: the tool files kept changing while being read (a server compacting?); try again"
+    )]
     KeptChanging(String),
 }
 
@@ -88,9 +90,17 @@ impl fmt::Display for StoreAt {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let dir = &self.dir;
         match &self.error {
-            StoreError::File(p) => write!(f, "{}:{}: {}", dir.join(&p.file).display(), p.line, p.error),
+            StoreError::File(p) => {
+                write!(f, "{}:{}: {}", dir.join(&p.file).display(), p.line, p.error)
+            }
             StoreError::Journal { file, error } => {
-                write!(f, "{}:{}: {}", dir.join(file).display(), error.line, error.error)
+                write!(
+                    f,
+                    "{}:{}: {}",
+                    dir.join(file).display(),
+                    error.line,
+                    error.error
+                )
             }
             other => write!(f, "{}: {other}", dir.display()),
         }
