@@ -11,6 +11,10 @@
 //!   [`ErrorCode`] (the CANopen code of an access error, or a code of the
 //!   library's own); motion calls, `exec`, `position`, `queue`; a session
 //!   recorded as a conformance trace;
+//! * the one wire client of `addipos serve` ([`WireClient`]: timeouts,
+//!   connecting again after a failure, `INFO`), which the command line's
+//!   `call` and `replay --server` (on a conformance session,
+//!   [`RemoteSession`], a `tc_request::Runner`) use too;
 //! * the C ABI (`libaddipos`, header `include/addipos.h`), a thin layer
 //!   over it: `addipos_open`, `uoi_init`, `uoi_read_int`, `tc_lin`,
 //!   `tc_exec`, ... (docs/host-api.md).

@@ -11,6 +11,7 @@ use std::path::Path;
 use std::sync::{Arc, Mutex};
 
 use addipos::{Descriptor, EmbeddedOptions, ErrorCode, Handle, Machine, ObjectAddress};
+use tc_objects::TcObject;
 use tc_request::{Motion, Reply, Request, Runner, SpoolRecord};
 use trace::{load_trace, replay, replay_on, Header};
 use uoi::{Value, ValueType};
@@ -222,7 +223,7 @@ impl Runner for Library {
     fn axis_nr(&mut self) -> Result<[u8; 3], LibraryError> {
         let mut out = [0u8; 3];
         for (sub, o) in (0..3).zip(out.iter_mut()) {
-            let h = self.handle(ObjectAddress::new(1300, 0, 2, sub))?;
+            let h = self.handle(TcObject::AxisNr.sub(sub))?;
             *o = self.m.read_int(h)? as u8;
         }
         Ok(out)

@@ -34,7 +34,7 @@ impl Shard {
 /// A `--shard` that is not `K/N` with `1 <= K <= N`.
 #[derive(Debug, PartialEq, Eq, thiserror::Error)]
 #[error("`{0}` is not K/N with 1 <= K <= N (e.g. 2/4)")]
-pub struct BadShard(String);
+pub(crate) struct BadShard(String);
 
 impl FromStr for Shard {
     type Err = BadShard;
