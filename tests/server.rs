@@ -54,6 +54,29 @@ fn whole_corpus_passes_over_tcp() {
     assert!(failed.is_empty(), "over TCP:\n{}", failed.join("\n"));
 }
 
+/// A conformance session whose connection is lost is not carried on by a
+/// new connection (which would be on the shared emulator); the next set-up
+/// connects again.
+#[test]
+fn a_lost_session_is_not_carried_on_by_a_new_connection() {
+    use tc_request::Runner;
+    let server = TestServer::local();
+    let mut s = session(&server.addr.to_string());
+    s.set_up([0.0; tc_request::AXES], 0.001, 64).expect("setup");
+    assert_eq!(s.run(&TcRequest::Queue).expect("queue"), Reply::Queue(0));
+    s.wire().disconnect();
+    let e = s.run(&TcRequest::Queue).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "(connection: the session's connection was lost)"
+    );
+    assert!(s.take_spooled().is_err());
+    s.set_up([0.0; tc_request::AXES], 0.001, 64)
+        .expect("setup again");
+    assert_eq!(s.run(&TcRequest::Queue).expect("queue"), Reply::Queue(0));
+    assert_eq!(s.wire().connections(), 2);
+}
+
 fn addr(s: &str) -> ObjectAddress {
     s.parse().expect("address")
 }

@@ -17,7 +17,7 @@ use trace::{fresh_emulator, printable, replay_stream, trace_files, Header, Misma
 use super::junit::{write_junit, CaseResult, Suite, NO_REQUEST};
 use super::progress::bytes_bar;
 use super::remote_args::{connect, RemoteArgs};
-use super::shard::Shard;
+use super::shard::{parse_shard, Shard};
 use super::{Failure, Outcome};
 
 /// Mismatch lines printed per trace unless `--max-reports` says otherwise:
@@ -46,7 +46,7 @@ pub struct ReplayArgs {
     /// positions K, K+N, K+2N ... of the list the arguments give. N jobs
     /// given the same arguments replay every trace exactly once
     /// (docs/trace-format.md, "Replays in CI").
-    #[arg(long, value_name = "K/N")]
+    #[arg(long, value_name = "K/N", value_parser = parse_shard)]
     pub shard: Option<Shard>,
     /// Mismatch lines printed per trace at most; the rest are counted
     /// (0: no limit).
