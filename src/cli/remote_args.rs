@@ -71,7 +71,7 @@ pub enum ReachError {
 /// A `--timeout` that is not a number of seconds above 0.
 #[derive(Debug, thiserror::Error)]
 #[error("`{0}` is not a number of seconds above 0")]
-pub(crate) struct BadSecs(String);
+struct BadSecs(String);
 
 /// How `call` and `replay --server` reach the server.
 #[derive(Args)]

@@ -58,7 +58,7 @@ pub struct ReplayArgs {
 
 /// Why the traces to replay could not be found, or replayed.
 #[derive(Debug, thiserror::Error)]
-pub(crate) enum ReplayError {
+enum ReplayError {
     /// A path named that does not exist.
     #[error("{0}: no such file or folder")]
     NoSuchPath(String),

@@ -21,7 +21,7 @@ use values::{Import, ToolSet};
 
 /// Why a `tools` subcommand could not run.
 #[derive(Debug, thiserror::Error)]
-pub(crate) enum ToolsError {
+enum ToolsError {
     /// The settings file cannot be read.
     #[error("cannot read {path}: {error}")]
     Unreadable {
