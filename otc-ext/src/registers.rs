@@ -13,7 +13,7 @@ use crate::plc::clamp_command;
 use crate::quantity::{TenthMicrons, TiltAngle, WearRate};
 use crate::setting::{OtcMode, ProcType};
 use crate::state::{OtcErrorBits, OtcGroup, OtcTool};
-use crate::switching::check_units;
+use crate::switching::{booked_entry, check_units, switches_off};
 
 type Access<'a> = GroupAccess<'a, OtcExtension>;
 
@@ -139,7 +139,8 @@ impl TcExtension for OtcExtension {
             return self.write_on(addr.index, int(v) == 1, groups);
         }
         let mut g = groups.get(addr.index).ok_or(AccessError::NoObject)?;
-        if write_tool(obj, v, g.tool_ext()) || write_state(obj, v, g.state_mut()) {
+        // The tool fields are the module's to set (`write_tool`).
+        if write_state(obj, v, g.state_mut()) {
             if obj == OtcObject::RadiusOffsetEnable && int(v) == 1 && g.state().on {
                 check_units(&mut g, &self.axes);
             }
@@ -193,6 +194,24 @@ impl TcExtension for OtcExtension {
             }
         }
         Ok(())
+    }
+
+    fn write_tool(obj: OtcObject, v: Value, tool: &mut OtcTool) -> bool {
+        write_tool(obj, v, tool)
+    }
+
+    fn tool_after(
+        &self,
+        obj: OtcObject,
+        v: Value,
+        group: &tc_module::Group<Self>,
+        running: bool,
+        main: tc_module::MainAxes,
+    ) -> Result<Option<tc_module::ToolEntry<OtcTool>>, AccessError> {
+        if obj != OtcObject::OtcOn || int(v) == 1 || !switches_off(&group.ext, running) {
+            return Ok(None);
+        }
+        booked_entry(&group.ext, group.tool(), &self.axes, main).map(Some)
     }
 
     fn tool_changed(&mut self, outgoing: WkzIndex, mut g: Access<'_>) {

@@ -234,6 +234,32 @@ pub trait TcExtension: Debug + Send + Sized + 'static {
         Err(AccessError::NoObject)
     }
 
+    /// Sets the field of a tool entry's extension part `tool` that group
+    /// object `key` writes (an object of the entry at WKZINDEX); `false`
+    /// when `key` is no tool field. Such a write changes nothing else: the
+    /// module plans it and sets the field on the entry planned
+    /// ([`TcModule::plan_write`](crate::TcModule::plan_write)); it never
+    /// reaches [`TcExtension::write_group`].
+    fn write_tool(_key: Self::Key, _value: Value, _tool: &mut Self::Tool) -> bool {
+        false
+    }
+
+    /// The entry at WKZINDEX of `group` as a write of `value` to group
+    /// object `key` would leave it, when the write changes it on the side
+    /// (OTC switched off books its wear on it); `None`: it changes no tool
+    /// entry; `Err`: the write would be refused and change nothing.
+    /// `running`: the group's correction runs. Changes nothing.
+    fn tool_after(
+        &self,
+        _key: Self::Key,
+        _value: Value,
+        _group: &Group<Self>,
+        _running: bool,
+        _main: MainAxes,
+    ) -> Result<Option<ToolEntry<Self::Tool>>, AccessError> {
+        Ok(None)
+    }
+
     /// The group's WKZINDEX changed from `outgoing` (the tool handed back)
     /// to the group's current one.
     fn tool_changed(&mut self, _outgoing: WkzIndex, _group: GroupAccess<'_, Self>) {}

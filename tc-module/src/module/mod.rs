@@ -6,12 +6,17 @@
 //!   Clean, changes while running);
 //! * `intake`: the programmed frame: limits, modal feed, rotation;
 //! * `commands`: motion commands, the correction, faults, direct
-//!   commands.
+//!   commands;
+//! * `plan`: a write planned (checked, what it changes of the tool
+//!   data), then applied: the one route of every write.
 
 mod commands;
 mod dispatch;
 mod intake;
+mod plan;
 mod registers;
+
+pub use plan::{Plan, ToolChange, WritePlan};
 
 use crate::correction::FeedAdaption;
 use crate::cycle::{Cycle, CycleModel};
