@@ -53,7 +53,11 @@ fn booked(w: f64) -> f64 {
 /// continuous part and the applied values of the taken units.
 fn booking(s: &OtcGroup, axes: &[PlcUnit; AXES], main: MainAxes) -> (f64, f64) {
     let t = TakenUnits::of(s.proc_type, s.mode, main.plane.third);
-    let channel = if t.channel { s.radius_unit.applied } else { 0.0 };
+    let channel = if t.channel {
+        s.radius_unit.applied
+    } else {
+        0.0
+    };
     let axis = t.axis.and_then(|a| axes.get(a)).map_or(0.0, |u| u.applied);
     let w_disc = (channel + axis) * APPLIED_UNIT_MM;
     let w_cont = booked(s.wear.w_cont);

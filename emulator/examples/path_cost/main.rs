@@ -16,9 +16,7 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
-
-
-use emulator::EmulatorService;
+use emulator::{EmulatorService, ExecRest};
 use tc_module::CycleTime;
 use tc_request::text::parse_request;
 use uoi::tcp::{Handler, Slice};
@@ -35,20 +33,20 @@ fn wire(text: &str) -> WireRequest {
 
 /// Serves a durable tool write: the part before the disk.
 #[inline(never)]
-fn one_tool_write(s: &mut EmulatorService, req: WireRequest) -> Slice {
+fn one_tool_write(s: &mut EmulatorService, req: WireRequest) -> Slice<ExecRest> {
     s.serve(req)
 }
 
 /// The part after the disk.
 #[inline(never)]
-fn one_tool_write_resumed(s: &mut EmulatorService, token: u64, ok: bool) -> Slice {
+fn one_tool_write_resumed(s: &mut EmulatorService, token: u64, ok: bool) -> Slice<ExecRest> {
     s.resume(token, ok)
 }
 
 fn tool_writes() {
     let dir = tempfile::tempdir().unwrap();
     let mut s = EmulatorService::new([0.0; 8], CycleTime::DEFAULT);
-    let _lock = emulator::tools::open::open_tools(&mut s, dir.path(), false).unwrap();
+    let _lock = s.open_tools(dir.path(), false).unwrap();
     for i in 0..WRITES {
         let req = wire(&format!("W 1300/1/1/6 d {}", 1.0 + i as f64 / 1000.0));
         let Slice::Wait(w) = one_tool_write(&mut s, req) else {

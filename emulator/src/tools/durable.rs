@@ -31,6 +31,7 @@ use uoi::wire::{Answer, ProtocolError};
 use uoi::{AccessError, ObjectAddress, Value, ValueType};
 
 use super::entries::{all_tables, changes, direct_field, may_change_tools, tables_after, value_of};
+use crate::serving::ExecRest;
 use crate::Emulator;
 use tool_store::{Done, Journal, Writer};
 
@@ -38,20 +39,30 @@ use tool_store::{Done, Journal, Writer};
 /// emulator's; conformance sessions keep nothing).
 pub trait ToolPersistence<E: TcExtension = OtcExtension>: Send + std::fmt::Debug {
     /// Serves a write if it changes tool data; `None` for any other.
-    fn serve(&mut self, emu: &mut Emulator<E>, addr: ObjectAddress, value: Value) -> Option<Slice>;
+    fn serve(
+        &mut self,
+        emu: &mut Emulator<E>,
+        addr: ObjectAddress,
+        value: Value,
+    ) -> Option<Slice<ExecRest>>;
     /// A direct tool write's wait is over.
-    fn resume(&mut self, emu: &mut Emulator<E>, token: u64, ok: bool) -> Slice;
+    fn resume(&mut self, emu: &mut Emulator<E>, token: u64, ok: bool) -> Slice<ExecRest>;
     /// Every queued change written; the journal compacted into the tool
     /// files (at shutdown).
     fn close(self: Box<Self>);
 }
 
 impl<J: Journal + std::fmt::Debug> ToolPersistence for Durable<J> {
-    fn serve(&mut self, emu: &mut Emulator, addr: ObjectAddress, value: Value) -> Option<Slice> {
+    fn serve(
+        &mut self,
+        emu: &mut Emulator,
+        addr: ObjectAddress,
+        value: Value,
+    ) -> Option<Slice<ExecRest>> {
         Durable::serve(self, emu, addr, value)
     }
 
-    fn resume(&mut self, emu: &mut Emulator, token: u64, ok: bool) -> Slice {
+    fn resume(&mut self, emu: &mut Emulator, token: u64, ok: bool) -> Slice<ExecRest> {
         Durable::resume(self, emu, token, ok)
     }
 
@@ -105,7 +116,7 @@ impl<J: Journal> Durable<J> {
         emu: &mut Emulator,
         addr: ObjectAddress,
         value: Value,
-    ) -> Option<Slice> {
+    ) -> Option<Slice<ExecRest>> {
         let field = direct_field(addr);
         if field.is_none() && !may_change_tools(addr, value) {
             return None;
@@ -115,9 +126,14 @@ impl<J: Journal> Durable<J> {
             Err(e) => return Some(Slice::Done(Answer::Access(e))),
         };
         Some(match (plan.tools, field) {
-            (ToolChange::Field { group, index, entry }, Some(field)) => {
-                self.direct(plan, group, index, value_of(&entry, field), field)
-            }
+            (
+                ToolChange::Field {
+                    group,
+                    index,
+                    entry,
+                },
+                Some(field),
+            ) => self.direct(plan, group, index, value_of(&entry, field), field),
             _ => Slice::Done(self.indirect(emu, plan)),
         })
     }
@@ -131,7 +147,7 @@ impl<J: Journal> Durable<J> {
         index: WkzIndex,
         value: ToolValue,
         field: ToolField,
-    ) -> Slice {
+    ) -> Slice<ExecRest> {
         // The table refuses a group index outside 1..=32 (`NoObject`); a
         // WkzIndex is below TOOL_ENTRIES.
         let (Ok(group), Some(key)) = (u8::try_from(group), ToolKey::new(index.get() as u16, field))
@@ -155,7 +171,7 @@ impl<J: Journal> Durable<J> {
 
     /// A direct tool write is on disk (`ok`) or refused: its plan applied
     /// if no newer change holds the field, answered.
-    pub fn resume(&mut self, emu: &mut Emulator, token: u64, ok: bool) -> Slice {
+    pub fn resume(&mut self, emu: &mut Emulator, token: u64, ok: bool) -> Slice<ExecRest> {
         let Some(p) = self.pending.remove(&token) else {
             return Slice::Done(Answer::Protocol(ProtocolError::Busy));
         };

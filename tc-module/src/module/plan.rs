@@ -77,7 +77,11 @@ pub type Plan<E> = WritePlan<<E as TcExtension>::Key, <E as TcExtension>::Tool>;
 
 /// Sets the tool field object `key` writes in `entry`; `false` when `key`
 /// is no tool field.
-fn set_field<E: TcExtension>(key: TcKey<E::Key>, value: Value, entry: &mut ToolEntry<E::Tool>) -> bool {
+fn set_field<E: TcExtension>(
+    key: TcKey<E::Key>,
+    value: Value,
+    entry: &mut ToolEntry<E::Tool>,
+) -> bool {
     let d = || value.as_f64().unwrap_or(0.0);
     match key {
         TcKey::Tc(TcObject::Radius) => entry.radius = d(),
@@ -144,14 +148,19 @@ impl<E: TcExtension> TcModule<E> {
             return Ok(ToolChange::None);
         };
         let running = self.running == Some(slot);
-        Ok(match self.ext.tool_after(k, value, g, running, self.main_axes())? {
-            Some(entry) => ToolChange::Entry {
-                group: addr.index,
-                index,
-                entry,
+        Ok(
+            match self
+                .ext
+                .tool_after(k, value, g, running, self.main_axes())?
+            {
+                Some(entry) => ToolChange::Entry {
+                    group: addr.index,
+                    index,
+                    entry,
+                },
+                None => ToolChange::None,
             },
-            None => ToolChange::None,
-        })
+        )
     }
 
     /// Carries out a write planned by [`TcModule::plan_write`]: a tool
