@@ -7,11 +7,11 @@ use tc_module::{GroupAccess, Groups, MainAxes, ToolEntry, AXES};
 use uoi::AccessError;
 
 use crate::plc::{PlcUnit, APPLIED_UNIT_MM};
-use crate::setting::ProcType;
 use crate::state::{OtcErrorBits, OtcGroup, OtcTool, GRINDING};
 use crate::wear::units::TakenUnits;
 use crate::wear::WearState;
 use crate::OtcExtension;
+use tc_objects::ProcType;
 
 type Access<'a> = GroupAccess<'a, OtcExtension>;
 

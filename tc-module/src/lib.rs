@@ -52,7 +52,7 @@ pub use geometry::V2;
 pub use group::{CorrGroup, Side};
 pub use limits::{CycleTime, MAX_COORD};
 pub use module::{ExecLeft, Plan, TcModule, ToolChange, WritePlan, EXEC_SLICE_CYCLES};
-pub use object_map::{TcKey, TcObject, GROUPS, GROUP_COUNT, TC_BUS, TC_OBJECTS};
+pub use object_map::TcKey;
 pub use plane::{AxisPos, MainAxes, PlaneAxes, TcPlane, AXES, AXIS_NAMES};
 pub use spooler::{
     check_capacity, CapacityError, Logged, Spooler, DEFAULT_SPOOL_CAPACITY, KEEP_WHEN_EMPTY,

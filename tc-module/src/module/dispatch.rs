@@ -6,7 +6,8 @@ use uoi::{AccessError, Bus, ObjectAddress, ObjectDesc, Value};
 use super::registers::slot_of;
 use super::TcModule;
 use crate::extension::{Groups, TcExtension};
-use crate::object_map::{TcKey, TC_BUS};
+use crate::object_map::TcKey;
+use tc_objects::TC_BUS;
 
 impl<E: TcExtension> Bus for TcModule<E> {
     type Key = TcKey<E::Key>;
