@@ -47,7 +47,7 @@ mod serving;
 mod session;
 pub mod tools;
 
-pub use address::parse_address;
+pub use address::{parse_address, AddressError};
 pub use clock::{RealTimeClock, RealTimeFactor};
 pub use config::{
     read_settings_file, Config, ConfigError, OpcuaSettings, ServiceSettings, DEFAULT_CONFIG,

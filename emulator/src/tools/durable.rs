@@ -178,12 +178,16 @@ impl<J: Journal> Durable<J> {
         if !ok {
             return Slice::Done(Answer::Access(AccessError::Storage));
         }
-        let held = (p.group, p.key.index, p.key.field);
-        if self.holds.get(&held).is_none_or(|&h| h < token) {
+        // Tokens start at 1: a field no change holds yet takes any.
+        let held = self
+            .holds
+            .entry((p.group, p.key.index, p.key.field))
+            .or_insert(0);
+        if *held < token {
+            *held = token;
             if let Err(e) = emu.apply(p.plan) {
                 return Slice::Done(Answer::Access(e));
             }
-            self.holds.insert(held, token);
         }
         Slice::Done(Answer::Ok)
     }
