@@ -51,7 +51,8 @@ pub use extension::{AlwaysStepped, Group, GroupAccess, Groups, NoExtension, NoKe
 pub use geometry::V2;
 pub use group::{CorrGroup, Side};
 pub use limits::{CycleTime, MAX_COORD};
-pub use module::{ExecLeft, Plan, TcModule, ToolChange, WritePlan, EXEC_SLICE_CYCLES};
+pub use module::plan::{Plan, ToolChange, WritePlan};
+pub use module::{ExecLeft, TcModule, EXEC_SLICE_CYCLES};
 pub use object_map::TcKey;
 pub use plane::{AxisPos, MainAxes, PlaneAxes, TcPlane, AXES, AXIS_NAMES};
 pub use spooler::{

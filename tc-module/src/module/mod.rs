@@ -13,10 +13,8 @@
 mod commands;
 mod dispatch;
 mod intake;
-mod plan;
+pub(crate) mod plan;
 mod registers;
-
-pub use plan::{Plan, ToolChange, WritePlan};
 
 use crate::correction::FeedAdaption;
 use crate::cycle::{Cycle, CycleModel};
