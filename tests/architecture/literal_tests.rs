@@ -137,3 +137,38 @@ fn the_text_rule_wants_a_digit_after_the_bus_and_none_before() {
     assert!(!address_in_text("port 1300"));
     assert!(!address_in_text("21300/4"));
 }
+
+#[test]
+fn trace_text_is_the_users_language_in_test_code_only() {
+    use crate::literals::{is_trace_text, scan_everything};
+    assert!(is_trace_text("W 1300/1/1/6 d 2.5\nR 1300/1/1/6 d => 2.5\n"));
+    assert!(is_trace_text("r 1300/0/3/0 i"));
+    assert!(!is_trace_text("1300/1/1/6"));
+    assert!(!is_trace_text("PWR 1300/1/1/6"));
+    assert!(!is_trace_text("W 1300/1/1/6 then 1300/1/1/8"));
+    assert!(!is_trace_text("W {TC_BUS}/1/1/6 d 2"));
+    let trace = "fn f() {\n    run(\"W 1300/1/1/6 d 2.5\");\n}\n";
+    let bare = "fn f() {\n    read(\"1300/1/1/6\");\n}\n";
+    let test = "#[test]\nfn t() {\n    read(\"1300/1/1/6\");\n}\n";
+    let every = |s: &str| {
+        scan_everything(Path::new("tests/x.rs"), s)
+            .unwrap()
+            .into_iter()
+            .map(|f| f.line)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(every(trace), Vec::<usize>::new());
+    assert_eq!(lines(trace), [2], "shipped code writes no trace text");
+    assert_eq!(every(bare), [2]);
+    assert_eq!(every(test), [3], "test functions are read too");
+    assert_eq!(lines(test), Vec::<usize>::new());
+}
+
+#[test]
+fn guesses_from_numbers_alone_are_for_shipped_code() {
+    use crate::literals::scan_everything;
+    let src = "fn f(a: ObjectAddress) -> bool {\n    a.sub == 6\n}\nconst TEST_BUS: u16 = 7;\n";
+    assert_eq!(lines(src), [2, 4]);
+    let every = scan_everything(Path::new("tests/x.rs"), src).unwrap();
+    assert!(every.is_empty(), "{every:?}");
+}

@@ -23,7 +23,10 @@
 //!    `const ERROR_SUB: u16 = 1;`, but not `const E_NO_SUBINDEX: u32 =
 //!    0x06090011;`.
 //!
-//! Test-only items and modules are skipped.
+//! In shipped code, test-only items and modules are skipped. Test code
+//! (`scan_everything`: test modules, `tests/`, `benches/`, `examples/`)
+//! is read under rules 1 to 3, except an address in trace text (after a
+//! verb `R` or `W`, as a trace or `addipos call` writes it).
 
 use std::path::{Path, PathBuf};
 
@@ -47,11 +50,42 @@ pub struct Finding {
 
 /// The bus-1300 addresses written in the source `text` of `file`, or the
 /// parse error.
-pub fn scan(file: &Path, text: &str) -> Result<Vec<Finding>, String> {
-    let syntax = syn::parse_file(text).map_err(|e| format!("{}: {e}", file.display()))?;
+pub fn scan(file: &Path, text: &str) -> Result<Vec<Finding>, ScanError> {
+    scan_in(file, text, Reach::ShippedCode)
+}
+
+/// The bus-1300 addresses written anywhere in `text` of `file`, test
+/// code included (the files under `tests/`, `benches/` and `examples/`).
+pub fn scan_everything(file: &Path, text: &str) -> Result<Vec<Finding>, ScanError> {
+    scan_in(file, text, Reach::AllCode)
+}
+
+/// What a scan reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Reach {
+    /// Test-only items and modules are skipped.
+    ShippedCode,
+    /// Everything.
+    AllCode,
+}
+
+/// A file the checker cannot read as Rust.
+#[derive(Debug)]
+pub struct ScanError(pub String);
+
+impl std::fmt::Display for ScanError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+fn scan_in(file: &Path, text: &str, reach: Reach) -> Result<Vec<Finding>, ScanError> {
+    let syntax =
+        syn::parse_file(text).map_err(|e| ScanError(format!("{}: {e}", file.display())))?;
     let mut finder = Finder {
         file: file.to_path_buf(),
         found: Vec::new(),
+        reach,
     };
     for item in &syntax.items {
         finder.visit_item(item);
@@ -74,6 +108,7 @@ const CONSTANT: &str = "a constant giving a bus, device or subindex number";
 struct Finder {
     file: PathBuf,
     found: Vec<Finding>,
+    reach: Reach,
 }
 
 impl Finder {
@@ -85,12 +120,22 @@ impl Finder {
         });
     }
 
+    /// Rules 4 and 5 guess at an address from a number alone (no bus in
+    /// sight): they are read in shipped code only. Test code of the
+    /// generic layers (`uoi`, `opcua-face`) serves buses of its own
+    /// and matches their parts freely.
+    fn note_guess(&mut self, span: proc_macro2::Span, what: &'static str) {
+        if self.reach == Reach::ShippedCode {
+            self.note(span, what);
+        }
+    }
+
     /// Rule 5 for a constant named `ident` with value `expr`.
     fn named_number(&mut self, ident: &syn::Ident, expr: &Expr) {
         const WORDS: [&str; 6] = ["BUS", "DEVICE", "DEVICES", "SUB", "SUBS", "SUBINDEX"];
         let name = ident.to_string();
         if name.split('_').any(|w| WORDS.contains(&w)) && holds_int(expr) {
-            self.note(ident.span(), CONSTANT);
+            self.note_guess(ident.span(), CONSTANT);
         }
     }
 
@@ -113,7 +158,7 @@ impl Finder {
 
 impl<'ast> Visit<'ast> for Finder {
     fn visit_item(&mut self, item: &'ast Item) {
-        if is_test_only(item_attrs(item)) {
+        if self.reach == Reach::ShippedCode && is_test_only(item_attrs(item)) {
             return;
         }
         match item {
@@ -125,7 +170,7 @@ impl<'ast> Visit<'ast> for Finder {
     }
 
     fn visit_impl_item(&mut self, item: &'ast ImplItem) {
-        if is_test_only(impl_item_attrs(item)) {
+        if self.reach == Reach::ShippedCode && is_test_only(impl_item_attrs(item)) {
             return;
         }
         if let ImplItem::Const(c) = item {
@@ -208,7 +253,7 @@ impl<'ast> Visit<'ast> for Finder {
     fn visit_expr_match(&mut self, m: &'ast syn::ExprMatch) {
         if names_address_part(&m.expr) {
             for arm in m.arms.iter().filter(|a| pat_has_int(&a.pat)) {
-                self.note(span_of_pat(&arm.pat), FIELD);
+                self.note_guess(span_of_pat(&arm.pat), FIELD);
             }
         }
         visit::visit_expr_match(self, m);
@@ -217,13 +262,15 @@ impl<'ast> Visit<'ast> for Finder {
     fn visit_expr_binary(&mut self, b: &'ast syn::ExprBinary) {
         let part_vs_int = |x: &Expr, y: &Expr| names_address_part(x) && is_int(y);
         if part_vs_int(&b.left, &b.right) || part_vs_int(&b.right, &b.left) {
-            self.note(span_of(&b.left), FIELD);
+            self.note_guess(span_of(&b.left), FIELD);
         }
         visit::visit_expr_binary(self, b);
     }
 
     fn visit_lit_str(&mut self, s: &'ast syn::LitStr) {
-        if address_in_text(&s.value()) {
+        let text = s.value();
+        let trace_text = self.reach == Reach::AllCode && is_trace_text(&text);
+        if address_in_text(&text) && !trace_text {
             self.note(s.span(), TEXT);
         }
     }
@@ -275,6 +322,23 @@ pub fn address_in_text(text: &str) -> bool {
         || text
             .match_indices("1300/")
             .any(|(i, m)| !after_digit(i) && digit_at(i + m.len()))
+}
+
+/// Whether every bus-1300 address in `text` stands where a trace or
+/// `addipos call` puts it: right after the verb `R` or `W` (any case),
+/// as in `"W 1300/1/1/6 d 2.5"`. That is the trace syntax, the user's
+/// language, which tests write as a user does (traces/ is written the
+/// same way); read in test code only (decision 520).
+pub fn is_trace_text(text: &str) -> bool {
+    let after_verb = |i: usize| {
+        let head = text[..i].trim_end_matches(' ');
+        let spaced = head.len() < i;
+        let verb = head.ends_with(['R', 'W', 'r', 'w']);
+        let alone =
+            head.len() < 2 || !head[..head.len() - 1].ends_with(|c: char| c.is_alphanumeric());
+        spaced && verb && alone
+    };
+    !text.contains("{TC_BUS}/") && text.match_indices("1300/").all(|(i, _)| after_verb(i))
 }
 
 /// `1300`, or a path ending in `TC_BUS` (through parentheses and casts).
