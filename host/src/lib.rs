@@ -1,4 +1,4 @@
-//! # addipos — the host library of the ADDIPOS TC emulator
+//! # addipos_host — the host library of the ADDIPOS TC emulator
 //!
 //! A legacy PCAP host program initialises object descriptors (BusNumber,
 //! DeviceNumber, Index, SubIndex), gets handles, reads and writes
@@ -11,12 +11,14 @@
 //!   [`ErrorCode`] (the CANopen code of an access error, or a code of the
 //!   library's own); motion calls, `exec`, `position`, `queue`; a session
 //!   recorded as a conformance trace;
-//! * the C ABI (`libaddipos`, header `include/addipos.h`), a thin layer
-//!   over it: `addipos_open`, `uoi_init`, `uoi_read_int`, `tc_lin`,
-//!   `tc_exec`, ... (docs/host-api.md).
+//! * the C ABI (`libaddipos`, header `libaddipos/include/addipos.h`), a
+//!   thin layer over it in a crate of its own (`libaddipos/`, decision
+//!   511): `addipos_open`, `uoi_init`, `uoi_read_int`, `tc_lin`,
+//!   `tc_exec`, ... (docs/host-api.md); the Python package `addipos`
+//!   wraps it too (docs/python.md).
 //!
 //! ```
-//! use addipos::{Descriptor, Machine};
+//! use addipos_host::{Descriptor, Machine};
 //!
 //! let m = Machine::open("embedded").unwrap();
 //! let plane = m.handle(&Descriptor { bus_number: 1300, device_number: 0, index: 3, sub_index: 0 }).unwrap();
@@ -28,14 +30,10 @@
 
 mod error;
 mod explain;
-pub mod ffi;
 mod handles;
 mod link;
 mod machine;
 mod objects;
-pub mod record;
-mod registry;
-mod serve_record;
 mod served;
 mod served_target;
 pub mod target;
@@ -45,7 +43,6 @@ pub use handles::{Epoch, Handle, MAX_HANDLES};
 pub use machine::{Machine, DEFAULT_TIMEOUT, RECORD_ENV};
 pub use objects::{find_object, Descriptor};
 pub use record::RecordHeader;
-pub use serve_record::ServeRecorder;
 pub use served::CONNECT_TIMEOUT;
 pub use served_target::{ServedTarget, TOKEN_ENV, TOKEN_FILE_ENV};
 pub use target::{EmbeddedOptions, Target};
@@ -53,3 +50,9 @@ pub use target::{EmbeddedOptions, Target};
 pub use emulator::RealTimeFactor;
 pub use tc_request::{ArcDir, AxisPos, AxisWords, SpoolRecord, AXES, AXIS_NAMES};
 pub use uoi::{AccessError, ObjectAddress};
+
+/// A session recorded as a conformance trace: the emulator's trace
+/// writer (`emulator::record`), which `serve --record` writes with too.
+mod record {
+    pub use emulator::record::{RecordHeader, Recorder};
+}

@@ -15,11 +15,17 @@
 #![allow(missing_docs, clippy::unwrap_used, clippy::expect_used)]
 
 use std::ffi::CString;
+
+// The C ABI compiled into the bench, as a C program links it: the crate
+// has no Rust library (it is `libaddipos` for C), so its source comes in
+// as a module (decision 511).
+#[path = "../src/lib.rs"]
+mod c_abi;
 use std::hint::black_box;
 use std::time::Duration;
 
-use addipos::ffi::{addipos_close, addipos_open, addipos_record, uoi_init, uoi_read_int, Addipos};
-use addipos::{Descriptor, Machine};
+use addipos_host::{Descriptor, Machine};
+use c_abi::{addipos_close, addipos_open, addipos_record, uoi_init, uoi_read_int, Addipos};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
 /// TcPlane, an i32 object (reads 17).

@@ -1,34 +1,34 @@
-//! `addipos serve --record FILE`: the shared emulator's journal
-//! ([`emulator::Journal`]) written as one conformance trace, in the same
-//! form as a connection's recording ([`crate::record`]).
+//! `addipos serve --record FILE`: the shared emulator's request log
+//! ([`RequestLog`]) written as one conformance trace, in the same form as
+//! a connection's recording ([`Recorder`]).
 //!
 //! The service formats each line under its lock (a few hundred
 //! nanoseconds); the bytes go in chunks of at most 64 KiB through a
-//! bounded queue to a thread of their own that writes the file, so a slow
+//! bounded queue to a thread of their own that writes them, so a slow
 //! disk never holds the emulator. When the queue is full (the disk has
-//! not kept up with [`QUEUE_CHUNKS`] chunks, 4 MiB) or the file cannot be
-//! written, the recording stops with a message and the server goes on:
-//! a trace with a hole in it would not replay, so none is pretended.
+//! not kept up with [`QUEUE_CHUNKS`] chunks, 4 MiB) or the destination
+//! cannot be written, the recording stops with a message and the server
+//! goes on: a trace with a hole in it would not replay, so none is
+//! pretended.
 //!
 //! Nothing ever waits for the writer thread while it is blocked: a
 //! recording that stopped is left to its thread, and the end of a
 //! recording waits only while the writer makes progress (a FIFO whose
-//! reader stopped is given up after [`STALL_LIMIT`]). A FIFO is opened by
-//! the writer thread, so one without a reader does not hold the start
-//! (docs/decisions.md, decision 410).
+//! reader stopped is given up after [`STALL_LIMIT`]). The destination is
+//! opened by the writer thread, with the opener its caller hands over
+//! (the command line, which alone touches files): a FIFO without a reader
+//! does not hold the start (docs/decisions.md, decisions 410 and 510).
 
-use std::fs::File;
 use std::io::{self, Write};
-use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError, SyncSender, TrySendError};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use emulator::Journal;
 use tc_request::{Reply, Request, SpoolRecord};
 
-use crate::record::{RecordHeader, Recorder};
+use super::writer::{RecordHeader, Recorder};
+use crate::request_log::{LogError, RequestLog};
 
 /// Chunks that may wait for the writer thread.
 pub const QUEUE_CHUNKS: usize = 64;
@@ -38,12 +38,63 @@ pub const QUEUE_CHUNKS: usize = 64;
 /// up, never the server's stop.
 pub const STALL_LIMIT: Duration = Duration::from_secs(2);
 
+/// Why the writer thread stopped taking the trace.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum WriterStop {
+    /// The queue to the writer thread was full.
+    #[error("the disk did not keep up ({QUEUE_CHUNKS} chunks of the trace waited)")]
+    Behind,
+    /// The destination could not be opened or written.
+    #[error("cannot write the trace: {0}")]
+    Write(Arc<io::Error>),
+    /// The writer thread ended for a reason it did not leave.
+    #[error("the writer thread stopped")]
+    Gone,
+}
+
+/// Why a `serve --record` recording stopped: the destination's name and
+/// what happened.
+#[derive(Debug, thiserror::Error)]
+pub enum RecordError {
+    /// The recording has ended (finished, or stopped earlier).
+    #[error("{dest}: the recording has ended")]
+    Ended {
+        /// The destination, as named to [`ServeRecorder::start`].
+        dest: String,
+    },
+    /// A line could not be handed on.
+    #[error("{dest}: {source}")]
+    Io {
+        /// The destination.
+        dest: String,
+        /// What the hand-over answered.
+        source: io::Error,
+    },
+    /// The writer thread stopped.
+    #[error("{dest}: {stop}")]
+    Stopped {
+        /// The destination.
+        dest: String,
+        /// Why.
+        stop: WriterStop,
+    },
+    /// The trace's reader took nothing for [`STALL_LIMIT`].
+    #[error(
+        "{dest}: the trace's reader took nothing for {} s; the rest of the recording is given up",
+        STALL_LIMIT.as_secs()
+    )]
+    Stalled {
+        /// The destination.
+        dest: String,
+    },
+}
+
 /// Why the recording stopped, if it did (the writer thread's error, or
 /// a queue the writer did not empty in time).
-type Failure = Arc<Mutex<Option<String>>>;
+type Failure = Arc<Mutex<Option<WriterStop>>>;
 
 /// Keeps the first reason in `failure`.
-fn fail(failure: &Failure, why: String) {
+fn fail(failure: &Failure, why: WriterStop) {
     if let Ok(mut f) = failure.lock() {
         f.get_or_insert(why);
     }
@@ -57,58 +108,27 @@ struct ToWriter {
 
 impl Write for ToWriter {
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-        let gone = || io::Error::other("the writer thread stopped");
-        let tx = self.tx.as_ref().ok_or_else(gone)?;
+        let tx = self
+            .tx
+            .as_ref()
+            .ok_or_else(|| io::Error::other(WriterStop::Gone))?;
         match tx.try_send(buf.to_vec()) {
             Ok(()) => Ok(buf.len()),
             Err(TrySendError::Full(_)) => {
-                let why =
-                    format!("the disk did not keep up ({QUEUE_CHUNKS} chunks of the trace waited)");
-                fail(&self.failure, why.clone());
+                fail(&self.failure, WriterStop::Behind);
                 // Nothing more goes to the writer: it may stay blocked.
                 self.tx = None;
-                Err(io::Error::other(why))
+                Err(io::Error::other(WriterStop::Behind))
             }
             Err(TrySendError::Disconnected(_)) => {
                 let why = self.failure.lock().ok().and_then(|f| f.clone());
-                Err(io::Error::other(
-                    why.unwrap_or_else(|| "the writer thread stopped".into()),
-                ))
+                Err(io::Error::other(why.unwrap_or(WriterStop::Gone)))
             }
         }
     }
 
     fn flush(&mut self) -> io::Result<()> {
         Ok(())
-    }
-}
-
-/// Where the writer thread writes: a file opened at the start, or a FIFO
-/// it opens itself (opening a FIFO waits for its reader, which must not
-/// hold the server's start).
-enum Target {
-    Opened(File),
-    Fifo(PathBuf),
-}
-
-impl Target {
-    /// `path` created; a FIFO is left for the writer thread to open.
-    fn create(path: &Path) -> io::Result<Self> {
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::FileTypeExt;
-            if std::fs::metadata(path).is_ok_and(|m| m.file_type().is_fifo()) {
-                return Ok(Self::Fifo(path.to_path_buf()));
-            }
-        }
-        File::create(path).map(Self::Opened)
-    }
-
-    fn open(self) -> io::Result<File> {
-        match self {
-            Self::Opened(f) => Ok(f),
-            Self::Fifo(p) => std::fs::OpenOptions::new().write(true).open(p),
-        }
     }
 }
 
@@ -120,27 +140,25 @@ struct Shared {
     written: Arc<AtomicU64>,
 }
 
-/// Writes what comes through `rx` to `target`; the first error is kept
-/// in `failure` and ends the thread.
-fn write_all(target: Target, rx: Receiver<Vec<u8>>, shared: &Shared) {
+/// Opens the destination with `open` and writes what comes through `rx`
+/// to it, flushed at the end; the first error is kept in `failure` and
+/// ends the thread.
+fn write_all<W: Write>(open: impl FnOnce() -> io::Result<W>, rx: Receiver<Vec<u8>>, shared: &Shared) {
     let result = (|| -> io::Result<()> {
-        let mut file = target.open()?;
+        let mut out = open()?;
         shared.written.fetch_add(1, Ordering::Relaxed);
         for chunk in rx {
-            file.write_all(&chunk)?;
+            out.write_all(&chunk)?;
             shared.written.fetch_add(1, Ordering::Relaxed);
         }
-        file.flush()?;
-        // A FIFO or terminal has nothing to sync.
-        let _ = file.sync_data();
-        Ok(())
+        out.flush()
     })();
     if let Err(e) = result {
-        fail(&shared.failure, format!("cannot write the trace: {e}"));
+        fail(&shared.failure, WriterStop::Write(Arc::new(e)));
     }
 }
 
-/// The shared emulator's recording, streamed to a file.
+/// The shared emulator's recording, streamed to its destination.
 pub struct ServeRecorder {
     rec: Option<Recorder>,
     /// Idle cycles of the real-time clock not written yet: one `EXEC n`
@@ -149,21 +167,25 @@ pub struct ServeRecorder {
     /// Says (by closing) that the writer thread has ended.
     ended: Option<Receiver<()>>,
     shared: Shared,
-    path: String,
+    dest: String,
 }
 
 impl std::fmt::Debug for ServeRecorder {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "ServeRecorder({})", self.path)
+        write!(f, "ServeRecorder({})", self.dest)
     }
 }
 
 impl ServeRecorder {
-    /// Creates `path` and starts the trace with `header`. A FIFO is
-    /// opened by the writer thread, so a FIFO nobody reads yet does not
-    /// hold the caller.
-    pub fn create(path: &Path, header: &RecordHeader) -> io::Result<Self> {
-        let target = Target::create(path)?;
+    /// Starts the trace with `header`, written to what `open` opens:
+    /// `open` runs on the writer thread, so a FIFO nobody reads yet does
+    /// not hold the caller. `dest` names the destination in messages.
+    /// The destination is flushed once, at the end.
+    pub fn start<W, F>(dest: impl Into<String>, open: F, header: &RecordHeader) -> io::Result<Self>
+    where
+        W: Write,
+        F: FnOnce() -> io::Result<W> + Send + 'static,
+    {
         let (tx, rx) = sync_channel(QUEUE_CHUNKS);
         let (end_tx, end_rx) = sync_channel::<()>(0);
         let shared = Shared::default();
@@ -173,7 +195,7 @@ impl ServeRecorder {
         std::thread::Builder::new()
             .name("serve-record".into())
             .spawn(move || {
-                write_all(target, rx, &s);
+                write_all(open, rx, &s);
                 drop(end_tx);
             })?;
         let out = ToWriter {
@@ -186,58 +208,74 @@ impl ServeRecorder {
             idle: 0,
             ended: Some(end_rx),
             shared,
-            path: path.display().to_string(),
+            dest: dest.into(),
         })
     }
 
+    /// The failure on the writer's side, if any.
+    fn failed(&self) -> Option<WriterStop> {
+        self.shared.failure.lock().ok().and_then(|f| f.clone())
+    }
+
     /// Runs `f` on the recorder after the idle cycles merged so far; an
-    /// error names the file.
-    fn with(&mut self, f: impl FnOnce(&mut Recorder) -> io::Result<()>) -> Result<(), String> {
-        let rec = self
-            .rec
-            .as_mut()
-            .ok_or_else(|| format!("{}: the recording has ended", self.path))?;
+    /// error names the destination.
+    fn with(
+        &mut self,
+        f: impl FnOnce(&mut Recorder) -> io::Result<()>,
+    ) -> Result<(), RecordError> {
+        let Some(rec) = self.rec.as_mut() else {
+            return Err(RecordError::Ended {
+                dest: self.dest.clone(),
+            });
+        };
         let idle = std::mem::take(&mut self.idle);
         let r = if idle > 0 {
             rec.exchange(&Request::Exec(Some(idle)), &Reply::Ok, &[], [0, 1, 2])
         } else {
             Ok(())
         };
-        r.and_then(|()| f(rec))
-            .map_err(|e| format!("{}: {e}", self.path))
+        r.and_then(|()| f(rec)).map_err(|source| RecordError::Io {
+            dest: self.dest.clone(),
+            source,
+        })
     }
 
     /// Hands everything to the writer thread and waits until it is
     /// written, as long as the writer makes progress: a recording that
     /// already failed is left at once, and a writer that writes nothing
     /// for [`STALL_LIMIT`] is given up.
-    fn close(&mut self) -> Result<(), String> {
+    fn close(&mut self) -> Result<(), RecordError> {
         let idle = if self.idle > 0 && self.rec.is_some() {
             self.with(|_| Ok(()))
         } else {
             Ok(())
         };
         let flushed = match self.rec.take() {
-            Some(mut r) => r.flush().map_err(|e| format!("{}: {e}", self.path)),
+            Some(mut r) => r.flush().map_err(|source| RecordError::Io {
+                dest: self.dest.clone(),
+                source,
+            }),
             None => Ok(()),
         };
-        let failed = || self.shared.failure.lock().ok().and_then(|f| f.clone());
         if let Some(ended) = self.ended.take() {
-            if failed().is_none() {
+            if self.failed().is_none() {
                 self.wait_for_writer(&ended)?;
             }
         }
         idle?;
         flushed?;
-        match failed() {
-            Some(why) => Err(format!("{}: {why}", self.path)),
+        match self.failed() {
+            Some(stop) => Err(RecordError::Stopped {
+                dest: self.dest.clone(),
+                stop,
+            }),
             None => Ok(()),
         }
     }
 
     /// Waits until the writer thread ends, or has written nothing for
     /// [`STALL_LIMIT`].
-    fn wait_for_writer(&self, ended: &Receiver<()>) -> Result<(), String> {
+    fn wait_for_writer(&self, ended: &Receiver<()>) -> Result<(), RecordError> {
         const LOOK: Duration = Duration::from_millis(100);
         let mut seen = self.shared.written.load(Ordering::Relaxed);
         let mut quiet = Duration::ZERO;
@@ -254,42 +292,42 @@ impl ServeRecorder {
             };
             seen = now;
             if quiet >= STALL_LIMIT {
-                return Err(format!(
-                    "{}: the trace's reader took nothing for {} s; the rest of the \
-                     recording is given up",
-                    self.path,
-                    STALL_LIMIT.as_secs()
-                ));
+                return Err(RecordError::Stalled {
+                    dest: self.dest.clone(),
+                });
             }
         }
     }
 }
 
-impl Journal for ServeRecorder {
+impl RequestLog for ServeRecorder {
     fn exchange(
         &mut self,
         req: &Request,
         reply: &Reply,
         spooled: &[SpoolRecord],
         axis_nr: [u8; 3],
-    ) -> Result<(), String> {
-        self.with(|r| r.exchange(req, reply, spooled, axis_nr))
+    ) -> Result<(), LogError> {
+        Ok(self.with(|r| r.exchange(req, reply, spooled, axis_nr))?)
     }
 
-    fn idle(&mut self, cycles: u64) -> Result<(), String> {
+    fn idle(&mut self, cycles: u64) -> Result<(), LogError> {
         if self.rec.is_none() {
-            return Err(format!("{}: the recording has ended", self.path));
+            return Err(RecordError::Ended {
+                dest: self.dest.clone(),
+            }
+            .into());
         }
         self.idle = self.idle.saturating_add(cycles);
         Ok(())
     }
 
-    fn note(&mut self, text: &str) -> Result<(), String> {
-        self.with(|r| r.comment(text))
+    fn note(&mut self, text: &str) -> Result<(), LogError> {
+        Ok(self.with(|r| r.comment(text))?)
     }
 
-    fn finish(&mut self) -> Result<(), String> {
-        self.close()
+    fn finish(&mut self) -> Result<(), LogError> {
+        Ok(self.close()?)
     }
 }
 
@@ -304,6 +342,21 @@ impl Drop for ServeRecorder {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::Path;
+
+    /// A recording into `path`, opened on the writer thread as the
+    /// command line opens a FIFO.
+    fn create(path: &Path, header: &RecordHeader) -> io::Result<ServeRecorder> {
+        let p = path.to_path_buf();
+        let open = move || {
+            std::fs::OpenOptions::new()
+                .write(true)
+                .create(true)
+                .truncate(true)
+                .open(p)
+        };
+        ServeRecorder::start(path.display().to_string(), open, header)
+    }
 
     fn header() -> RecordHeader {
         RecordHeader {
@@ -319,7 +372,7 @@ mod tests {
     fn a_recording_reaches_its_file_when_it_ends() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("s.trace");
-        let mut r = ServeRecorder::create(&path, &header()).unwrap();
+        let mut r = create(&path, &header()).unwrap();
         r.exchange(&Request::Queue, &Reply::Queue(0), &[], [0, 1, 2])
             .unwrap();
         r.note("hello").unwrap();
@@ -333,7 +386,7 @@ mod tests {
     fn idle_cycles_are_one_exec_before_the_next_entry_and_at_the_end() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("idle.trace");
-        let mut r = ServeRecorder::create(&path, &header()).unwrap();
+        let mut r = create(&path, &header()).unwrap();
         for _ in 0..300 {
             r.idle(3).unwrap();
         }
@@ -352,7 +405,7 @@ mod tests {
     #[cfg(target_os = "linux")]
     #[test]
     fn a_disk_that_refuses_the_trace_stops_the_recording_with_a_message() {
-        let mut r = ServeRecorder::create(Path::new("/dev/full"), &header()).unwrap();
+        let mut r = create(Path::new("/dev/full"), &header()).unwrap();
         let line = Request::Exec(Some(1));
         let mut failed = None;
         // /dev/full refuses every write: the first chunk fails in the
@@ -363,7 +416,7 @@ mod tests {
                 break;
             }
         }
-        let e = failed.expect("the recording stops");
+        let e = failed.expect("the recording stops").to_string();
         assert!(e.contains("/dev/full"), "{e}");
         assert!(r.finish().is_err());
     }
@@ -397,8 +450,9 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = fifo(dir.path(), "no-reader");
         let made = within_20s(move || {
-            let mut r = ServeRecorder::create(&path, &header()).map_err(|e| e.to_string())?;
-            r.exchange(&Request::Queue, &Reply::Queue(0), &[], [0, 1, 2])?;
+            let mut r = create(&path, &header()).map_err(|e| e.to_string())?;
+            r.exchange(&Request::Queue, &Reply::Queue(0), &[], [0, 1, 2])
+                .map_err(|e| e.to_string())?;
             drop(r);
             Ok::<(), String>(())
         });
@@ -418,7 +472,7 @@ mod tests {
             .custom_flags(0o4000)
             .open(&path)
             .unwrap();
-        let mut r = ServeRecorder::create(&path, &header()).unwrap();
+        let mut r = create(&path, &header()).unwrap();
         let line = Request::Exec(Some(1));
         let mut failed = None;
         // The pipe takes 64 KiB, the queue 4 MiB: the recording stops
@@ -429,7 +483,7 @@ mod tests {
                 break;
             }
         }
-        let e = failed.expect("the recording stops");
+        let e = failed.expect("the recording stops").to_string();
         assert!(e.contains("did not keep up"), "{e}");
         // The service drops a recording that failed: that must not wait
         // for the writer blocked in write().
@@ -442,13 +496,13 @@ mod tests {
             .open(&path2)
             .unwrap();
         let ended = within_20s(move || {
-            let mut r = ServeRecorder::create(&path2, &header()).unwrap();
+            let mut r = create(&path2, &header()).unwrap();
             for _ in 0..40_000 {
                 r.exchange(&line, &Reply::Ok, &[], [0, 1, 2]).unwrap();
             }
             r.finish()
         });
-        let e = ended.expect("finish returned").unwrap_err();
+        let e = ended.expect("finish returned").unwrap_err().to_string();
         assert!(e.contains("took nothing"), "{e}");
         drop((reader, reader2));
     }
