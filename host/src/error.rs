@@ -73,7 +73,7 @@ error_codes! {
         Storage,
     }
     own {
-        /// The handle was initialised before a Clean (1300/0/1/0 = 1), which
+        /// The handle was initialised before a Clean (Clean written 1), which
         /// rejects every TC object, or was released: initialise it again with
         /// `uoi_init`.
         StaleHandle = 0xADD0_0001,

@@ -19,7 +19,10 @@ use std::ffi::CString;
 // The C ABI compiled into the bench, as a C program links it: the crate
 // has no Rust library (it is `libaddipos` for C), so its source comes in
 // as a module (decision 511).
+// Built as a test too, where the module's own tests and the constants a
+// C program uses are not reached.
 #[path = "../src/lib.rs"]
+#[allow(dead_code, unused_imports)]
 mod c_abi;
 use std::hint::black_box;
 use std::time::Duration;

@@ -84,7 +84,7 @@
 #define ADDIPOS_E_STORAGE 0x08000020u
 
 /**
- * The handle was initialised before a Clean (1300/0/1/0 = 1), which
+ * The handle was initialised before a Clean (Clean written 1), which
  * rejects every TC object, or was released: initialise it again with
  * `uoi_init`.
  * (Code 0xADD00001.)
