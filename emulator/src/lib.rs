@@ -63,7 +63,7 @@ pub use emulator::{Emulator, Tc};
 pub use exec_waits::MAX_EXEC_WAITS;
 pub use guarded_write::{GuardedOutcome, GuardedWrite, WRITE_IF_OP};
 pub use info_op::{EmulatorInfo, INFO_OP};
-pub use request_log::{LogError, RequestLog};
 pub use reference::{bits_without_meaning, devices_without_section, object_reference};
+pub use request_log::{LogError, RequestLog};
 pub use service::{EmulatorService, WatchedSpool, MAX_WATCHED};
 pub use session::{ConformanceSession, LOG_CAPACITY, MAX_SESSIONS, MAX_SESSION_SPOOL};

@@ -12,7 +12,9 @@ use std::path::Path;
 use addipos_host::ErrorCode;
 
 fn package_file(name: &str) -> String {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../python/addipos").join(name);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../python/addipos")
+        .join(name);
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
@@ -52,7 +54,10 @@ fn every_code_is_a_class_of_the_package_with_its_number() {
         .map(|c| (c.name().to_string(), c.code()))
         .collect();
     let found: Vec<(String, u32)> = classes.iter().map(|(n, _, v)| (n.clone(), *v)).collect();
-    assert_eq!(found, table, "python/addipos/__init__.py: class NAME, CODE = 0x...");
+    assert_eq!(
+        found, table,
+        "python/addipos/__init__.py: class NAME, CODE = 0x..."
+    );
     for ((name, bases, _), &code) in classes.iter().zip(ErrorCode::ALL) {
         let first = bases.split(',').next().unwrap().trim();
         assert_eq!(first, base(code), "class {name}({bases})");
@@ -69,14 +74,22 @@ fn every_code_is_a_class_of_the_package_with_its_number() {
 fn every_class_is_exported_raised_by_its_code_and_in_the_stubs() {
     let init = package_file("__init__.py");
     let stubs = package_file("__init__.pyi");
-    let (_, table) = init.split_once("_CLASSES: Dict[int, Type[Error]] = {").unwrap();
+    let (_, table) = init
+        .split_once("_CLASSES: Dict[int, Type[Error]] = {")
+        .unwrap();
     let (table, _) = table.split_once('}').unwrap();
     let (_, all) = init.split_once("__all__ = [").unwrap();
     let (all, _) = all.split_once(']').unwrap();
     for &code in ErrorCode::ALL {
         let name = code.name();
-        assert!(table.contains(&format!("        {name},\n")), "{name} in _CLASSES");
-        assert!(all.contains(&format!("    \"{name}\",\n")), "{name} in __all__");
+        assert!(
+            table.contains(&format!("        {name},\n")),
+            "{name} in _CLASSES"
+        );
+        assert!(
+            all.contains(&format!("    \"{name}\",\n")),
+            "{name} in __all__"
+        );
         assert!(
             stubs.contains(&format!("class {name}({}", base(code))),
             "{name} in __init__.pyi"

@@ -24,7 +24,9 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 use std::time::Duration;
 
-use addipos_host::{ArcDir, AxisWords, Descriptor, Error, ErrorCode, Handle, Machine, Result, AXES};
+use addipos_host::{
+    ArcDir, AxisWords, Descriptor, Error, ErrorCode, Handle, Machine, Result, AXES,
+};
 
 mod registry;
 

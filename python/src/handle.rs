@@ -87,7 +87,12 @@ pub fn repr(value: &Bound<'_, PyAny>) -> String {
 }
 
 /// Writes an f64 object through `h`.
-pub fn write_double(link: &Link, py: Python<'_>, h: addipos_host::Handle, value: f64) -> PyResult<()> {
+pub fn write_double(
+    link: &Link,
+    py: Python<'_>,
+    h: addipos_host::Handle,
+    value: f64,
+) -> PyResult<()> {
     link.call(py, |m| m.write_double(h, value))
 }
 

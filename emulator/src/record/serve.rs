@@ -143,7 +143,11 @@ struct Shared {
 /// Opens the destination with `open` and writes what comes through `rx`
 /// to it, flushed at the end; the first error is kept in `failure` and
 /// ends the thread.
-fn write_all<W: Write>(open: impl FnOnce() -> io::Result<W>, rx: Receiver<Vec<u8>>, shared: &Shared) {
+fn write_all<W: Write>(
+    open: impl FnOnce() -> io::Result<W>,
+    rx: Receiver<Vec<u8>>,
+    shared: &Shared,
+) {
     let result = (|| -> io::Result<()> {
         let mut out = open()?;
         shared.written.fetch_add(1, Ordering::Relaxed);
@@ -219,10 +223,7 @@ impl ServeRecorder {
 
     /// Runs `f` on the recorder after the idle cycles merged so far; an
     /// error names the destination.
-    fn with(
-        &mut self,
-        f: impl FnOnce(&mut Recorder) -> io::Result<()>,
-    ) -> Result<(), RecordError> {
+    fn with(&mut self, f: impl FnOnce(&mut Recorder) -> io::Result<()>) -> Result<(), RecordError> {
         let Some(rec) = self.rec.as_mut() else {
             return Err(RecordError::Ended {
                 dest: self.dest.clone(),
