@@ -6,7 +6,9 @@
 //! own (`addipos serve --record`, decision 510).
 
 mod serve;
+mod stream;
 mod writer;
 
-pub use serve::{RecordError, ServeRecorder, WriterStop, QUEUE_CHUNKS, STALL_LIMIT};
+pub use serve::{RecordError, ServeRecorder};
+pub use stream::{WriterStop, QUEUE_CHUNKS, STALL_LIMIT};
 pub use writer::{RecordHeader, Recorder};

@@ -6,7 +6,7 @@
 //! nanoseconds); the bytes go in chunks of at most 64 KiB through a
 //! bounded queue to a thread of their own that writes them, so a slow
 //! disk never holds the emulator. When the queue is full (the disk has
-//! not kept up with [`QUEUE_CHUNKS`] chunks, 4 MiB) or the destination
+//! not kept up with [`QUEUE_CHUNKS`](super::QUEUE_CHUNKS) chunks, 4 MiB) or the destination
 //! cannot be written, the recording stops with a message and the server
 //! goes on: a trace with a hole in it would not replay, so none is
 //! pretended.
@@ -20,37 +20,12 @@
 //! does not hold the start (docs/decisions.md, decisions 410 and 510).
 
 use std::io::{self, Write};
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError, SyncSender, TrySendError};
-use std::sync::{Arc, Mutex};
-use std::time::Duration;
 
 use tc_request::{Reply, Request, SpoolRecord};
 
+use super::stream::{spawn, WriterEnd, WriterStop, STALL_LIMIT};
 use super::writer::{RecordHeader, Recorder};
 use crate::request_log::{LogError, RequestLog};
-
-/// Chunks that may wait for the writer thread.
-pub const QUEUE_CHUNKS: usize = 64;
-
-/// How long the end of a recording waits for a writer that writes
-/// nothing (a reader of the FIFO that stopped): the rest is then given
-/// up, never the server's stop.
-pub const STALL_LIMIT: Duration = Duration::from_secs(2);
-
-/// Why the writer thread stopped taking the trace.
-#[derive(Debug, Clone, thiserror::Error)]
-pub enum WriterStop {
-    /// The queue to the writer thread was full.
-    #[error("the disk did not keep up ({QUEUE_CHUNKS} chunks of the trace waited)")]
-    Behind,
-    /// The destination could not be opened or written.
-    #[error("cannot write the trace: {0}")]
-    Write(Arc<io::Error>),
-    /// The writer thread ended for a reason it did not leave.
-    #[error("the writer thread stopped")]
-    Gone,
-}
 
 /// Why a `serve --record` recording stopped: the destination's name and
 /// what happened.
@@ -89,88 +64,13 @@ pub enum RecordError {
     },
 }
 
-/// Why the recording stopped, if it did (the writer thread's error, or
-/// a queue the writer did not empty in time).
-type Failure = Arc<Mutex<Option<WriterStop>>>;
-
-/// Keeps the first reason in `failure`.
-fn fail(failure: &Failure, why: WriterStop) {
-    if let Ok(mut f) = failure.lock() {
-        f.get_or_insert(why);
-    }
-}
-
-/// The bytes of a recording on their way to the writer thread.
-struct ToWriter {
-    tx: Option<SyncSender<Vec<u8>>>,
-    failure: Failure,
-}
-
-impl Write for ToWriter {
-    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-        let tx = self
-            .tx
-            .as_ref()
-            .ok_or_else(|| io::Error::other(WriterStop::Gone))?;
-        match tx.try_send(buf.to_vec()) {
-            Ok(()) => Ok(buf.len()),
-            Err(TrySendError::Full(_)) => {
-                fail(&self.failure, WriterStop::Behind);
-                // Nothing more goes to the writer: it may stay blocked.
-                self.tx = None;
-                Err(io::Error::other(WriterStop::Behind))
-            }
-            Err(TrySendError::Disconnected(_)) => {
-                let why = self.failure.lock().ok().and_then(|f| f.clone());
-                Err(io::Error::other(why.unwrap_or(WriterStop::Gone)))
-            }
-        }
-    }
-
-    fn flush(&mut self) -> io::Result<()> {
-        Ok(())
-    }
-}
-
-/// What the writer thread shares: its failure, and the chunks written
-/// (how the end of a recording tells a slow writer from a stalled one).
-#[derive(Clone, Default)]
-struct Shared {
-    failure: Failure,
-    written: Arc<AtomicU64>,
-}
-
-/// Opens the destination with `open` and writes what comes through `rx`
-/// to it, flushed at the end; the first error is kept in `failure` and
-/// ends the thread.
-fn write_all<W: Write>(
-    open: impl FnOnce() -> io::Result<W>,
-    rx: Receiver<Vec<u8>>,
-    shared: &Shared,
-) {
-    let result = (|| -> io::Result<()> {
-        let mut out = open()?;
-        shared.written.fetch_add(1, Ordering::Relaxed);
-        for chunk in rx {
-            out.write_all(&chunk)?;
-            shared.written.fetch_add(1, Ordering::Relaxed);
-        }
-        out.flush()
-    })();
-    if let Err(e) = result {
-        fail(&shared.failure, WriterStop::Write(Arc::new(e)));
-    }
-}
-
 /// The shared emulator's recording, streamed to its destination.
 pub struct ServeRecorder {
     rec: Option<Recorder>,
     /// Idle cycles of the real-time clock not written yet: one `EXEC n`
     /// before the next entry or at the end.
     idle: u64,
-    /// Says (by closing) that the writer thread has ended.
-    ended: Option<Receiver<()>>,
-    shared: Shared,
+    writer: WriterEnd,
     dest: String,
 }
 
@@ -190,35 +90,14 @@ impl ServeRecorder {
         W: Write,
         F: FnOnce() -> io::Result<W> + Send + 'static,
     {
-        let (tx, rx) = sync_channel(QUEUE_CHUNKS);
-        let (end_tx, end_rx) = sync_channel::<()>(0);
-        let shared = Shared::default();
-        let s = shared.clone();
-        // The thread is never joined: a writer blocked in write() must
-        // not hold whoever ends the recording (see `close`).
-        std::thread::Builder::new()
-            .name("serve-record".into())
-            .spawn(move || {
-                write_all(open, rx, &s);
-                drop(end_tx);
-            })?;
-        let out = ToWriter {
-            tx: Some(tx),
-            failure: shared.failure.clone(),
-        };
+        let (out, writer) = spawn(open)?;
         let rec = Recorder::start(Box::new(out), header)?;
         Ok(Self {
             rec: Some(rec),
             idle: 0,
-            ended: Some(end_rx),
-            shared,
+            writer,
             dest: dest.into(),
         })
-    }
-
-    /// The failure on the writer's side, if any.
-    fn failed(&self) -> Option<WriterStop> {
-        self.shared.failure.lock().ok().and_then(|f| f.clone())
     }
 
     /// Runs `f` on the recorder after the idle cycles merged so far; an
@@ -258,45 +137,19 @@ impl ServeRecorder {
             }),
             None => Ok(()),
         };
-        if let Some(ended) = self.ended.take() {
-            if self.failed().is_none() {
-                self.wait_for_writer(&ended)?;
-            }
+        if self.writer.wait().is_err() {
+            return Err(RecordError::Stalled {
+                dest: self.dest.clone(),
+            });
         }
         idle?;
         flushed?;
-        match self.failed() {
+        match self.writer.failed() {
             Some(stop) => Err(RecordError::Stopped {
                 dest: self.dest.clone(),
                 stop,
             }),
             None => Ok(()),
-        }
-    }
-
-    /// Waits until the writer thread ends, or has written nothing for
-    /// [`STALL_LIMIT`].
-    fn wait_for_writer(&self, ended: &Receiver<()>) -> Result<(), RecordError> {
-        const LOOK: Duration = Duration::from_millis(100);
-        let mut seen = self.shared.written.load(Ordering::Relaxed);
-        let mut quiet = Duration::ZERO;
-        loop {
-            match ended.recv_timeout(LOOK) {
-                Ok(()) | Err(RecvTimeoutError::Disconnected) => return Ok(()),
-                Err(RecvTimeoutError::Timeout) => {}
-            }
-            let now = self.shared.written.load(Ordering::Relaxed);
-            quiet = if now == seen {
-                quiet + LOOK
-            } else {
-                Duration::ZERO
-            };
-            seen = now;
-            if quiet >= STALL_LIMIT {
-                return Err(RecordError::Stalled {
-                    dest: self.dest.clone(),
-                });
-            }
         }
     }
 }
