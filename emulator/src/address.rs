@@ -21,13 +21,6 @@ pub enum AddressError {
     NoAddress(String, String),
 }
 
-/// The message, for callers that keep errors as text (the command line).
-impl From<AddressError> for String {
-    fn from(e: AddressError) -> Self {
-        e.to_string()
-    }
-}
-
 /// Reads a server address: `HOST:PORT` (an IP address, `localhost`, or a
 /// host name looked up), or a bare `PORT` meaning `127.0.0.1:PORT`.
 /// `localhost` is `127.0.0.1`, so that a server and its clients agree

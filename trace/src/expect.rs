@@ -1,6 +1,10 @@
 //! The expectation after `=>` and the `<` spool lines of a trace.
 
-use tc_request::text::{parse_dir, parse_f64, parse_int, parse_words, Allow, TextResult};
+use tc_request::text::{parse_dir, parse_f64, parse_int, parse_words, Allow};
+
+/// A line's fault as its message, inside the crate: the reader puts it
+/// into a typed [`crate::TraceError`] with the file and line.
+pub(crate) type TextResult<T> = Result<T, String>;
 use tc_request::Request;
 use uoi::{AccessError, ValueType};
 
@@ -23,7 +27,7 @@ fn parse_err(tokens: &[&str]) -> Option<TextResult<Expect>> {
 }
 
 /// Parses what follows `=>` for `req`.
-pub fn parse_expect(req: &Request, text: &str) -> TextResult<Expect> {
+pub(crate) fn parse_expect(req: &Request, text: &str) -> TextResult<Expect> {
     let tokens: Vec<&str> = text.split_whitespace().collect();
     if let Some(e) = parse_err(&tokens) {
         return e;
@@ -37,8 +41,8 @@ pub fn parse_expect(req: &Request, text: &str) -> TextResult<Expect> {
             let v = single
                 .ok_or_else(|| format!("expected one value or `err NAME`, found `{text}`"))?;
             match ty {
-                ValueType::I32 => parse_int(v).map(Expect::Int),
-                ValueType::F64 => parse_f64(v).map(Expect::Double),
+                ValueType::I32 => Ok(Expect::Int(parse_int(v)?)),
+                ValueType::F64 => Ok(Expect::Double(parse_f64(v)?)),
             }
         }
         Request::Queue => {
@@ -61,7 +65,7 @@ pub fn parse_expect(req: &Request, text: &str) -> TextResult<Expect> {
 
 /// Parses a spool line (after `<`): `LIN X.. Y.. [F..]` or
 /// `CIR CW|CCW X.. I.. [F..]`.
-pub fn parse_spool(line: usize, text: &str) -> TextResult<SpoolExpect> {
+pub(crate) fn parse_spool(line: usize, text: &str) -> TextResult<SpoolExpect> {
     let tokens: Vec<&str> = text.split_whitespace().collect();
     let (verb, rest) = tokens
         .split_first()

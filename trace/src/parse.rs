@@ -8,10 +8,10 @@ use std::io::{BufRead, Read};
 
 use tc_module::check_capacity;
 use tc_module::{CycleTime, AXES};
-use tc_request::text::{parse_f64, parse_request, parse_words, Allow, TextResult};
+use tc_request::text::{parse_f64, parse_request, parse_words, Allow};
 
 use super::echo::shorten;
-use super::expect::{parse_expect, parse_spool};
+use super::expect::{parse_expect, parse_spool, TextResult};
 use super::model::{Expect, Header, Step, Trace, TraceError};
 
 /// Longest line read (a guard against a file without line breaks).

@@ -66,7 +66,8 @@ pub enum TextError {
     NotOnOff(String),
 }
 
-/// The message, for callers that keep errors as text (the trace reader).
+/// The message, for callers that keep a line's fault as text until it
+/// gets its place (the trace reader's `TraceError`).
 impl From<TextError> for String {
     fn from(e: TextError) -> Self {
         e.to_string()

@@ -12,5 +12,5 @@ pub use format::{write_axis_words, write_letters};
 pub use spooled::{centre_offset, format_record, format_record_fed};
 pub use verbs::{parse_dir, parse_request};
 pub use words::{
-    parse_addr, parse_axis, parse_f64, parse_int, parse_type, parse_words, Allow, TextResult, Words,
+    parse_addr, parse_axis, parse_f64, parse_int, parse_type, parse_words, Allow, Words,
 };

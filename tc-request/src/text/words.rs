@@ -6,17 +6,12 @@ use uoi::{ObjectAddress, ValueType};
 use super::error::TextError;
 use crate::axes::{axis_index, AxisWords};
 
-/// A text error kept as its message: the integer and number readers'
-/// results ([`parse_int`], [`parse_f64`]), which the trace reader returns
-/// as its own; every other reader here returns a [`TextError`].
-pub type TextResult<T> = Result<T, String>;
-
 /// Parses an integer: decimal or `0x` hex digits, with at most one sign,
 /// before the digits or before `0x` (`-5`, `+0x1f`, `-0x10`). Hex values
 /// up to `0xffffffff` without `-` are read as the i32 with that bit
 /// pattern; anything else outside the i32 range is an error.
-pub fn parse_int(s: &str) -> TextResult<i32> {
-    Ok(integer(s)?)
+pub fn parse_int(s: &str) -> Result<i32, TextError> {
+    integer(s)
 }
 
 /// An integer, as [`parse_int`] reads it.
@@ -49,8 +44,8 @@ pub(super) fn integer(s: &str) -> Result<i32, TextError> {
 }
 
 /// Parses a double (`inf`, `-inf`, `nan` allowed, to test rejection).
-pub fn parse_f64(s: &str) -> TextResult<f64> {
-    Ok(number(s)?)
+pub fn parse_f64(s: &str) -> Result<f64, TextError> {
+    number(s)
 }
 
 /// A double, as [`parse_f64`] reads it.
@@ -202,10 +197,11 @@ mod tests {
         ] {
             assert_eq!(parse_int(text).ok(), want, "{text:?}");
         }
-        assert!(parse_int("0x-1").unwrap_err().contains("bad integer"));
-        assert!(parse_int("-0x80000001")
-            .unwrap_err()
-            .contains("out of range"));
+        assert_eq!(parse_int("0x-1"), Err(TextError::BadInteger("0x-1".into())));
+        assert_eq!(
+            parse_int("-0x80000001"),
+            Err(TextError::IntegerOutOfRange("-0x80000001".into()))
+        );
     }
 
     #[test]
