@@ -27,6 +27,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use emulator::EmulatorService;
+use tc_objects::TcObject;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
 use tokio_modbus::prelude::{ExceptionCode, Request as MbRequest, Response as MbResponse};
@@ -49,7 +50,7 @@ fn ours() -> Proto {
     let mut request = bytes::BytesMut::new();
     encode_request(
         1,
-        &Request::Read(ObjectAddress::new(1300, 0, 3, 0), ValueType::I32),
+        &Request::Read(TcObject::TcPlane.address(), ValueType::I32),
         &mut request,
     );
     Proto {
