@@ -16,6 +16,7 @@ use otc_ext::OtcExtension;
 use proptest::prelude::*;
 use tc_module::object_map::object_table;
 use tc_module::MAX_COORD;
+use tc_objects::TcObject;
 use tc_request::{ArcDir, Motion, Request, AXES};
 use tokio_util::codec::Encoder;
 use trace::MAX_LINE_BYTES;
@@ -261,9 +262,10 @@ fn stream() -> BoxedStrategy<Vec<u8>> {
 /// motion after them is corrected.
 fn running_group() -> BoxedStrategy<Vec<Request>> {
     let radius = prop_oneof![3 => 0.5..20.0f64, 1 => coord()];
-    (radius, 9u16..=10)
+    let side = prop_oneof![Just(TcObject::Left), Just(TcObject::Right)];
+    (radius, side)
         .prop_map(|(r, side)| {
-            let w = |sub, v| Request::Write(ObjectAddress::new(1300, 1, 1, sub), v);
+            let w = |key: TcObject, v| Request::Write(key.of(1), v);
             vec![
                 Request::Setup {
                     start: [0.0; AXES],
@@ -271,10 +273,10 @@ fn running_group() -> BoxedStrategy<Vec<Request>> {
                     spool_capacity: 0,
                 },
                 Request::SpoolLog { logging: true },
-                w(2, Value::I32(0)),
-                w(6, Value::F64(r)),
+                w(TcObject::GroupReset, Value::I32(0)),
+                w(TcObject::Radius, Value::F64(r)),
                 w(side, Value::I32(0)),
-                w(3, Value::I32(1)),
+                w(TcObject::Status, Value::I32(1)),
             ]
         })
         .boxed()
