@@ -114,7 +114,7 @@ fn served(c: &mut Criterion) {
     let m = Machine::open(&addr).unwrap();
     let h = m.handle(&PLANE).unwrap();
     let mut client = uoi::tcp::BlockingClient::connect(&addr).unwrap();
-    let plane = uoi::ObjectAddress::new(1300, 0, 3, 0);
+    let plane = tc_objects::TcObject::TcPlane.address();
     let mut g = c.benchmark_group("served");
     g.throughput(Throughput::Elements(SERVED_BATCH));
     g.measurement_time(Duration::from_secs(4));

@@ -204,10 +204,10 @@ mod tests {
             note: "stepped".into(),
         };
         let mut r = Recorder::start(Box::new(buf.clone()), &header).unwrap();
-        let plane = ObjectAddress::new(1300, 0, 3, 0);
+        let plane = tc_objects::TcObject::TcPlane.address();
         r.read(plane, ValueType::I32, &Reply::Value(Value::I32(-17)))
             .unwrap();
-        let radius = ObjectAddress::new(1300, 1, 12, 6);
+        let radius = tc_objects::TcObject::Radius.of(12);
         r.read(radius, ValueType::F64, &Reply::Value(Value::F64(2.5)))
             .unwrap();
         let err = Reply::Access(uoi::AccessError::WriteOnly);

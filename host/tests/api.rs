@@ -208,9 +208,9 @@ impl Target for Library {
 
     fn axis_nr(&mut self) -> Result<[u8; 3], String> {
         let mut out = [0u8; 3];
-        for (sub, o) in (0..3).zip(out.iter_mut()) {
+        for (k, o) in (0..3).zip(out.iter_mut()) {
             let h = self
-                .handle(ObjectAddress::new(1300, 0, 2, sub))
+                .handle(tc_objects::TcObject::AxisNr.sub(k))
                 .map_err(|e| e.to_string())?;
             *o = self.m.read_int(h).map_err(|e| e.to_string())? as u8;
         }
