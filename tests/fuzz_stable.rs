@@ -141,6 +141,17 @@ fn motion() -> BoxedStrategy<Motion> {
     .boxed()
 }
 
+/// The address of bus 1300 at `device`, `index`, `sub`: Clean's address
+/// with those replaced (docs/decisions.md, decision 522).
+fn on_the_bus(device: u16, index: u16, sub: u16) -> ObjectAddress {
+    ObjectAddress {
+        device,
+        index,
+        sub,
+        ..TcObject::Clean.address()
+    }
+}
+
 /// A write or read of an object of the emulator's map (of the first
 /// groups), with a value of its type mostly; now and then any address.
 fn access() -> BoxedStrategy<Request> {
@@ -159,7 +170,7 @@ fn access() -> BoxedStrategy<Request> {
         any::<(u16, u16, u16, u16)>().prop_map(|(b, d, i, s)| ObjectAddress::new(b, d, i, s));
     prop_oneof![
         6 => (row.clone(), value(), any::<bool>()).prop_map(|((d, i, s, ty), v, typed)| {
-            let a = ObjectAddress::new(1300, d, i, s);
+            let a = on_the_bus(d, i, s);
             let v = match (typed, ty, v) {
                 (true, ValueType::F64, Value::I32(n)) => Value::F64(f64::from(n)),
                 (true, ValueType::I32, Value::F64(x)) => Value::I32(x as i32),
@@ -167,7 +178,7 @@ fn access() -> BoxedStrategy<Request> {
             };
             Request::Write(a, v)
         }),
-        2 => row.prop_map(|(d, i, s, ty)| Request::Read(ObjectAddress::new(1300, d, i, s), ty)),
+        2 => row.prop_map(|(d, i, s, ty)| Request::Read(on_the_bus(d, i, s), ty)),
         1 => (any_addr, value()).prop_map(|(a, v)| Request::Write(a, v)),
     ]
     .boxed()
