@@ -34,7 +34,7 @@ use tokio_modbus::prelude::{ExceptionCode, Request as MbRequest, Response as MbR
 use tokio_modbus::server::tcp::{accept_tcp_connection, Server as MbServer};
 use uoi::tcp::{Server, ServerConfig};
 use uoi::wire::{encode_request, Request};
-use uoi::{ObjectAddress, ValueType};
+use uoi::ValueType;
 
 /// One protocol as the raw client sees it.
 #[derive(Clone)]

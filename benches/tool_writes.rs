@@ -44,7 +44,7 @@ use tool_store::Writer;
 use tool_store::{FsStorage, Storage, Strictness, ToolStore};
 use uoi::tcp::{Server, ServerConfig};
 use uoi::wire::{decode_answer, encode_request, Answer, ClientCodec, Op, Request};
-use uoi::{ObjectAddress, Value, ValueType};
+use uoi::{Value, ValueType};
 
 /// [`FsStorage`] that counts journal syncs and tool files written.
 #[derive(Debug)]

@@ -370,7 +370,8 @@ fn two_hundred_clients_a_thousand_requests_each() {
         .build()
         .expect("rt");
     // Each object of a group, and whether it holds a double.
-    let objects: [(fn(u16) -> ObjectAddress, bool); 7] = [
+    type OfGroup = fn(u16) -> ObjectAddress;
+    let objects: [(OfGroup, bool); 7] = [
         (|g| TcObject::Radius.of(g), true),
         (|g| TcObject::WkzLen.of(g), true),
         (|g| OtcObject::WearConst.of(g), true),
