@@ -1,4 +1,4 @@
-//! The OPC UA face next to the UOI face (issue 12), on one `addipos serve
+//! The OPC UA face next to the UOI face, on one `addipos serve
 //! --opcua` process: sequential reads (one object per request), batched
 //! reads (100 objects per OPC UA Read, 100 pipelined UOI READs), the
 //! server's CPU time per read, and the latency of a subscription seeing a

@@ -1,7 +1,11 @@
-//! Loopback benchmark of the object server (issue 4), with a tokio-modbus
+//! Loopback benchmark of the object server, with a tokio-modbus
 //! TCP server answering read-holding-registers as a reference in the same
 //! run and with the same client pattern: a raw client that writes request
-//! frames and reads fixed-size answers.
+//! frames and reads fixed-size answers. A third server is the floor: on
+//! the same loopback path and runtime, it answers every request frame of
+//! our protocol with a fixed answer frame and does nothing else, so ours
+//! ÷ floor says how much of the kernel's best our server keeps, and
+//! tokio-modbus ÷ floor the same of the reference.
 //!
 //! Run: `cargo bench --bench server` (results go to docs/performance.md).
 //! The server and the clients each run on one current-thread runtime, so
@@ -33,8 +37,8 @@ use tokio::net::{TcpListener, TcpStream};
 use tokio_modbus::prelude::{ExceptionCode, Request as MbRequest, Response as MbResponse};
 use tokio_modbus::server::tcp::{accept_tcp_connection, Server as MbServer};
 use uoi::tcp::{Server, ServerConfig};
-use uoi::wire::{encode_request, Request};
-use uoi::ValueType;
+use uoi::wire::{encode_answer, encode_request, Answer, Op, Request, PREFIX_LEN};
+use uoi::{Value, ValueType};
 
 /// One protocol as the raw client sees it.
 #[derive(Clone)]
@@ -59,6 +63,22 @@ fn ours() -> Proto {
         answer_len: 28,
         check: |a| a[12..16] == [0, 0, 0, 0] && a[20] == 17,
     }
+}
+
+/// The floor speaks our protocol: the same request, the same answer.
+fn floor() -> Proto {
+    Proto {
+        name: "floor (fixed answer)",
+        ..ours()
+    }
+}
+
+/// The answer the floor sends to every request frame: what our server
+/// answers to [`ours`]'s read (PLANE, 17), encoded once.
+fn floor_answer() -> Vec<u8> {
+    let mut out = bytes::BytesMut::new();
+    encode_answer(1, Op::Read.code(), &Answer::Value(Value::I32(17)), &mut out);
+    out.to_vec()
 }
 
 fn modbus() -> Proto {
@@ -164,6 +184,47 @@ async fn serve_modbus(tx: std::sync::mpsc::Sender<SocketAddr>) {
     let _ = server.serve(&on_connected, |_e| {}).await;
 }
 
+/// The floor: accepts on loopback and serves each connection by
+/// [`floor_connection`], one task each, on the same kind of runtime.
+async fn serve_floor(tx: std::sync::mpsc::Sender<SocketAddr>) {
+    let listener = TcpListener::bind("127.0.0.1:0").await.expect("bind");
+    tx.send(listener.local_addr().expect("addr")).expect("send");
+    let answer: Arc<[u8]> = floor_answer().into();
+    while let Ok((stream, _)) = listener.accept().await {
+        stream.set_nodelay(true).expect("nodelay");
+        tokio::spawn(floor_connection(stream, Arc::clone(&answer)));
+    }
+}
+
+/// Reads what the socket has, answers every whole frame in it (found by
+/// its length prefix) with `answer`, and writes the answers in one go:
+/// no decoding, no handler, no lock.
+async fn floor_connection(mut s: TcpStream, answer: Arc<[u8]>) {
+    let mut buf = bytes::BytesMut::with_capacity(64 * 1024);
+    let mut out = Vec::with_capacity(64 * 1024);
+    loop {
+        match s.read_buf(&mut buf).await {
+            Ok(0) | Err(_) => return,
+            Ok(_) => {}
+        }
+        while buf.len() >= PREFIX_LEN {
+            let prefix: [u8; PREFIX_LEN] = buf[..PREFIX_LEN].try_into().expect("prefix");
+            let whole = PREFIX_LEN + u32::from_le_bytes(prefix) as usize;
+            if buf.len() < whole {
+                break;
+            }
+            let _ = buf.split_to(whole);
+            out.extend_from_slice(&answer);
+        }
+        if !out.is_empty() {
+            if s.write_all(&out).await.is_err() {
+                return;
+            }
+            out.clear();
+        }
+    }
+}
+
 /// Sequential round trips with the servers and the client on one thread:
 /// no cross-core wake-up, so this shows the cost of the software itself.
 /// `keys`: "ours" and/or "modbus", served side by side and taking turns
@@ -181,6 +242,10 @@ fn sequential_same_thread(keys: &[&str], n: usize) -> Vec<(f64, f64, f64)> {
                 "modbus" => {
                     tokio::spawn(serve_modbus(tx));
                     modbus()
+                }
+                "floor" => {
+                    tokio::spawn(serve_floor(tx));
+                    floor()
                 }
                 _ => {
                     tokio::spawn(serve_ours(tx));
@@ -210,6 +275,10 @@ fn start_ours() -> Running {
 
 fn start_modbus() -> Running {
     start(serve_modbus)
+}
+
+fn start_floor() -> Running {
+    start(serve_floor)
 }
 
 async fn connect(addr: SocketAddr) -> TcpStream {
@@ -403,7 +472,7 @@ async fn pipelined(
 
 /// What to run, from the command line (after `--`): `--quick` (short
 /// runs), `--rounds N` (default 5, quick 3), `--only seq|pipe|same` (one
-/// section), `--target ours|modbus` (one server; for profiling), `--n N`
+/// section), `--target ours|modbus|floor` (one server; for profiling), `--n N`
 /// (sequential round trips per round) and `--total N` (pipelined requests
 /// per connection count and round).
 struct Args {
@@ -529,12 +598,13 @@ fn ratio(a: &Samples, b: &Samples) -> String {
 
 /// Starts the servers `args` asks for (each on its own thread).
 fn start_targets(args: &Args) -> Vec<Target> {
-    ["ours", "modbus"]
+    TARGETS
         .into_iter()
         .filter(|key| args.target(key))
         .map(|key| {
             let (proto, running) = match key {
                 "ours" => (ours(), start_ours()),
+                "floor" => (floor(), start_floor()),
                 _ => (modbus(), start_modbus()),
             };
             Target {
@@ -545,6 +615,9 @@ fn start_targets(args: &Args) -> Vec<Target> {
         })
         .collect()
 }
+
+/// The servers of a full run, by key.
+const TARGETS: [&str; 3] = ["ours", "modbus", "floor"];
 
 /// The figures of every round.
 struct Results {
@@ -567,10 +640,7 @@ fn run_rounds(args: &Args, targets: &[Target], seq_n: usize, total: usize) -> Re
         .build()
         .expect("runtime");
     let servers: Vec<(&Proto, Running)> = targets.iter().map(|t| (&t.proto, t.running)).collect();
-    let same_keys: Vec<&'static str> = ["ours", "modbus"]
-        .into_iter()
-        .filter(|k| args.target(k))
-        .collect();
+    let same_keys: Vec<&'static str> = TARGETS.into_iter().filter(|k| args.target(k)).collect();
     let mut res = Results {
         figs: targets.iter().map(|_| Figures::default()).collect(),
         same: same_keys.iter().map(|_| Default::default()).collect(),
@@ -637,10 +707,10 @@ fn print_tables(targets: &[Target], res: &Results) {
     println!("| server, client on the same thread | sequential req/s | p50 µs | p99 µs |");
     println!("|---|---|---|---|");
     for (key, s) in res.same_keys.iter().zip(&res.same) {
-        let name = if *key == "modbus" {
-            "tokio-modbus"
-        } else {
-            "addipos UOI"
+        let name = match *key {
+            "modbus" => modbus().name,
+            "floor" => floor().name,
+            _ => ours().name,
         };
         println!(
             "| {name} | {} | {} | {} |",
@@ -688,6 +758,37 @@ fn print_ratios(targets: &[Target], res: &Results) {
     );
 }
 
+/// Each server ÷ the floor, round by round, in req/s: how much of the
+/// loopback path's best each keeps (1 is the floor itself).
+fn print_floor_ratios(targets: &[Target], res: &Results) {
+    let Some(f) = targets.iter().position(|t| t.key == "floor") else {
+        return;
+    };
+    let same_floor = res.same_keys.iter().position(|k| *k == "floor");
+    let floor = &res.figs[f].0;
+    println!();
+    println!("| ÷ floor, req/s per round | sequential | pipelined 1 conn | 8 conns | 64 conns | same thread |");
+    println!("|---|---|---|---|---|---|");
+    for (t, figs) in targets.iter().zip(&res.figs) {
+        if t.key == "floor" {
+            continue;
+        }
+        let same = match (res.same_keys.iter().position(|k| *k == t.key), same_floor) {
+            (Some(i), Some(j)) => ratio(&res.same[i][0], &res.same[j][0]),
+            _ => "–".into(),
+        };
+        let l = &figs.0;
+        println!(
+            "| {} ÷ floor | {} | {} | {} | {} | {same} |",
+            t.proto.name,
+            ratio(&l[SEQ_RATE], &floor[SEQ_RATE]),
+            ratio(&l[PIPE_RATE], &floor[PIPE_RATE]),
+            ratio(&l[PIPE_RATE + 1], &floor[PIPE_RATE + 1]),
+            ratio(&l[PIPE_RATE + 2], &floor[PIPE_RATE + 2]),
+        );
+    }
+}
+
 fn main() {
     let args = Args::parse();
     let (seq_n, total) = if args.quick {
@@ -712,4 +813,5 @@ fn main() {
     println!();
     print_tables(&targets, &res);
     print_ratios(&targets, &res);
+    print_floor_ratios(&targets, &res);
 }

@@ -1,4 +1,4 @@
-//! Durable tool writes (issue 10): acknowledged tool writes per second
+//! Durable tool writes: acknowledged tool writes per second
 //! with 1, 8 and 64 pipelining clients, the disk's fdatasync latency
 //! measured in the same run, and reads and non-tool writes with
 //! persistence on and off (they must not wait for the disk).

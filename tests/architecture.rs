@@ -1,10 +1,12 @@
-//! Architecture checks (issue 18), run on the tree as it is when the test
+//! Architecture checks (docs/architecture.md, "Architecture checks"), run on the tree as it is when the test
 //! runs:
 //!
 //! 1. no module of any crate imports a module that imports it back;
 //! 2. no bus-1300 address is written outside the object table
 //!    (`objects/src`);
-//! 3. the root package is the command line only.
+//! 3. the root package is the command line only;
+//! 4. no comment cites a tracker's issue number (a clone has none);
+//! 5. no public API reports its errors as `Result<_, String>`.
 //!
 //! Each reads the sources with `syn` (use trees, paths, literals and
 //! `#[cfg(test)]` read as the compiler reads them, not guessed by a text
@@ -14,6 +16,8 @@
 
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
+#[path = "architecture/citations.rs"]
+mod citations;
 #[path = "architecture/cli_root.rs"]
 mod cli_root;
 #[path = "architecture/cycles.rs"]
@@ -30,6 +34,8 @@ mod literals;
 mod modtree;
 #[path = "architecture/resolve.rs"]
 mod resolve;
+#[path = "architecture/string_errors.rs"]
+mod string_errors;
 #[path = "architecture/workspace.rs"]
 mod workspace;
 
@@ -164,4 +170,55 @@ fn every_workspace_member_is_read() {
             shown(&dir)
         );
     }
+}
+
+#[test]
+fn no_comment_cites_an_issue_number() {
+    let root = root();
+    let mut found = Vec::new();
+    for dir in package_dirs(&root) {
+        for file in every_rust_file(&dir) {
+            if file.starts_with(root.join(CHECKER_DIR)) {
+                continue;
+            }
+            let text = read_disk(&file).unwrap_or_default();
+            for line in citations::issue_citations(&text) {
+                found.push(format!("{}:{line}", shown(&file)));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "{} comment(s) cite an issue number; cite docs/ or a decision instead:\n{}",
+        found.len(),
+        found.join("\n")
+    );
+}
+
+#[test]
+fn no_public_api_reports_errors_as_strings() {
+    let mut found = Vec::new();
+    for krate in crate_roots(&root()) {
+        let tree = ModuleTree::load(&krate.root_file, &read_disk);
+        for file in rust_files(&krate.dir.join("src")) {
+            if tree.is_test_file(&file) {
+                continue;
+            }
+            let text = read_disk(&file).unwrap_or_default();
+            match string_errors::string_errors(&text) {
+                Ok(items) => found.extend(
+                    items
+                        .into_iter()
+                        .map(|(line, name)| format!("{}:{line}: {name}", shown(&file))),
+                ),
+                Err(e) => found.push(format!("{}: {e}", shown(&file))),
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "{} public item(s) report errors as strings (give them a typed error):\n{}",
+        found.len(),
+        found.join("\n")
+    );
 }

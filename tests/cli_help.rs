@@ -1,5 +1,5 @@
-//! Every command's `--help` states the exit statuses of that command
-//! (issue 21), not one text shared by all.
+//! Every command's `--help` states the exit statuses of that command,
+//! not one text shared by all.
 
 // Test helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]

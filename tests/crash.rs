@@ -1,11 +1,11 @@
-//! Crash test of durable tool data (issue 10): `addipos serve` as a child
+//! Crash test of durable tool data: `addipos serve` as a child
 //! process, many connections writing tool values pipelined, SIGKILL at a
 //! random moment, restart on the same data directory. Every acknowledged
 //! write must be there (or a write to the same field sent after it), no
 //! field may hold a value that was never sent, and the tool files and the
 //! journal left by the kill must load strictly.
 //!
-//! Issue 20 adds rounds where the journal is deleted while the writes run
+//! Further rounds where the journal is deleted while the writes run
 //! (every fourth round), and a run on a small volume (a tmpfs, where
 //! mounting one is allowed) that a ballast file fills while the writes
 //! run: the writes it refuses are not acknowledged, no acknowledged one is

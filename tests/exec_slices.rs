@@ -1,5 +1,5 @@
 //! A huge `EXEC` with an active per-cycle model does not hold the
-//! emulator for its whole length (issue 8 point 1): the server runs it
+//! emulator for its whole length: the server runs it
 //! slice by slice, and another connection is answered while it is still
 //! under way. No timing: a test model counts its cycles and ends the
 //! `EXEC` only when the test says so.

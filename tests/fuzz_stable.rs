@@ -68,7 +68,7 @@ fn seed_corpus_and_regressions_pass() {
 /// Found by `frame_sequence` (60 s smoke run): RADIUS -1.68e212 was
 /// taken, and a corrected `LIN X8 Y0` spooled an end at Y -1.68e212.
 /// Fixed by the ranges of RADIUS, WkzLen and the rotation centre and the
-/// limit on what enters the spooler (issue 8).
+/// limit on what enters the spooler.
 #[test]
 fn radius_beyond_the_coordinate_limit() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/regressions/frame_sequence");

@@ -47,7 +47,7 @@ fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
 }
 
-/// Issue 8, point 9 (and issue 21): against a listener that accepts (the
+/// Against a listener that accepts (the
 /// kernel does) but never answers, both commands give up after
 /// `--timeout` with a message naming the address and the time, and exit 2
 /// (no UOI server could be reached).
@@ -74,7 +74,7 @@ fn call_and_replay_give_up_on_a_server_that_never_answers() {
     assert!(said.contains(&reach) && said.contains(want), "{said}");
 }
 
-/// Issue 8, point 13, end to end: `serve` generates the token file
+/// End to end: `serve` generates the token file
 /// (owner only), logs where it is but not the token, and `call` gets in
 /// only with the token (file, option or environment).
 #[test]

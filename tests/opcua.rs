@@ -1,9 +1,9 @@
-//! The OPC UA face of the emulator (issue 12) with a real OPC UA client
+//! The OPC UA face of the emulator with a real OPC UA client
 //! (async-opcua's) on loopback, beside the UOI face: the tree, reads and
 //! writes of every device, every refusal status, subscriptions seeing the
 //! UOI face's writes, the executor and the correction, and `addipos serve
 //! --opcua` itself (open, and guarded by the access token). And the
-//! emulator as a machine of OPC 40501-1 (issue 22): tools from its tool
+//! emulator as a machine of OPC 40501-1: tools from its tool
 //! tables, the wear of OTC in their ToolLife, every mandatory node.
 
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]

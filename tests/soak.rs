@@ -1,4 +1,4 @@
-//! Soak test (issue 8): 64 clients on loopback against the real `serve`
+//! Soak test: 64 clients on loopback against the real `serve`
 //! binary for a bounded time, mixing valid requests, malformed frames,
 //! clients that never read their answers, huge `EXEC`s and spooler floods
 //! (on the shared emulator and in conformance sessions). Afterwards a fresh

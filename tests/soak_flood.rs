@@ -1,4 +1,4 @@
-//! Soak test (issue 20): a connection flood from one address and
+//! Soak test: a connection flood from one address and
 //! abandoned `EXEC`s against a server that asks every peer, loopback too,
 //! for the access token. A client that has presented the token and polls
 //! the position loses no request while the flood runs; once the

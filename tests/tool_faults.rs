@@ -1,12 +1,12 @@
-//! Durable before acknowledged, with a disk that fails on purpose (issue
-//! 10): the emulator served over TCP keeps its tool data in a tool store
+//! Durable before acknowledged, with a disk that fails on purpose: the
+//! emulator served over TCP keeps its tool data in a tool store
 //! on a `FaultyStorage`. A write the disk refuses is answered `Storage`
 //! and changes nothing; later writes work; after a restart (the store
 //! reopened from what the disk holds, after a crash or a clean stop) no
 //! acknowledged write is lost and no refused write is visible.
 //!
-//! Issue 20: a journal deleted under the server (point 11), and a small
-//! volume, simulated and real, that the journal must not wedge (point 13).
+//! Also a journal deleted under the server, and a small volume,
+//! simulated and real, that the journal must not wedge.
 
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
@@ -408,7 +408,7 @@ fn a_refused_reset_or_otc_off_changes_nothing_at_all() {
     }
 }
 
-/// Issue 20, point 11: the journal deleted, then replaced, under a running
+/// The journal deleted, then replaced, under a running
 /// server. Each write after it is acknowledged only once the journal is
 /// made anew; a crash then loses nothing, the writes before the deletion
 /// included.
@@ -450,7 +450,7 @@ fn radius_record(g: u8, index: u16, mm: f64) -> String {
     .encode()
 }
 
-/// The 256 KB volume of issue 20.
+/// A small volume: 256 KB.
 const VOLUME: u64 = 256 << 10;
 
 /// The `n`-th write of the 512 live values (16 groups of 32 entries):
@@ -496,7 +496,7 @@ fn live_values_held(store: &ToolStore<MemStorage>, writes: std::ops::Range<u32>)
     assert_eq!(store.values().count(), 512);
 }
 
-/// Issue 20, point 13, on a simulated 256 KB volume: 512 live values and
+/// On a simulated 256 KB volume: 512 live values and
 /// 6,000 writes are all acknowledged (before, the journal filled the
 /// volume after about 5,500 and every later write was refused, also after
 /// a restart); after a crash every value is there and writes go on.
@@ -604,7 +604,7 @@ fn load_dir(tools: &Path) -> ToolStore<MemStorage> {
     reopen(mem)
 }
 
-/// Issue 20, point 13, on a real 256 KB file system: 512 live values and
+/// On a real 256 KB file system: 512 live values and
 /// 6,000 writes, all acknowledged. Then the volume is filled by something
 /// else: writes are refused (`Storage`) and leave no temporary file; once
 /// the room is back they work, and after a restart every acknowledged

@@ -1,13 +1,12 @@
-//! Starting `addipos serve` on damaged tool data (issue 10): a bad line of
+//! Starting `addipos serve` on damaged tool data: a bad line of
 //! a tool file or of the journal (other than its torn last record) refuses
 //! the start, naming the file and the line; `--ignore-bad-tools` starts
 //! anyway, logs every skipped line and keeps a copy of each damaged file;
 //! a torn last journal record (cut off before its newline) is dropped
 //! with a log line and the server starts.
 //!
-//! Issue 20: a complete last record with a bad checksum is damage, not a
-//! torn write (point 12); leftover temporary files are removed at start
-//! (point 13).
+//! A complete last record with a bad checksum is damage, not a
+//! torn write; leftover temporary files are removed at start.
 
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
@@ -221,7 +220,7 @@ fn bad_copies(dir: &Path, file: &str) -> Vec<PathBuf> {
         .collect()
 }
 
-/// Issue 20, point 12: a bit flip in the last complete journal record is
+/// A bit flip in the last complete journal record is
 /// not a torn write. The start is refused with the file and the line, and
 /// nothing is cut off the journal; `--ignore-bad-tools` starts without
 /// it, after keeping a copy of the journal as it was.
@@ -252,7 +251,7 @@ fn a_bit_flip_in_the_last_complete_record_refuses_the_start() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Issue 20, point 13: a temporary file left by a compaction cut short
+/// A temporary file left by a compaction cut short
 /// (here a 0-byte one, as a full disk left it) is removed at start, and
 /// the log says so.
 #[test]

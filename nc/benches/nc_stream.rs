@@ -1,4 +1,4 @@
-//! Throughput and memory of a streamed NC run (issue 11): a generated
+//! Throughput and memory of a streamed NC run: a generated
 //! program of 1,000,000 lines and arcs with TRC on goes through the two
 //! passes of a run (check, then parse + interpretation) into the
 //! correction of `tc-module`; the same requests, built once beforehand, are

@@ -392,7 +392,7 @@ mod tests {
         assert!(round(&mut kept[0], &hello).await.is_some());
     }
 
-    /// Issue 20, point 8: a client that opens a channel and creates a
+    /// A client that opens a channel and creates a
     /// session but never activates it (one message) is closed after the
     /// activation time; one that sends both messages stays.
     #[tokio::test]

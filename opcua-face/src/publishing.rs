@@ -2,8 +2,8 @@
 //! asks for.
 //!
 //! The OPC UA library revises a subscription's publishing interval only up
-//! to a minimum: an interval of `inf` or 1e12 ms was kept as asked (issue
-//! 20), and a subscription that never publishes holds its place for ever.
+//! to a minimum: an interval of `inf` or 1e12 ms was kept as asked,
+//! and a subscription that never publishes holds its place for ever.
 //! On a channel without security (`SecurityPolicy#None`: the anonymous
 //! clients on loopback) the door reads `CreateSubscription` and
 //! `ModifySubscription` requests and lowers an interval above

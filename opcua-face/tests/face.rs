@@ -675,7 +675,7 @@ async fn a_read_too_large_for_a_response_is_refused_before_it_is_built() {
     rig.stop().await;
 }
 
-/// Issue 20, point 10: a publishing interval of 1e12 ms (or an endless
+/// A publishing interval of 1e12 ms (or an endless
 /// one) is revised to the door's bound on a channel without security; an
 /// ordinary one is kept. The client connects to the endpoint GetEndpoints
 /// describes: the revision shows that its session went through the door

@@ -1,6 +1,6 @@
 //! Cost of one interpolation cycle with the OTC wear model on, per
-//! processing type, next to the executor alone on the same elements
-//! (issue 9). Every figure runs `EXEC 10000` per iteration on a long
+//! processing type, next to the executor alone on the same elements.
+//! Every figure runs `EXEC 10000` per iteration on a long
 //! spooled contour of a running correction (lines with B moving, half
 //! circles CW and CCW, circular transitions, inside corners) at 0.1 per
 //! cycle; the spooler is topped up between iterations, outside the timed

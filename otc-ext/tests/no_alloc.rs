@@ -1,4 +1,4 @@
-//! The per-cycle step with OTC on allocates nothing (issue 9): a counting
+//! The per-cycle step with OTC on allocates nothing: a counting
 //! global allocator watches `EXEC` cycles of every processing type in AUTO
 //! (continuous wear on a running correction, a PLC unit ramping), moving
 //! along lines, arcs and transitions, crossing element ends, and idle on an

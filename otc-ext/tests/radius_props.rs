@@ -1,4 +1,4 @@
-//! Property tests of OTC RADIUS CONT on a running correction (issue 9):
+//! Property tests of OTC RADIUS CONT on a running correction:
 //! random open and closed contours of lines and arcs, left or right,
 //! circular or linear transitions, random radius, feeds and wear constant.
 //!

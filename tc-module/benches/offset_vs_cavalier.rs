@@ -16,8 +16,8 @@
 //!   is emptied every [`DRAIN`] profiles as an executor would;
 //! * `ours/command`: the whole `TcModule::command` path (intake, rotation,
 //!   correction, spooler), emptied the same way;
-//! * `cavalier 0.9` (newest) and `cavalier 0.7` (the API named in issue
-//!   7: `pline_offset::create_raw_offset_polyline`): `parallel_offset`
+//! * `cavalier 0.9` (newest) and `cavalier 0.7` (the API the
+//!   first comparison used: `pline_offset::create_raw_offset_polyline`): `parallel_offset`
 //!   and the raw offset step alone (offset pieces joined corner by corner,
 //!   no self-intersection clean-up).
 

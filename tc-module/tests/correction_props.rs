@@ -1,4 +1,4 @@
-//! Property tests of the correction (issue 3, point 6): for random open and
+//! Property tests of the correction: for random open and
 //! closed contours whose features are larger than the tool radius, every
 //! corrected element keeps the distance |r| from the programmed contour on
 //! the requested side, consecutive elements are continuous, and the

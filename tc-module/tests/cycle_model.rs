@@ -1,4 +1,4 @@
-//! The per-cycle seam (issue 7): a test model that adds a constant offset
+//! The per-cycle seam: a test model that adds a constant offset
 //! along the contour normal proves that the model is called once per
 //! interpolation cycle, that its offset shows in the executed position and
 //! never in the spool log, that `EXEC` and `EXEC n` agree, and that a cycle

@@ -1,4 +1,4 @@
-//! Engine hardening against a hostile client (issue 8, points 1-4): no
+//! Engine hardening against a hostile client: no
 //! step that vanishes, no NaN from what enters the spooler, a bounded
 //! spooler that gives its memory back, plane-null profiles counted, and
 //! `EXEC` bounded by elements (or sliced for an active model, with idle

@@ -1,5 +1,5 @@
-//! Property tests of programmed full circles (issue 8, point 18; issue
-//! 20, point 3; decisions 48, 76, 77 and 330: a programmed full circle
+//! Property tests of programmed full circles (decisions 48, 76, 77 and
+//! 330: a programmed full circle
 //! keeps its whole turn): a full circle entered at a tangent, or nearly
 //! so, is corrected as a whole turn, on either side and in either
 //! direction, whether it is left by a flush, at a tangent, at an outside
@@ -523,7 +523,7 @@ proptest! {
     })]
 
     /// Tilted entries whose corrected start lies more than 1e-7 rad before
-    /// the circle's offset start (issue 20, point 3): a whole turn ending
+    /// the circle's offset start: a whole turn ending
     /// on that start, then on to the circle's own end (its offset end
     /// after a flush, a tangent or an outside corner; the cut at an inside
     /// corner), so that the next element starts on its own offset geometry.

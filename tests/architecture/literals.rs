@@ -334,13 +334,11 @@ pub fn is_trace_text(text: &str) -> bool {
         let head = text[..i].trim_end_matches(' ');
         let spaced = head.len() < i;
         let verb = head.ends_with(['R', 'W', 'r', 'w']);
-        let alone = head.len() < 2 || !head[..head.len() - 1].ends_with(|c: char| c.is_alphanumeric());
+        let alone =
+            head.len() < 2 || !head[..head.len() - 1].ends_with(|c: char| c.is_alphanumeric());
         spaced && verb && alone
     };
-    !text.contains("{TC_BUS}/")
-        && text
-            .match_indices("1300/")
-            .all(|(i, _)| after_verb(i))
+    !text.contains("{TC_BUS}/") && text.match_indices("1300/").all(|(i, _)| after_verb(i))
 }
 
 /// `1300`, or a path ending in `TC_BUS` (through parentheses and casts).

@@ -105,7 +105,7 @@ fn a_client_that_never_reads_is_closed_when_idle_and_frees_its_place() {
     }
 }
 
-/// Issue 8, point 7: a frame whose first two bytes arrive before a look
+/// A frame whose first two bytes arrive before a look
 /// of the watchdog and the rest after it is answered (the read is not
 /// cancelled halfway through the length prefix).
 #[test]
@@ -124,7 +124,7 @@ fn a_frame_split_across_a_watchdog_look_is_answered() {
     assert_eq!(read_answer(&mut s), (6, 6));
 }
 
-/// Issue 8, point 8: a READ followed by two bytes of the next frame is
+/// A READ followed by two bytes of the next frame is
 /// answered at once, not when the next frame is complete.
 #[test]
 fn a_read_and_two_bytes_of_the_next_frame_get_the_answer_at_once() {
@@ -137,7 +137,7 @@ fn a_read_and_two_bytes_of_the_next_frame_get_the_answer_at_once() {
     assert_eq!(read_answer(&mut s), (1, 1));
 }
 
-/// Issue 8, point 6: a client that floods requests and then takes its
+/// A client that floods requests and then takes its
 /// answers a few bytes at a time cannot keep its place: the answers
 /// waiting for it must leave within the write timeout. The idle timeout
 /// is far away, so only the write timeout can free the place.
@@ -181,7 +181,7 @@ fn a_client_that_takes_its_answers_a_trickle_at_a_time_loses_its_place() {
     trickle.join().expect("trickle");
 }
 
-/// Issue 8, point 6: clients from one address that hold connections
+/// Clients from one address that hold connections
 /// without using them cannot lock out another host. 127.0.0.1 plays the
 /// greedy host, 127.0.0.2 the other one (loopback counted per address as
 /// a remote host would be; eviction off, so the limit alone acts).
@@ -233,7 +233,7 @@ fn guarded() -> ServerConfig {
 const UNAUTHORIZED: u32 = 0xE000_0008;
 const HELLO: u8 = 0x03;
 
-/// Issue 8, point 13: before a valid HELLO, every frame is answered
+/// Before a valid HELLO, every frame is answered
 /// `Unauthorized` and the connection closed.
 #[test]
 fn a_peer_that_must_present_the_token_gets_nothing_else_before_it() {
@@ -328,7 +328,7 @@ fn a_remote_listener_needs_a_token() {
     assert!(err.to_string().contains("access token"), "{err}");
 }
 
-/// Issue 8, point 9: a server that accepts but never answers, and one
+/// A server that accepts but never answers, and one
 /// whose backlog is full, make the client give up with an error that
 /// names the address and the time waited.
 #[test]
@@ -409,7 +409,7 @@ fn non_loopback_address() -> Option<std::net::IpAddr> {
     (!ip.is_loopback() && !ip.is_unspecified()).then_some(ip)
 }
 
-/// Issue 8, point 13, with a real non-loopback peer where the machine
+/// With a real non-loopback peer where the machine
 /// has a network interface: a server on 0.0.0.0 asks a connection to its
 /// network address for the token, not one over loopback.
 #[test]

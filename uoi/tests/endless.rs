@@ -4,7 +4,7 @@
 //! being served is progress (the idle timeout does not cut it off); once
 //! its client closes the connection no further slice of it runs; and a
 //! request stopped by the server's shutdown is answered `Stopped` with its
-//! own op and id (issue 20, points 5 and 6).
+//! own op and id.
 
 // Test helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]

@@ -94,7 +94,7 @@ impl InUse {
     }
 }
 
-/// Issue 8, point 6: 8 places held by clients that never read their
+/// 8 places held by clients that never read their
 /// answers (one flooding until the server's writes block), never complete
 /// a request (half a frame) or stay silent; fresh clients from the same
 /// address are served each in the place of one of them, and every one of
@@ -181,7 +181,7 @@ fn at_its_own_limit_an_address_makes_room_among_its_own() {
     assert_eq!(open, 2, "one of 127.0.0.1's own made room");
 }
 
-/// Issue 8, point 6: with the default limits, 64 clients on this machine
+/// With the default limits, 64 clients on this machine
 /// (a load test on loopback) are all served, and keep their places.
 #[test]
 fn sixty_four_local_clients_with_default_limits_are_all_served() {
@@ -199,7 +199,7 @@ fn sixty_four_local_clients_with_default_limits_are_all_served() {
     }
 }
 
-/// Issue 20, point 7: a client polling slower than the eviction grace,
+/// A client polling slower than the eviction grace,
 /// which has presented the token (`token`) or only completed requests, is
 /// never closed to make room for the connections a flood from its own
 /// address opens and holds: it loses no request while the flood runs.
@@ -264,7 +264,7 @@ fn a_client_that_completed_requests_is_not_evicted_by_a_flood() {
     a_polling_client_loses_nothing_to_a_flood(false);
 }
 
-/// Issue 20, point 7: connections from one address beyond its burst of
+/// Connections from one address beyond its burst of
 /// new connections are answered `Busy` at once and closed, though places
 /// are free; those within it are served.
 #[test]

@@ -1,6 +1,6 @@
-//! Issue 20, point 9: the log lines a client can make the server repeat
+//! The log lines a client can make the server repeat
 //! (a wrong token, a connection refused) are written at most once a second
-//! per kind, with the count of lines left out; and issue 20, point 10: a
+//! per kind, with the count of lines left out; and a
 //! HELLO to a server without a token answers `BadPayload` for a malformed
 //! payload, `Ok` for an empty one or one shaped like a token.
 

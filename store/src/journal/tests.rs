@@ -121,7 +121,7 @@ fn torn_tail_at_every_byte_of_the_last_record_is_dropped() {
     assert_eq!(replay(&full[..before.len()]).unwrap().torn_tail, None);
 }
 
-/// Issue 20, point 12: a bit flip in the last complete record is not a
+/// A bit flip in the last complete record is not a
 /// torn write (a write cut short leaves no newline after a wrong byte):
 /// it refuses the replay with its line, as anywhere else.
 #[test]

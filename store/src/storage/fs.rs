@@ -332,7 +332,7 @@ mod tests {
         assert!(s.journal_in_place().unwrap());
     }
 
-    /// Issue 20, point 11: a journal deleted after it was read but before
+    /// A journal deleted after it was read but before
     /// the first append held records; the storage must see it is gone.
     #[test]
     fn a_journal_deleted_after_reading_is_not_in_place() {

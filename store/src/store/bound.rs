@@ -21,7 +21,7 @@ pub struct CompactionBound {
 impl Default for CompactionBound {
     /// 4 MiB or 100,000 records; early once the journal holds 16 KiB and
     /// the disk has less than 64 KiB free beyond what compaction needs. On
-    /// the 256 KB volume of issue 20 (512 values in 16 groups) the journal
+    /// a 256 KB volume (512 values in 16 groups) the journal
     /// is compacted at about 127 KB instead of filling the volume.
     fn default() -> Self {
         Self {

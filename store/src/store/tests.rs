@@ -208,7 +208,7 @@ fn needs_compaction_past_the_bound() {
     assert_eq!((default.bytes, default.records), (4 << 20, 100_000));
 }
 
-/// Issue 20, point 13: a disk short of room calls for compaction once the
+/// A disk short of room calls for compaction once the
 /// journal holds enough to be worth it: when less is free than the tool
 /// files need (new files whole, the largest once more, in 4 KiB blocks,
 /// at most 64 bytes a value and 320 of header) plus 64 KiB.
@@ -273,7 +273,7 @@ fn compaction_rewrites_the_changed_groups_only() {
     assert_eq!(reopened.values().count(), 0);
 }
 
-/// Issue 20, point 13: temporary files of a replacement cut short are
+/// Temporary files of a replacement cut short are
 /// removed when the store opens, and reported.
 #[test]
 fn leftover_temporary_files_are_removed_at_open() {
@@ -396,7 +396,7 @@ fn compaction_cut_short_loses_nothing() {
     assert_eq!((snapshot(&reopened), report.replayed), (expected, 0));
 }
 
-/// Issue 20, point 12: a bit flip in the last complete record refuses the
+/// A bit flip in the last complete record refuses the
 /// open with the file and the line, and nothing is cut off the journal.
 #[test]
 fn corrupt_last_complete_record_refuses_open_and_cuts_nothing() {
@@ -423,7 +423,7 @@ fn corrupt_last_complete_record_refuses_open_and_cuts_nothing() {
     assert_eq!(store.storage().journal(), damaged, "nothing cut");
 }
 
-/// Issue 20, point 11: a journal deleted under the store. The next batch
+/// A journal deleted under the store. The next batch
 /// goes into the deleted file; the store notices, rewrites the tool files
 /// from memory and writes the batch into a new journal before it counts:
 /// what the disk holds then has every value, the earlier ones too.

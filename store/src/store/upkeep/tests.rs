@@ -1,4 +1,4 @@
-//! Issue 20, point 13: a full disk must not wedge the store.
+//! A full disk must not wedge the store.
 
 use super::*;
 use crate::field::ToolField;
