@@ -12,8 +12,8 @@ use std::any::Any;
 use std::sync::Arc;
 
 use opcua_face::{
-    answer_value, ChannelState, Device, Identity, IndexKind, Machine, MachineSource, MachineView,
-    Reading, Row, Table, ToolRecord,
+    answer_value, ChannelState, Device, Identity, IndexKind, MachineSource, MachineTool,
+    MachineView, Reading, Row, Table, ToolRecord,
 };
 use otc_ext::{running_wear, OtcExtension, OtcTool};
 use tc_module::object_map::object_table;
@@ -141,8 +141,8 @@ const PLC_UNIT_MM: f64 = 1e-4;
 
 /// The machine the face shows in the Machine Tools model: this build,
 /// with the serial number of the settings.
-pub fn machine(serial: &str) -> Machine {
-    Machine {
+pub fn machine(serial: &str) -> MachineTool {
+    MachineTool {
         name: "addipos-tc".into(),
         identity: Identity {
             manufacturer: "addipos-tc".into(),

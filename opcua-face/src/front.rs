@@ -1,5 +1,6 @@
 //! The face's node manager as the server sees it: the in-memory manager
-//! of its namespace, with two differences.
+//! of its namespace behind a [`Delegating`] manager, with two differences
+//! (and the machine built when the server starts it).
 //!
 //! * AccessLevel applies to the Value attribute only. The in-memory
 //!   manager checks a variable's AccessLevel on every attribute, so a
@@ -15,25 +16,19 @@ use async_trait::async_trait;
 use opcua::server::address_space::{
     is_supported_data_encoding, read_node_value, AddressSpace, DefaultTypeTree, NodeType,
 };
-use opcua::server::diagnostics::NamespaceMetadata;
-use opcua::server::node_manager::memory::InMemoryNodeManager;
 use opcua::server::node_manager::{
-    BrowseNode, BrowsePathItem, DynNodeManager, ExternalReferenceRequest, MonitoredItemRef,
-    MonitoredItemUpdateRef, NodeManager, NodeManagerBuilder, ReadNode, RegisterNodeItem,
-    RequestContext, ServerContext, WriteNode,
+    BrowseNode, DynNodeManager, NodeManager, NodeManagerBuilder, ReadNode, RequestContext,
+    ServerContext,
 };
-use opcua::server::CreateMonitoredItem;
-use opcua::types::{
-    AttributeId, DataValue, ExpandedNodeId, MonitoringMode, NodeId, NumericRange, StatusCode,
-    TimestampsToReturn,
-};
+use opcua::types::{AttributeId, DataValue, NumericRange, StatusCode, TimestampsToReturn};
 
 use tokio_util::sync::DropGuard;
 
 use crate::browse::browse;
 use crate::capped::too_large;
+use crate::delegating::{Delegating, Overrides};
+use crate::machine::live::Manager;
 use crate::machine::setup;
-use crate::manager::ObjectNodes;
 
 /// Builds the face's in-memory node manager, then the front around it.
 pub(crate) struct FrontBuilder<B> {
@@ -47,24 +42,23 @@ impl<B: NodeManagerBuilder> NodeManagerBuilder for FrontBuilder<B> {
     fn build(self: Box<Self>, context: ServerContext) -> Arc<DynNodeManager> {
         let largest = self.largest;
         let built = Box::new(self.inner).build(context);
-        match Arc::clone(&built)
-            .into_any_arc()
-            .downcast::<InMemoryNodeManager<ObjectNodes>>()
-        {
-            Ok(inner) => Arc::new(Front {
-                inner,
-                machine: Mutex::new(None),
-                largest,
-            }),
+        match Arc::clone(&built).into_any_arc().downcast::<Manager>() {
+            Ok(inner) => {
+                let front = Front {
+                    machine: Mutex::new(None),
+                    largest,
+                };
+                Arc::new(Delegating::new(inner, front))
+            }
             // Not the face's manager: nothing to change.
             Err(_) => built,
         }
     }
 }
 
-/// The front.
+/// What the front changes of the face's manager: its start (the machine
+/// is built once every type is known), its reads and its browsing.
 struct Front {
-    inner: Arc<InMemoryNodeManager<ObjectNodes>>,
     /// Stops the machine's live updates with the face.
     machine: Mutex<Option<DropGuard>>,
     /// The largest response, bytes: a Read asking more is refused before
@@ -109,35 +103,20 @@ fn read_attribute(
 }
 
 #[async_trait]
-impl NodeManager for Front {
-    fn owns_node(&self, id: &NodeId) -> bool {
-        self.inner.owns_node(id)
-    }
-
-    fn name(&self) -> &str {
-        self.inner.name()
-    }
-
-    fn owns_server_events(&self) -> bool {
-        self.inner.owns_server_events()
-    }
-
-    fn handle_new_node(&self, parent_id: &ExpandedNodeId) -> bool {
-        self.inner.handle_new_node(parent_id)
-    }
-
-    fn namespaces_for_user(&self, context: &RequestContext) -> Vec<NamespaceMetadata> {
-        self.inner.namespaces_for_user(context)
-    }
-
+impl Overrides<Manager> for Front {
     /// The manager's own start, then (every type known now) the machine.
-    async fn init(&self, type_tree: &mut DefaultTypeTree, context: ServerContext) {
-        self.inner.init(type_tree, context.clone()).await;
-        let Some((machine, core)) = self.inner.inner().machine() else {
+    async fn init(
+        &self,
+        inner: &Arc<Manager>,
+        type_tree: &mut DefaultTypeTree,
+        context: ServerContext,
+    ) {
+        inner.init(type_tree, context.clone()).await;
+        let Some((machine, core)) = inner.inner().machine() else {
             return;
         };
-        let ns = self.inner.inner().ns();
-        match setup::start(&self.inner, type_tree, &context, ns, machine, core.clone()) {
+        let ns = inner.inner().ns();
+        match setup::start(inner, type_tree, &context, ns, machine, core.clone()) {
             Ok(guard) => {
                 *self.machine.lock().unwrap_or_else(|p| p.into_inner()) = Some(guard);
             }
@@ -145,16 +124,9 @@ impl NodeManager for Front {
         }
     }
 
-    async fn resolve_external_references(
-        &self,
-        context: &RequestContext,
-        items: &mut [&mut ExternalReferenceRequest],
-    ) {
-        self.inner.resolve_external_references(context, items).await;
-    }
-
     async fn read(
         &self,
+        inner: &Arc<Manager>,
         context: &RequestContext,
         max_age: f64,
         stamps: TimestampsToReturn,
@@ -162,7 +134,7 @@ impl NodeManager for Front {
     ) -> Result<(), StatusCode> {
         let mut rest: Vec<&mut ReadNode> = Vec::with_capacity(nodes.len());
         {
-            let space = self.inner.address_space().read();
+            let space = inner.address_space().read();
             if too_large(&space, nodes, self.largest) {
                 return Err(StatusCode::BadResponseTooLarge);
             }
@@ -177,25 +149,18 @@ impl NodeManager for Front {
         if rest.is_empty() {
             return Ok(());
         }
-        self.inner.read(context, max_age, stamps, &mut rest).await
-    }
-
-    async fn write(
-        &self,
-        context: &RequestContext,
-        nodes: &mut [&mut WriteNode],
-    ) -> Result<(), StatusCode> {
-        self.inner.write(context, nodes).await
+        inner.read(context, max_age, stamps, &mut rest).await
     }
 
     async fn browse(
         &self,
+        inner: &Arc<Manager>,
         context: &RequestContext,
         nodes: &mut [BrowseNode],
     ) -> Result<(), StatusCode> {
-        let space = self.inner.address_space().read();
+        let space = inner.address_space().read();
         let types = context.type_tree.read();
-        let (ns, order) = (self.inner.inner().ns(), self.inner.inner().order());
+        let (ns, order) = (inner.inner().ns(), inner.inner().order());
         for node in nodes.iter_mut() {
             if node.node_id().is_null() {
                 continue;
@@ -204,60 +169,5 @@ impl NodeManager for Front {
             browse(&space, &types, ns, order, node);
         }
         Ok(())
-    }
-
-    async fn translate_browse_paths_to_node_ids(
-        &self,
-        context: &RequestContext,
-        nodes: &mut [&mut BrowsePathItem],
-    ) -> Result<(), StatusCode> {
-        self.inner
-            .translate_browse_paths_to_node_ids(context, nodes)
-            .await
-    }
-
-    async fn register_nodes(
-        &self,
-        context: &RequestContext,
-        nodes: &mut [&mut RegisterNodeItem],
-    ) -> Result<(), StatusCode> {
-        self.inner.register_nodes(context, nodes).await
-    }
-
-    async fn unregister_nodes(
-        &self,
-        context: &RequestContext,
-        nodes: &[&NodeId],
-    ) -> Result<(), StatusCode> {
-        self.inner.unregister_nodes(context, nodes).await
-    }
-
-    async fn create_monitored_items(
-        &self,
-        context: &RequestContext,
-        items: &mut [&mut CreateMonitoredItem],
-    ) -> Result<(), StatusCode> {
-        self.inner.create_monitored_items(context, items).await
-    }
-
-    async fn modify_monitored_items(
-        &self,
-        context: &RequestContext,
-        items: &[&MonitoredItemUpdateRef],
-    ) {
-        self.inner.modify_monitored_items(context, items).await;
-    }
-
-    async fn set_monitoring_mode(
-        &self,
-        context: &RequestContext,
-        mode: MonitoringMode,
-        items: &[&MonitoredItemRef],
-    ) {
-        self.inner.set_monitoring_mode(context, mode, items).await;
-    }
-
-    async fn delete_monitored_items(&self, context: &RequestContext, items: &[&MonitoredItemRef]) {
-        self.inner.delete_monitored_items(context, items).await;
     }
 }

@@ -140,6 +140,37 @@ pub async fn serve(public: TcpListener, library: Handover, limits: Limits, place
     }
 }
 
+/// Why the door closed a connection (logged at debug level).
+#[derive(Debug, thiserror::Error)]
+enum Closed {
+    /// A chunk's header gave a size outside the limits.
+    #[error("a chunk of {size} bytes (at most {max})")]
+    ChunkTooLarge {
+        /// The size the header gave, bytes.
+        size: u32,
+        /// The largest chunk taken, bytes.
+        max: u32,
+    },
+    /// Reading from or writing to either side failed.
+    #[error(transparent)]
+    Io(#[from] std::io::Error),
+    /// The library took no request within the write stall.
+    #[error("the server takes no requests")]
+    ServerStalled,
+    /// The client took no answer within the write stall.
+    #[error("the client takes no answers")]
+    ClientStalled,
+    /// No session was activated within the activation time.
+    #[error("no session activated in time")]
+    NotActivated,
+    /// A chunk begun did not arrive whole within the chunk time.
+    #[error("a chunk did not arrive in time")]
+    ChunkLate,
+    /// The client sent nothing for the idle time.
+    #[error("the client was silent too long")]
+    Silent,
+}
+
 /// Follows the chunks of what a client sends; each is passed on once it
 /// is whole (at most the largest chunk is held).
 #[derive(Debug, Default)]
@@ -159,7 +190,7 @@ struct Chunks {
 impl Chunks {
     /// Takes `bytes` from the client and appends the chunks they complete
     /// to `whole`; an error names a chunk too large.
-    fn take(&mut self, mut bytes: &[u8], max: u32, whole: &mut Vec<u8>) -> Result<(), String> {
+    fn take(&mut self, mut bytes: &[u8], max: u32, whole: &mut Vec<u8>) -> Result<(), Closed> {
         while !bytes.is_empty() {
             if self.started.is_none() {
                 self.started = Some(Instant::now());
@@ -178,7 +209,7 @@ impl Chunks {
                         self.header[7],
                     ]);
                     if !(HEADER as u32..=max).contains(&size) {
-                        return Err(format!("a chunk of {size} bytes (at most {max})"));
+                        return Err(Closed::ChunkTooLarge { size, max });
                     }
                     self.left = size as usize - HEADER;
                 }
@@ -217,7 +248,7 @@ async fn relay(
     mut client: TcpStream,
     mut server: impl AsyncRead + AsyncWrite + Unpin,
     limits: &Limits,
-) -> Result<(), String> {
+) -> Result<(), Closed> {
     let mut chunks = Chunks::default();
     let mut whole = Vec::with_capacity(16 * 1024);
     let mut from_client = vec![0u8; 16 * 1024];
@@ -234,7 +265,7 @@ async fn relay(
         }
         tokio::select! {
             read = client.read(&mut from_client) => {
-                let n = read.map_err(|e| e.to_string())?;
+                let n = read?;
                 if n == 0 {
                     return Ok(());
                 }
@@ -242,11 +273,10 @@ async fn relay(
                 chunks.take(&from_client[..n], limits.max_chunk, &mut whole)?;
                 timeout(limits.write_stall, server.write_all(&whole))
                     .await
-                    .map_err(|_| "the server takes no requests".to_string())?
-                    .map_err(|e| e.to_string())?;
+                    .map_err(|_| Closed::ServerStalled)??;
             }
             read = server.read(&mut from_server) => {
-                let n = read.map_err(|e| e.to_string())?;
+                let n = read?;
                 if n == 0 {
                     return Ok(());
                 }
@@ -254,16 +284,15 @@ async fn relay(
                 // read from it.
                 timeout(limits.write_stall, client.write_all(&from_server[..n]))
                     .await
-                    .map_err(|_| "the client takes no answers".to_string())?
-                    .map_err(|e| e.to_string())?;
+                    .map_err(|_| Closed::ClientStalled)??;
             }
             () = tokio::time::sleep_until(end) => {
                 return Err(if end == activate_by && chunks.messages < ACTIVATED_MSGS {
-                    "no session activated in time".into()
+                    Closed::NotActivated
                 } else if end < idle_end {
-                    "a chunk did not arrive in time".into()
+                    Closed::ChunkLate
                 } else {
-                    "the client was silent too long".into()
+                    Closed::Silent
                 });
             }
         }

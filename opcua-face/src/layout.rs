@@ -8,7 +8,7 @@ use std::sync::Arc;
 use uoi::wire::{Answer, Request};
 use uoi::{Access, AccessError, Meaning, ObjectDesc, Value, ValueRange, ValueType};
 
-use crate::machine::view::Machine;
+use crate::machine::view::MachineTool;
 
 /// The object table of one bus, and the dashboard beside it.
 #[derive(Clone)]
@@ -24,7 +24,7 @@ pub struct Table {
     pub readings: Vec<Reading>,
     /// The machine in the OPC UA for Machine Tools model, if it is shown
     /// (then the companion NodeSets are loaded too).
-    pub machine: Option<Machine>,
+    pub machine: Option<MachineTool>,
 }
 
 /// A device of the bus: a folder `Device<n>`.

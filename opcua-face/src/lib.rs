@@ -17,8 +17,10 @@
 //!   a refusal as an OPC UA status;
 //! * `manager`: the node manager of the namespace; `front`: it as the
 //!   server sees it, AccessLevel applied to the Value attribute only and
-//!   `browse` in the order of the table; `sampler`: the monitored
-//!   variables sampled from the table;
+//!   `browse` in the order of the table; `capped`: the core manager's
+//!   Reads sized first; both are a `delegating` manager, which hands the
+//!   one inside every call but those it changes; `sampler`: the
+//!   monitored variables sampled from the table;
 //! * `security`: who gets in; `pki`: the certificate store; `face`: the
 //!   server, bound and run;
 //! * [`machine`]: the machine in the OPC UA for Machine Tools model
@@ -27,6 +29,7 @@
 
 mod browse;
 mod capped;
+mod delegating;
 mod face;
 mod front;
 mod guard;
@@ -46,7 +49,7 @@ mod stored;
 pub use face::{Face, FaceConfig, APPLICATION_NAME, APPLICATION_URI};
 pub use layout::{answer_value, Device, IndexKind, Pick, Reading, Row, Table};
 pub use machine::{
-    ChannelState, Identity, Machine, MachineSource, MachineView, ToolRecord, MACHINERY,
+    ChannelState, Identity, MachineSource, MachineTool, MachineView, ToolRecord, MACHINERY,
     MACHINE_TOOL,
 };
 pub use manager::NAMESPACE;

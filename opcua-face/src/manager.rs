@@ -23,7 +23,7 @@ use opcua::types::{
 use uoi::tcp::CoreHandle;
 
 use crate::browse::Order;
-use crate::machine::view::Machine;
+use crate::machine::view::MachineTool;
 use crate::points::{bad, stamped, Points};
 use crate::sampler::{Sampler, TICK};
 
@@ -36,7 +36,7 @@ pub const NAMESPACE: &str = "urn:addipos-tc";
 
 /// A machine to show, the handle to look at it through, and the
 /// namespaces (URI, index) of the companion NodeSets loaded for it.
-pub(crate) type MachineParts = (Machine, CoreHandle, Vec<(String, u16)>);
+pub(crate) type MachineParts = (MachineTool, CoreHandle, Vec<(String, u16)>);
 
 /// The face's node manager (behind `InMemoryNodeManager`).
 pub(crate) struct ObjectNodes {
@@ -44,7 +44,7 @@ pub(crate) struct ObjectNodes {
     points: Arc<Points>,
     order: Order,
     sampler: Arc<Sampler>,
-    machine: Option<(Machine, CoreHandle)>,
+    machine: Option<(MachineTool, CoreHandle)>,
     /// The companion NodeSets' namespaces (with a machine).
     companions: Vec<(String, u16)>,
 }
@@ -74,7 +74,7 @@ impl ObjectNodes {
     }
 
     /// The machine shown, and the handle to look at it through.
-    pub fn machine(&self) -> Option<&(Machine, CoreHandle)> {
+    pub fn machine(&self) -> Option<&(MachineTool, CoreHandle)> {
         self.machine.as_ref()
     }
 

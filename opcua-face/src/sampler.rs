@@ -117,23 +117,23 @@ impl Sampler {
 
     /// A monitored item's new sampling interval.
     pub fn set_every(&self, id: &NodeId, handle: MonitoredItemHandle, every: Duration) {
-        if let Some(item) = self
-            .lock()
-            .get_mut(id)
-            .and_then(|w| w.items.get_mut(&handle))
-        {
-            item.every = every;
-        }
+        self.change(id, handle, |item| item.every = every);
     }
 
     /// A monitored item's new monitoring mode.
     pub fn set_mode(&self, id: &NodeId, handle: MonitoredItemHandle, mode: MonitoringMode) {
+        self.change(id, handle, |item| item.mode = mode);
+    }
+
+    /// Changes the monitored item `handle` of variable `id`, if it is
+    /// watched.
+    fn change(&self, id: &NodeId, handle: MonitoredItemHandle, f: impl FnOnce(&mut Item)) {
         if let Some(item) = self
             .lock()
             .get_mut(id)
             .and_then(|w| w.items.get_mut(&handle))
         {
-            item.mode = mode;
+            f(item);
         }
     }
 

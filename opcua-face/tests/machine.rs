@@ -19,7 +19,7 @@ use opcua::types::{
     BrowseDirection, EUInformation, LocalizedText, NodeId, ObjectTypeId, ReferenceTypeId, Variant,
 };
 use opcua_face::{
-    ChannelState, Face, FaceConfig, Identity, Machine, MachineSource, MachineView, Table,
+    ChannelState, Face, FaceConfig, Identity, MachineSource, MachineTool, MachineView, Table,
     ToolRecord, MACHINERY, MACHINE_TOOL,
 };
 use tokio::sync::mpsc;
@@ -63,8 +63,8 @@ fn tool(group: u32, number: u32, radius: f64) -> ToolRecord {
     }
 }
 
-fn machine() -> Machine {
-    Machine {
+fn machine() -> MachineTool {
+    MachineTool {
         name: "bench".into(),
         identity: Identity {
             manufacturer: "maker".into(),

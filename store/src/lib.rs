@@ -30,7 +30,7 @@ pub use file::{
 };
 pub use journal::{JournalError, Record, RecordError, Replay, TornTail};
 pub use lock::{lock_exclusive, tools_dir, LockError, LOCK_FILE, TOOLS_DIR};
-pub use open::{open_tools, OpenTools};
+pub use open::{open_tools, OpenError, OpenTools};
 pub use replay::replay as replay_journal;
 pub use storage::{FaultKind, FaultyStorage, FsStorage, MemStorage, Op, Storage, JOURNAL_FILE};
 pub use store::{
@@ -38,4 +38,4 @@ pub use store::{
     LONGEST_PAUSE,
 };
 pub use table::{GroupTable, ToolKey, GROUPS, TOOL_ENTRIES};
-pub use writer::{Done, Journal, Writer, MAX_BATCH, QUEUE};
+pub use writer::{Done, DurableLog, Writer, MAX_BATCH, QUEUE};

@@ -12,8 +12,72 @@ use std::time::Instant;
 
 use tracing::{info, warn};
 
-use crate::lock::{lock_exclusive, tools_dir};
-use crate::{FsStorage, OpenReport, Strictness, ToolStore, JOURNAL_FILE};
+use crate::lock::{lock_exclusive, tools_dir, LockError};
+use crate::{FsStorage, OpenReport, StoreError, Strictness, ToolStore, JOURNAL_FILE};
+
+/// Why the tool data of a data directory could not be opened; each
+/// message names the folder or file and, for a bad line, the way out.
+#[derive(Debug, thiserror::Error)]
+pub enum OpenError {
+    /// The tool folder could not be created.
+    #[error("cannot create {}: {source}", .dir.display())]
+    Create {
+        /// The tool folder.
+        dir: PathBuf,
+        /// The system's error.
+        source: std::io::Error,
+    },
+    /// A folder's entries could not be flushed to the disk.
+    #[error("cannot flush {}: {source}", .dir.display())]
+    Flush {
+        /// The folder.
+        dir: PathBuf,
+        /// The system's error.
+        source: std::io::Error,
+    },
+    /// The tool folder's lock was not taken.
+    #[error(transparent)]
+    Lock(#[from] LockError),
+    /// The tool files or the journal could not be loaded (a bad line
+    /// when strict).
+    #[error(
+        "tool data in {}: {source} (fix or remove the line, or start with --ignore-bad-tools)",
+        .dir.display()
+    )]
+    Load {
+        /// The tool folder.
+        dir: PathBuf,
+        /// What the store found.
+        source: StoreError,
+    },
+    /// The repair that drops skipped lines (a compaction) failed.
+    #[error("tool data in {}: {source}", .dir.display())]
+    Repair {
+        /// The tool folder.
+        dir: PathBuf,
+        /// What the store found.
+        source: StoreError,
+    },
+    /// A damaged file could not be copied before its bad lines are
+    /// dropped.
+    #[error(
+        "cannot keep a copy of {} before dropping its bad lines: {source}",
+        .file.display()
+    )]
+    KeepCopy {
+        /// The damaged file.
+        file: PathBuf,
+        /// The system's error.
+        source: std::io::Error,
+    },
+}
+
+/// The message of `e`, for callers that report errors as text.
+impl From<OpenError> for String {
+    fn from(e: OpenError) -> Self {
+        e.to_string()
+    }
+}
 
 /// The tool data of a data directory, open and locked.
 #[derive(Debug)]
@@ -61,28 +125,28 @@ fn log_report(dir: &Path, report: &OpenReport) {
 /// lines, which then leave the files, after a copy of each damaged file is
 /// kept beside it). The error names the file and the line of a bad tool
 /// file or journal record, and the way out.
-pub fn open_tools(data_dir: &Path, ignore_bad: bool) -> Result<OpenTools, String> {
+pub fn open_tools(data_dir: &Path, ignore_bad: bool) -> Result<OpenTools, OpenError> {
     let dir = tools_dir(data_dir);
     let existed = dir.is_dir();
-    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    std::fs::create_dir_all(&dir).map_err(|source| OpenError::Create {
+        dir: dir.clone(),
+        source,
+    })?;
     if !existed {
         // The new folder's entry survives a power cut.
-        File::open(data_dir)
-            .and_then(|d| d.sync_all())
-            .map_err(|e| format!("cannot flush {}: {e}", data_dir.display()))?;
+        flush(data_dir)?;
     }
-    let lock = lock_exclusive(&dir).map_err(|e| e.to_string())?;
+    let lock = lock_exclusive(&dir)?;
     let strictness = if ignore_bad {
         Strictness::Lenient
     } else {
         Strictness::Strict
     };
-    let (mut store, report) = ToolStore::open(FsStorage::new(&dir), strictness).map_err(|e| {
-        format!(
-            "tool data in {}: {e} (fix or remove the line, or start with --ignore-bad-tools)",
-            dir.display()
-        )
-    })?;
+    let (mut store, report) =
+        ToolStore::open(FsStorage::new(&dir), strictness).map_err(|source| OpenError::Load {
+            dir: dir.clone(),
+            source,
+        })?;
     log_report(&dir, &report);
     if !(report.file_errors.is_empty() && report.journal_errors.is_empty()) {
         // The skipped lines leave the files and the journal now, so they
@@ -90,7 +154,7 @@ pub fn open_tools(data_dir: &Path, ignore_bad: bool) -> Result<OpenTools, String
         keep_damaged(&dir, &report)?;
         store
             .compact()
-            .map_err(|e| format!("tool data in {}: {e}", dir.display()))?;
+            .map_err(|source| OpenError::Repair { dir, source })?;
     }
     // A journal left past its bound (by a full disk, or an older version)
     // is compacted before the first write; a failure is logged.
@@ -101,7 +165,7 @@ pub fn open_tools(data_dir: &Path, ignore_bad: bool) -> Result<OpenTools, String
 /// Keeps a copy of every file whose bad lines were skipped, as
 /// `<name>.bad-<UTC time>` beside it, flushed to the disk, before the
 /// repair drops the lines. A copy that cannot be made refuses the start.
-fn keep_damaged(dir: &Path, report: &OpenReport) -> Result<(), String> {
+fn keep_damaged(dir: &Path, report: &OpenReport) -> Result<(), OpenError> {
     let mut damaged: BTreeSet<&str> = report.file_errors.iter().map(|e| e.file.as_str()).collect();
     if !report.journal_errors.is_empty() {
         damaged.insert(JOURNAL_FILE);
@@ -109,20 +173,26 @@ fn keep_damaged(dir: &Path, report: &OpenReport) -> Result<(), String> {
     let stamp = chrono::Utc::now().format("%Y%m%dT%H%M%SZ").to_string();
     for name in damaged {
         let copy = unused_name(dir, &format!("{name}.bad-{stamp}"));
-        copy_durably(&dir.join(name), &copy).map_err(|e| {
-            format!(
-                "cannot keep a copy of {} before dropping its bad lines: {e}",
-                dir.join(name).display()
-            )
+        copy_durably(&dir.join(name), &copy).map_err(|source| OpenError::KeepCopy {
+            file: dir.join(name),
+            source,
         })?;
         warn!(
             "kept {name} as it was, bad lines and all, in {}",
             copy.display()
         );
     }
+    flush(dir)
+}
+
+/// Flushes the entries of folder `dir` to the disk.
+fn flush(dir: &Path) -> Result<(), OpenError> {
     File::open(dir)
         .and_then(|d| d.sync_all())
-        .map_err(|e| format!("cannot flush {}: {e}", dir.display()))
+        .map_err(|source| OpenError::Flush {
+            dir: dir.to_owned(),
+            source,
+        })
 }
 
 /// `dir/name`, or `dir/name-2`, `-3` ... if taken.

@@ -6,6 +6,7 @@ use std::sync::mpsc::{self, Receiver, SyncSender, TrySendError};
 use std::thread::JoinHandle;
 
 use crate::journal::Record;
+use crate::store::StoreError;
 use tokio::sync::oneshot;
 use tracing::warn;
 use uoi::LogLimit;
@@ -18,10 +19,10 @@ pub const QUEUE: usize = 4096;
 pub const MAX_BATCH: usize = 1024;
 
 /// Where the writer puts changes: appended and synced in one call, so one
-/// call is one durable batch.
-pub trait Journal: Send + 'static {
+/// call is one durable batch (docs/decisions.md, decision 502).
+pub trait DurableLog: Send + 'static {
     /// Appends `records` and syncs them; an error leaves nothing of them.
-    fn append(&mut self, records: &[Record]) -> Result<(), String>;
+    fn append(&mut self, records: &[Record]) -> Result<(), StoreError>;
     /// After a batch: housekeeping such as compaction (its failure is
     /// logged, the journal stays valid).
     fn maintain(&mut self) {}
@@ -65,7 +66,7 @@ pub struct Writer<J> {
     thread: Option<JoinHandle<J>>,
 }
 
-impl<J: Journal> Writer<J> {
+impl<J: DurableLog> Writer<J> {
     /// Starts the writer thread on `journal`.
     pub fn start(journal: J) -> std::io::Result<Self> {
         let (tx, rx) = mpsc::sync_channel(QUEUE);
@@ -113,7 +114,7 @@ impl<J: Journal> Writer<J> {
 /// The writer loop: takes every job waiting (up to [`MAX_BATCH`]), writes
 /// them with one sync, tells each submitter. A refused batch is logged at
 /// most once a second, with the count of refusals left out.
-fn run<J: Journal>(mut journal: J, rx: Receiver<Job>) -> J {
+fn run<J: DurableLog>(mut journal: J, rx: Receiver<Job>) -> J {
     let mut jobs = Vec::new();
     let mut records = Vec::new();
     let refusals = LogLimit::per_second();
@@ -154,13 +155,13 @@ mod tests {
     #[derive(Default, Clone)]
     struct Batches(Arc<Mutex<(Vec<usize>, Vec<usize>)>>);
 
-    impl Journal for Batches {
-        fn append(&mut self, records: &[Record]) -> Result<(), String> {
+    impl DurableLog for Batches {
+        fn append(&mut self, records: &[Record]) -> Result<(), StoreError> {
             let mut b = self.0.lock().unwrap();
             let n = b.0.len();
             b.0.push(records.len());
             if b.1.contains(&n) {
-                Err("refused".into())
+                Err(StoreError::Poisoned)
             } else {
                 Ok(())
             }

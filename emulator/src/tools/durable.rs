@@ -28,7 +28,7 @@ use uoi::{AccessError, ObjectAddress, Value, ValueType};
 
 use super::entries::{all_tables, changes, direct_field, entry_mut, may_change_tools, set_value};
 use crate::Emulator;
-use tool_store::{Done, Journal, Writer};
+use tool_store::{Done, DurableLog, Writer};
 
 /// What the server's handler asks of tool persistence (the shared
 /// emulator's; conformance sessions keep nothing).
@@ -42,7 +42,7 @@ pub trait ToolPersistence<E: TcExtension = OtcExtension>: Send + std::fmt::Debug
     fn close(self: Box<Self>);
 }
 
-impl<J: Journal + std::fmt::Debug> ToolPersistence for Durable<J> {
+impl<J: DurableLog + std::fmt::Debug> ToolPersistence for Durable<J> {
     fn serve(&mut self, emu: &mut Emulator, addr: ObjectAddress, value: Value) -> Option<Slice> {
         Durable::serve(self, emu, addr, value)
     }
@@ -81,7 +81,7 @@ pub struct Durable<J> {
     holds: HashMap<FieldKey, u64>,
 }
 
-impl<J: Journal> Durable<J> {
+impl<J: DurableLog> Durable<J> {
     /// Persistence through `writer`.
     pub fn new(writer: Writer<J>) -> Self {
         Self {

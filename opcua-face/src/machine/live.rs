@@ -21,12 +21,11 @@ use tokio::time::MissedTickBehavior;
 use uoi::tcp::CoreHandle;
 
 use super::event::{verb, ModelChange};
+use super::handles::{MachineVar, NodeTable, RunningVar};
 use super::instance::Template;
-use super::model::{
-    channel_code, mt, Spaces, CHANNEL_STATE, MACHINE, NODE_VERSION, PROGRAM_STATE, TOOLS,
-};
-use super::tools::{self, ToolTemplates, LIVE, RUNNING_WEAR};
-use super::view::{ChannelState, Machine, MachineSource, MachineView, ToolRecord};
+use super::model::{channel_code, mt, Spaces, MACHINE, TOOLS};
+use super::tools::{self, ToolTemplates, LIFE, LIVE};
+use super::view::{ChannelState, MachineSource, MachineTool, MachineView, ToolRecord};
 use crate::manager::ObjectNodes;
 
 /// How often the face looks at the machine: the longest a change takes
@@ -79,7 +78,7 @@ impl Live {
     /// The live state of `machine`, shown through `templates`.
     pub fn new(
         at: Spaces,
-        machine: &Machine,
+        machine: &MachineTool,
         templates: ToolTemplates,
         program: ProgramStates,
     ) -> Self {
@@ -99,6 +98,12 @@ impl Live {
 
     fn id(&self, base: &str, path: &str) -> NodeId {
         Template::id(self.at.own, base, path)
+    }
+
+    /// The running-wear entry of the tool at `base`.
+    fn running_wear(&self, base: &str) -> NodeId {
+        let below = format!("{LIFE}/{}", RunningVar::RunningWear.path());
+        self.id(base, &below)
     }
 
     /// Brings the nodes of `manager` in line with `view`; subscribers of
@@ -133,7 +138,7 @@ impl Live {
         if c.list != 0 {
             self.version += 1;
             c.values.push((
-                self.id(MACHINE, NODE_VERSION),
+                self.at.machine_var(MachineVar::NodeVersion),
                 self.version.to_string().into(),
             ));
         }
@@ -194,10 +199,10 @@ impl Live {
             self.shown.insert(key, shown);
             return;
         };
-        for path in LIVE {
-            let new = tools::value(r, path);
-            if let Some(v) = new.filter(|n| Some(n) != tools::value(&old, path).as_ref()) {
-                c.values.push((self.id(&base, path), v));
+        for v in LIVE {
+            let new = tools::value(r, v);
+            if let Some(value) = new.filter(|n| Some(n) != tools::value(&old, v).as_ref()) {
+                c.values.push((self.id(&base, v.path()), value));
             }
         }
         self.running(space, &base, &old, r, c);
@@ -233,7 +238,7 @@ impl Live {
                 for id in gone.iter().rev() {
                     space.delete(id, true);
                 }
-                let (entry, life) = (self.id(base, RUNNING_WEAR), self.id(base, "ToolLife"));
+                let (entry, life) = (self.running_wear(base), self.id(base, LIFE));
                 let deleted = verb::NODE_DELETED | verb::REFERENCE_DELETED;
                 c.model
                     .push(change(entry, self.templates.life_type.clone(), deleted));
@@ -242,7 +247,7 @@ impl Live {
                     .push(change(life, base_object, verb::REFERENCE_DELETED));
             }
             (Some(a), Some(b)) if a != b => {
-                c.values.push((self.id(base, RUNNING_WEAR), b.into()));
+                c.values.push((self.running_wear(base), b.into()));
             }
             _ => {}
         }
@@ -256,12 +261,14 @@ impl Live {
         r: &ToolRecord,
         c: &mut Changes,
     ) -> Vec<NodeId> {
-        let life = self.id(base, "ToolLife");
+        let life = self.id(base, LIFE);
         let mut t = self.templates.running.clone();
-        t.set("RunningWear", r.running_wear.unwrap_or(0.0));
-        let made = t.place(space, self.at.own, &format!("{base}/ToolLife"), &life);
+        t.set(RunningVar::RunningWear, r.running_wear.unwrap_or(0.0));
+        let made = t
+            .template()
+            .place(space, self.at.own, &format!("{base}/{LIFE}"), &life);
         c.model.push(change(
-            self.id(base, RUNNING_WEAR),
+            self.running_wear(base),
             self.templates.life_type.clone(),
             verb::NODE_ADDED | verb::REFERENCE_ADDED,
         ));
@@ -280,8 +287,10 @@ impl Live {
         }
         self.state = Some(state);
         self.ran |= state == ChannelState::Running;
-        c.values
-            .push((self.id(MACHINE, CHANNEL_STATE), channel_code(state).into()));
+        c.values.push((
+            self.at.machine_var(MachineVar::ChannelState),
+            channel_code(state).into(),
+        ));
         let name = match state {
             ChannelState::Running => "Running",
             ChannelState::Interrupted => "Interrupted",
@@ -289,18 +298,15 @@ impl Live {
             ChannelState::Idle => "Initializing",
         };
         if let Some((_, id, number)) = self.program.iter().find(|(n, _, _)| *n == name) {
-            c.values.push((
-                self.id(MACHINE, PROGRAM_STATE),
-                LocalizedText::from(name).into(),
-            ));
-            c.values.push((
-                self.id(MACHINE, &format!("{PROGRAM_STATE}/Id")),
-                id.clone().into(),
-            ));
-            c.values.push((
-                self.id(MACHINE, &format!("{PROGRAM_STATE}/Number")),
-                (*number).into(),
-            ));
+            let var = |v| self.at.machine_var(v);
+            c.values.extend([
+                (
+                    var(MachineVar::ProgramState),
+                    LocalizedText::from(name).into(),
+                ),
+                (var(MachineVar::ProgramStateId), id.clone().into()),
+                (var(MachineVar::ProgramStateNumber), (*number).into()),
+            ]);
         }
     }
 

@@ -7,21 +7,17 @@
 
 use opcua::types::{LocalizedText, NodeId, QualifiedName, ReferenceTypeId, Variant};
 
+use super::error::ModelError;
+use super::handles::{Checked, MachineVar, NodeTable};
 use super::instance::{named, Root, Template};
 use super::types::Types;
 use super::units::{range, PERCENT};
-use super::view::{ChannelState, Machine};
+use super::view::{ChannelState, MachineTool};
 
 /// The NodeId (string) of the machine.
 pub(crate) const MACHINE: &str = "machine";
 /// The tool list, below the machine.
 pub(crate) const TOOLS: &str = "Equipment/Tools";
-/// Its NodeVersion.
-pub(crate) const NODE_VERSION: &str = "Equipment/Tools/NodeVersion";
-/// The channel's state.
-pub(crate) const CHANNEL_STATE: &str = "Monitoring/Channel1/ChannelState";
-/// The state of the active program.
-pub(crate) const PROGRAM_STATE: &str = "Production/ActiveProgram/State/CurrentState";
 
 /// Numeric identifiers of the OPC 40501-1 nodes used (its NodeIds.csv).
 pub(crate) mod mt {
@@ -84,17 +80,28 @@ impl Spaces {
     }
 }
 
+impl Spaces {
+    /// The NodeId of the machine's variable `v`.
+    pub fn machine_var(&self, v: MachineVar) -> NodeId {
+        Template::id(self.own, MACHINE, v.path())
+    }
+}
+
 /// Optional members of the machine the face fills.
 const OPTIONAL: [&str; 4] = [
     "Identification/Model",
     "Identification/SoftwareRevision",
     TOOLS,
-    NODE_VERSION,
+    "Equipment/Tools/NodeVersion",
 ];
 
 /// The machine instance with its channel, its values set (the tool list
 /// empty; the live values at their start).
-pub(crate) fn machine(types: &Types<'_>, at: Spaces, m: &Machine) -> Result<Template, String> {
+pub(crate) fn machine(
+    types: &Types<'_>,
+    at: Spaces,
+    m: &MachineTool,
+) -> Result<Template, ModelError> {
     let root = Root {
         browse_name: QualifiedName::new(at.own, m.name.as_str()),
         reference: ReferenceTypeId::Organizes.into(),
@@ -103,48 +110,42 @@ pub(crate) fn machine(types: &Types<'_>, at: Spaces, m: &Machine) -> Result<Temp
     };
     let mut t = Template::plan(types, root, &OPTIONAL);
     if t.parts.len() < 2 {
-        return Err("MachineToolType is not in the loaded NodeSets".into());
+        return Err(ModelError::Type("MachineToolType"));
     }
     add_channel(types, at, &mut t)?;
+    let mut t = Checked::<MachineVar>::new(t)?;
     let id = &m.identity;
     let text = |s: &str| Variant::from(LocalizedText::from(s));
-    let values: [(&str, Variant); 14] = [
-        ("Identification/Manufacturer", text(&id.manufacturer)),
-        ("Identification/Model", text(&id.model)),
+    let values: [(MachineVar, Variant); 15] = [
+        (MachineVar::Manufacturer, text(&id.manufacturer)),
+        (MachineVar::Model, text(&id.model)),
         (
-            "Identification/SoftwareRevision",
+            MachineVar::SoftwareRevision,
             id.software_revision.as_str().into(),
         ),
+        (MachineVar::SerialNumber, id.serial_number.as_str().into()),
         (
-            "Identification/SerialNumber",
-            id.serial_number.as_str().into(),
-        ),
-        (
-            "Identification/ProductInstanceUri",
+            MachineVar::ProductInstanceUri,
             id.product_instance_uri.as_str().into(),
         ),
-        ("Monitoring/MachineTool/OperationMode", AUTOMATIC.into()),
-        ("Monitoring/Channel1/Name", "Channel 1".into()),
-        ("Monitoring/Channel1/ChannelMode", CHANNEL_AUTOMATIC.into()),
-        (CHANNEL_STATE, channel_code(ChannelState::Idle).into()),
-        ("Monitoring/Channel1/FeedOverride", FEED_OVERRIDE.into()),
+        (MachineVar::OperationMode, AUTOMATIC.into()),
+        (MachineVar::ChannelName, "Channel 1".into()),
+        (MachineVar::ChannelMode, CHANNEL_AUTOMATIC.into()),
         (
-            "Monitoring/Channel1/FeedOverride/EURange",
-            range(0.0, FEED_OVERRIDE),
+            MachineVar::ChannelState,
+            channel_code(ChannelState::Idle).into(),
         ),
-        (
-            "Monitoring/Channel1/FeedOverride/EngineeringUnits",
-            PERCENT.value(),
-        ),
-        ("Production/ActiveProgram/Name", "".into()),
-        ("Production/ActiveProgram/NumberInList", 0u16.into()),
+        (MachineVar::FeedOverride, FEED_OVERRIDE.into()),
+        (MachineVar::FeedOverrideRange, range(0.0, FEED_OVERRIDE)),
+        (MachineVar::FeedOverrideUnits, PERCENT.value()),
+        (MachineVar::ProgramName, "".into()),
+        (MachineVar::ProgramNumberInList, 0u16.into()),
+        (MachineVar::NodeVersion, "0".into()),
     ];
-    for (path, v) in values {
-        if !t.set(path, v) {
-            return Err(format!("the machine has no variable {path}"));
-        }
+    for (v, value) in values {
+        t.set(v, value);
     }
-    t.set(NODE_VERSION, "0");
+    let mut t = t.into_template();
     t.describe(
         TOOLS,
         "Tools",
@@ -156,10 +157,12 @@ pub(crate) fn machine(types: &Types<'_>, at: Spaces, m: &Machine) -> Result<Temp
 
 /// `Monitoring/Channel1`: a ChannelMonitoringType for the
 /// `<MonitoredElement>` placeholder.
-fn add_channel(types: &Types<'_>, at: Spaces, t: &mut Template) -> Result<(), String> {
+fn add_channel(types: &Types<'_>, at: Spaces, t: &mut Template) -> Result<(), ModelError> {
     let decls = types.declarations(&at.mt(mt::MONITORING_TYPE));
-    let placeholder =
-        named(&decls, "<MonitoredElement>").ok_or("MonitoringType has no <MonitoredElement>")?;
+    let placeholder = named(&decls, "<MonitoredElement>").ok_or(ModelError::Member {
+        owner: "MonitoringType",
+        member: "<MonitoredElement>",
+    })?;
     let root = Root {
         browse_name: QualifiedName::new(at.own, "Channel1"),
         reference: placeholder.reference.clone(),

@@ -8,6 +8,8 @@ use opcua::nodes::{ImportedItem, NodeSet2Import, NodeSetImport, NodeSetNamespace
 use opcua::server::address_space::AddressSpace;
 use opcua::types::NamespaceMap;
 
+use super::error::ModelError;
+
 /// The namespace of OPC UA itself (namespace 0).
 const UA: &str = "http://opcfoundation.org/UA/";
 
@@ -83,11 +85,16 @@ impl NodeSetImport for Quiet {
 pub(crate) fn import(
     space: &mut AddressSpace,
     namespaces: &mut NamespaceMap,
-) -> Result<Vec<(String, u16)>, String> {
+) -> Result<Vec<(String, u16)>, ModelError> {
     let mut loaded: Vec<(String, u16)> = Vec::new();
     for (name, xml) in FILES {
-        let set = NodeSet2Import::new_str("en", &compact_byte_strings(xml), Vec::new())
-            .map_err(|e| format!("the built-in NodeSet {name}: {e}"))?;
+        let set =
+            NodeSet2Import::new_str("en", &compact_byte_strings(xml), Vec::new()).map_err(|e| {
+                ModelError::NodeSet {
+                    file: name,
+                    reason: e.to_string(),
+                }
+            })?;
         for uri in set.get_own_namespaces() {
             if loaded.iter().all(|(u, _)| *u != uri) {
                 loaded.push((uri, 0));

@@ -9,13 +9,14 @@ use opcua::server::node_manager::ServerContext;
 use tokio_util::sync::{CancellationToken, DropGuard};
 use uoi::tcp::CoreHandle;
 
+use super::error::ModelError;
 use super::instance::Template;
 use super::live::{self, Live, Manager, ProgramStates};
 use super::model::{self, mt, Spaces, MACHINE, TOOLS};
 use super::nodesets::{MACHINERY, MACHINE_TOOL};
 use super::tools;
 use super::types::Types;
-use super::view::Machine;
+use super::view::MachineTool;
 use crate::capped::Capped;
 
 /// The states of the active program the face shows.
@@ -29,13 +30,13 @@ pub(crate) fn start(
     tree: &DefaultTypeTree,
     context: &ServerContext,
     own: u16,
-    machine: &Machine,
+    machine: &MachineTool,
     core: CoreHandle,
-) -> Result<DropGuard, String> {
-    let index = |uri: &str| {
+) -> Result<DropGuard, ModelError> {
+    let index = |uri: &'static str| {
         tree.namespaces()
             .get_index(uri)
-            .ok_or_else(|| format!("the namespace {uri} is not loaded"))
+            .ok_or(ModelError::Namespace(uri))
     };
     let at = Spaces {
         own,
@@ -45,8 +46,8 @@ pub(crate) fn start(
     let core_nodes = context
         .node_managers
         .get_of_type::<Capped>()
-        .ok_or("the server has no core node manager")?;
-    let core_space = core_nodes.address_space().read();
+        .ok_or(ModelError::NoCoreManager)?;
+    let core_space = core_nodes.inner().address_space().read();
     let mut space = manager.address_space().write();
     let (plan, templates, program) = {
         let types = Types::new(vec![&*space, &*core_space], tree);

@@ -10,6 +10,10 @@ use opcua::types::{
     LocalizedText, NodeId, QualifiedName, ReferenceTypeId, VariableTypeId, Variant,
 };
 
+use super::error::ModelError;
+use super::handles::{
+    Checked, LifeEntry, NodeTable, RunningVar, ToolVar, RUNNING_ENTRY, WEAR_ENTRY,
+};
 use super::instance::{named, Root, Template};
 use super::model::{mt, Spaces};
 use super::types::Types;
@@ -26,12 +30,15 @@ const NO_REASON: i32 = 0;
 /// abraded length and diameter, not radius).
 const OTHER: i32 = 7;
 
-/// The path of the booked wear below a tool.
-pub(crate) const WEAR: &str = "ToolLife/WearRadius";
-/// The path of the running wear below a tool.
-pub(crate) const RUNNING_WEAR: &str = "ToolLife/RunningWear";
+/// Where a tool's running-wear entry is placed, below the tool.
+pub(crate) const LIFE: &str = "ToolLife";
 /// The variables of a tool that follow its record.
-pub(crate) const LIVE: [&str; 4] = ["Radius", "Length", "ToolKind", WEAR];
+pub(crate) const LIVE: [ToolVar; 4] = [
+    ToolVar::Radius,
+    ToolVar::Length,
+    ToolVar::ToolKind,
+    ToolVar::WearRadius,
+];
 
 /// The NodeId string of a tool.
 pub(crate) fn base(group: u32, number: u32) -> String {
@@ -42,9 +49,9 @@ pub(crate) fn base(group: u32, number: u32) -> String {
 #[derive(Debug, Clone)]
 pub(crate) struct ToolTemplates {
     /// A tool (root named by each tool).
-    pub tool: Template,
+    pub tool: Checked<ToolVar>,
     /// `ToolLife/RunningWear`, placed below a tool's `ToolLife`.
-    pub running: Template,
+    pub running: Checked<RunningVar>,
     /// ToolType.
     pub tool_type: NodeId,
     /// ToolLifeType.
@@ -57,9 +64,10 @@ pub(crate) fn templates(
     types: &Types<'_>,
     at: Spaces,
     kinds: &[String],
-) -> Result<ToolTemplates, String> {
+) -> Result<ToolTemplates, ModelError> {
+    let missing = |owner, member| ModelError::Member { owner, member };
     let list = types.declarations(&at.mt(mt::TOOL_LIST_TYPE));
-    let slot = named(&list, "<Tool>").ok_or("ToolListType has no <Tool>")?;
+    let slot = named(&list, "<Tool>").ok_or(missing("ToolListType", "<Tool>"))?;
     let tool_type = at.mt(mt::TOOL_TYPE);
     let life_type = at.mt(mt::TOOL_LIFE_TYPE);
     let root = Root {
@@ -71,23 +79,25 @@ pub(crate) fn templates(
     let optional = ["ControlIdentifier2", "Name", "Identifier", "ToolLife"];
     let mut tool = Template::plan(types, root, &optional);
     let life = types.members(&tool_type, Some(&slot.node));
-    let life_decl = named(&life, "ToolLife").ok_or("ToolType has no ToolLife")?;
+    let life_decl = named(&life, LIFE).ok_or(missing("ToolType", LIFE))?;
     let entries = types.children(&life_decl.node);
-    let entry = named(&entries, "<ToolLifeEntry>").ok_or("ToolLife has no <ToolLifeEntry>")?;
+    let entry = named(&entries, "<ToolLifeEntry>").ok_or(missing("ToolLife", "<ToolLifeEntry>"))?;
     let life_entry = |name: &str| Root {
         browse_name: QualifiedName::new(at.own, name),
         reference: entry.reference.clone(),
         type_definition: life_type.clone(),
         decl: Some(&entry.node),
     };
-    tool.add(types, "ToolLife", life_entry("WearRadius"), &[]);
+    tool.add(types, LIFE, life_entry("WearRadius"), &[]);
     add_own(types, at, &mut tool);
+    let mut tool = Checked::new(tool)?;
     fixed(&mut tool, kinds);
     let mut running = Template::default();
     running.add(types, "", life_entry("RunningWear"), &[]);
-    life_fields(&mut running, "RunningWear");
-    running.describe(
-        "RunningWear",
+    let mut running = Checked::new(running)?;
+    life_fields(&mut running, RUNNING_ENTRY);
+    running.template_mut().describe(
+        RunningVar::RunningWear.path(),
         "RunningWear",
         "The radius wear of the compensation running on this tool now, mm: booked at its end",
     );
@@ -119,50 +129,51 @@ fn add_own(types: &Types<'_>, at: Spaces, tool: &mut Template) {
 }
 
 /// The values every tool has alike, and the descriptions.
-fn fixed(t: &mut Template, kinds: &[String]) {
-    t.set("ControlIdentifierInterpretation", GROUP_BASED);
-    t.set("Locked", false);
-    t.set("Locked/ReasonForLocking", NO_REASON);
-    for path in ["Radius", "Length"] {
-        t.set(&format!("{path}/EngineeringUnits"), MILLIMETRE.value());
-    }
+fn fixed(t: &mut Checked<ToolVar>, kinds: &[String]) {
+    t.set(ToolVar::ControlIdentifierInterpretation, GROUP_BASED);
+    t.set(ToolVar::Locked, false);
+    t.set(ToolVar::ReasonForLocking, NO_REASON);
+    t.set(ToolVar::RadiusUnits, MILLIMETRE.value());
+    t.set(ToolVar::LengthUnits, MILLIMETRE.value());
     let names: Vec<LocalizedText> = kinds
         .iter()
         .map(|k| LocalizedText::from(k.as_str()))
         .collect();
-    t.set("ToolKind/EnumStrings", names);
-    life_fields(t, WEAR);
-    t.describe("Radius", "Radius", "The tool's radius, mm");
-    t.describe("Length", "Length", "The tool's length, mm");
+    t.set(ToolVar::ToolKindNames, names);
+    life_fields(t, WEAR_ENTRY);
+    let t = t.template_mut();
+    t.describe(ToolVar::Radius.path(), "Radius", "The tool's radius, mm");
+    t.describe(ToolVar::Length.path(), "Length", "The tool's length, mm");
     t.describe(
-        "ToolKind",
+        ToolVar::ToolKind.path(),
         "ToolKind",
         "The kind of tool (EnumStrings name each value)",
     );
     t.describe(
-        WEAR,
+        ToolVar::WearRadius.path(),
         "WearRadius",
         "The radius wear booked on this tool while it is the table's current tool, mm (the \
          radius is already smaller by it)",
     );
 }
 
-/// The properties of a tool life entry at `path`: mm, counting up.
-fn life_fields(t: &mut Template, path: &str) {
-    t.set(&format!("{path}/EngineeringUnits"), MILLIMETRE.value());
-    t.set(&format!("{path}/Indication"), OTHER);
-    t.set(&format!("{path}/IsCountingUp"), true);
-    t.set(path, 0.0);
+/// The properties of a tool life `entry`: mm, counting up; its value 0.
+fn life_fields<V: NodeTable>(t: &mut Checked<V>, entry: LifeEntry<V>) {
+    let [value, units, indication, counting] = entry;
+    t.set(units, MILLIMETRE.value());
+    t.set(indication, OTHER);
+    t.set(counting, true);
+    t.set(value, 0.0);
 }
 
-/// The value of a tool's live variable at `path`.
-pub(crate) fn value(r: &ToolRecord, path: &str) -> Option<Variant> {
-    match path {
-        "Radius" => Some(r.radius.into()),
-        "Length" => Some(r.length.into()),
-        "ToolKind" => Some(r.kind.into()),
-        WEAR => Some(r.wear.into()),
-        RUNNING_WEAR => r.running_wear.map(Variant::from),
+/// The value of a tool's live variable `v` (`None`: not one of
+/// [`LIVE`]).
+pub(crate) fn value(r: &ToolRecord, v: ToolVar) -> Option<Variant> {
+    match v {
+        ToolVar::Radius => Some(r.radius.into()),
+        ToolVar::Length => Some(r.length.into()),
+        ToolVar::ToolKind => Some(r.kind.into()),
+        ToolVar::WearRadius => Some(r.wear.into()),
         _ => None,
     }
 }
@@ -171,7 +182,7 @@ pub(crate) fn value(r: &ToolRecord, path: &str) -> Option<Variant> {
 pub(crate) fn of(t: &ToolTemplates, r: &ToolRecord, own: u16) -> Template {
     let mut tool = t.tool.clone();
     let name = r.name();
-    if let Some(root) = tool.get_mut("") {
+    if let Some(root) = tool.template_mut().get_mut("") {
         root.browse_name = QualifiedName::new(own, name.as_str());
         root.display_name = name.as_str().into();
         root.description = Some(
@@ -180,14 +191,14 @@ pub(crate) fn of(t: &ToolTemplates, r: &ToolRecord, own: u16) -> Template {
                 .into(),
         );
     }
-    tool.set("ControlIdentifier1", r.number);
-    tool.set("ControlIdentifier2", r.group);
-    tool.set("Name", name.as_str());
-    tool.set("Identifier", name.as_str());
-    for path in LIVE {
-        if let Some(v) = value(r, path) {
-            tool.set(path, v);
+    tool.set(ToolVar::ControlIdentifier1, r.number);
+    tool.set(ToolVar::ControlIdentifier2, r.group);
+    tool.set(ToolVar::Name, name.as_str());
+    tool.set(ToolVar::Identifier, name.as_str());
+    for v in LIVE {
+        if let Some(value) = value(r, v) {
+            tool.set(v, value);
         }
     }
-    tool
+    tool.into_template()
 }

@@ -27,7 +27,7 @@ pub struct ToolRecord {
     pub radius: f64,
     /// Its length, mm.
     pub length: f64,
-    /// Its kind, an index into [`Machine::tool_kinds`].
+    /// Its kind, an index into [`MachineTool::tool_kinds`].
     pub kind: u32,
     /// The radius wear booked on it, mm.
     pub wear: f64,
@@ -75,9 +75,13 @@ pub struct Identity {
     pub product_instance_uri: String,
 }
 
-/// The machine the face shows in the Machine Tools model.
+/// The machine tool the face shows: what its `MachineToolType` instance
+/// (OPC 40501-1) is called and says of itself, the tool kinds it names,
+/// and the [`MachineSource`] its state and tools come from. Not a client
+/// of a machine (the host library's `Machine`): a description handed to
+/// the face (docs/decisions.md, decision 500).
 #[derive(Clone)]
-pub struct Machine {
+pub struct MachineTool {
     /// The instance's BrowseName and DisplayName.
     pub name: String,
     /// Its identification.
@@ -88,9 +92,9 @@ pub struct Machine {
     pub source: Arc<dyn MachineSource>,
 }
 
-impl std::fmt::Debug for Machine {
+impl std::fmt::Debug for MachineTool {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Machine")
+        f.debug_struct("MachineTool")
             .field("name", &self.name)
             .field("identity", &self.identity)
             .field("tool_kinds", &self.tool_kinds)

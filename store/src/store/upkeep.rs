@@ -21,7 +21,7 @@ use super::error::StoreError;
 use super::state::ToolStore;
 use crate::journal::Record;
 use crate::storage::Storage;
-use crate::writer::Journal;
+use crate::writer::DurableLog;
 
 /// The free space is looked at again once the journal grew this much
 /// since the last look (a statvfs costs about as much as 1 % of a
@@ -117,10 +117,9 @@ impl<S: Storage> ToolStore<S> {
     }
 }
 
-impl<S: Storage + Send + std::fmt::Debug + 'static> Journal for ToolStore<S> {
-    fn append(&mut self, records: &[Record]) -> Result<(), String> {
+impl<S: Storage + Send + std::fmt::Debug + 'static> DurableLog for ToolStore<S> {
+    fn append(&mut self, records: &[Record]) -> Result<(), StoreError> {
         self.append_at(records, Instant::now())
-            .map_err(|e| e.to_string())
     }
 
     fn maintain(&mut self) {
