@@ -8,14 +8,33 @@
 use std::path::Path;
 
 use fuzz_checks::{request_stream, trace_requests};
-use trace::load_corpus;
+use trace::{load_corpus, TraceFileError};
 
-fn main() -> Result<(), String> {
+/// Why the seeds could not be written.
+#[derive(Debug, thiserror::Error)]
+enum SeedError {
+    /// The corpus could not be read.
+    #[error(transparent)]
+    Corpus(#[from] TraceFileError),
+    /// A folder or a seed file could not be written.
+    #[error("{name}: {source}")]
+    Write {
+        /// The folder or file, as shown.
+        name: String,
+        /// Why.
+        source: std::io::Error,
+    },
+}
+
+fn main() -> Result<(), SeedError> {
     let traces = load_corpus(Path::new("traces"))?;
     let seqs = Path::new("fuzz/seeds/frame_sequence");
     let frames = Path::new("fuzz/seeds/frame_decoder");
     for dir in [seqs, frames] {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        std::fs::create_dir_all(dir).map_err(|source| SeedError::Write {
+            name: dir.display().to_string(),
+            source,
+        })?;
     }
     for trace in &traces {
         let file = Path::new(&trace.header.file);
@@ -23,7 +42,10 @@ fn main() -> Result<(), String> {
         let stream = request_stream(&trace_requests(trace));
         let name = format!("{stem}.bin");
         let write = |dir: &Path, bytes: &[u8]| {
-            std::fs::write(dir.join(&name), bytes).map_err(|e| format!("{name}: {e}"))
+            std::fs::write(dir.join(&name), bytes).map_err(|source| SeedError::Write {
+                name: name.clone(),
+                source,
+            })
         };
         write(seqs, &stream)?;
         write(frames, &[[0u8].as_slice(), &stream].concat())?;

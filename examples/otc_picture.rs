@@ -56,10 +56,26 @@ const DEPARTURE: &str = "LIN X-10 Y35\n";
 /// 0.5 mm radius offset, ramped at 1 µm per cycle (AccWeight 100).
 const RUN: &str = "EXEC 700\nW 1300/3/1/50 i 5000\nEXEC\n";
 
+/// Why the picture could not be drawn.
+#[derive(Debug, thiserror::Error)]
+pub enum PictureError {
+    /// A program line is malformed.
+    #[error(transparent)]
+    Trace(#[from] trace::TraceError),
+    /// A request was not answered as the picture expects.
+    #[error("`{request}` answered {reply:?}")]
+    Refused {
+        /// The request, as written.
+        request: String,
+        /// What the emulator answered.
+        reply: Reply,
+    },
+}
+
 /// Runs a program and records the executed position (X, Y) before the
 /// first cycle and after every cycle.
-fn executed_path(program: &str) -> Result<Vec<[f64; 2]>, String> {
-    let trace = parse_trace("otc-picture", program).map_err(|e| e.to_string())?;
+fn executed_path(program: &str) -> Result<Vec<[f64; 2]>, PictureError> {
+    let trace = parse_trace("otc-picture", program)?;
     let mut emu = fresh_emulator(&trace.header);
     emu.set_spool_log(false);
     let mut path = vec![plane(&emu)];
@@ -79,7 +95,12 @@ fn executed_path(program: &str) -> Result<Vec<[f64; 2]>, String> {
             }
             ref request => match emu.run(request) {
                 Reply::Ok | Reply::Value(_) => {}
-                other => return Err(format!("`{}` answered {other:?}", step.text)),
+                reply => {
+                    return Err(PictureError::Refused {
+                        request: step.text.clone(),
+                        reply,
+                    })
+                }
             },
         }
     }
@@ -92,7 +113,7 @@ fn plane(emu: &Emulator) -> [f64; 2] {
 }
 
 /// The picture as SVG text.
-pub fn otc_path_svg() -> Result<String, String> {
+pub fn otc_path_svg() -> Result<String, PictureError> {
     let programmed = executed_path(&[START, CONTOUR, DEPARTURE, RUN].concat())?;
     let corrected = [
         START,

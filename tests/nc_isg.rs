@@ -10,11 +10,17 @@
 
 use std::process::Command;
 
+use nc::nc_run::NcRun;
 use nc::run::{RunErrorKind, WarningKind};
 use proptest::prelude::*;
 use tc_request::SpoolRecord;
-use trace::nc_run::{run_nc, NcRun};
-use trace::{parse_trace, replay};
+use trace::{fresh_emulator, parse_trace, replay, Header};
+
+/// A run on the emulator a trace without header options replays on.
+fn run_nc(text: &str) -> NcRun {
+    let Ok(run) = nc::nc_run::run_nc(&mut fresh_emulator(&Header::new("nc")), text);
+    run
+}
 
 const TOL: f64 = 1e-9;
 

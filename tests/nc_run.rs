@@ -11,13 +11,43 @@ use std::process::Command;
 
 mod common;
 
+use addipos::{RemoteSession, WireClient};
+use nc::nc_run::NcRun;
 use nc::run::{run_program, At, Controller, Report, RunError, RunErrorKind};
 use tc_objects::OtcObject;
 use tc_request::{Origin, Reply, Request, SpoolRecord};
-use trace::nc_run::{run_nc, NcRun};
-use trace::remote::{replay_remote, RemoteTarget};
-use trace::{parse_trace, replay};
+use tool_store::{ToolKey, ToolValue};
+use trace::{fresh_emulator, parse_trace, replay, Header};
 use uoi::{Value, ValueType};
+
+/// A run on the emulator a trace without header options replays on.
+fn run_nc(text: &str) -> NcRun {
+    let Ok(run) = nc::nc_run::run_nc(&mut fresh_emulator(&Header::new("nc")), text);
+    run
+}
+
+/// [`run_nc`] with tool data written first.
+fn run_nc_with_tools(text: &str, tools: &[(u8, ToolKey, ToolValue)]) -> NcRun {
+    let mut emu = fresh_emulator(&Header::new("nc"));
+    let Ok(run) = nc::nc_run::run_nc_with_tools(&mut emu, text, tools);
+    run
+}
+
+/// Replays `t` on a fresh conformance session of the server.
+fn replay_remote(t: &trace::Trace, session: &mut RemoteSession) -> Vec<trace::Mismatch> {
+    let h = &t.header;
+    let capacity = h.spool_capacity as u64;
+    session
+        .set_up(h.start, h.cycle.secs(), capacity)
+        .expect("setup");
+    trace::replay_on(t, session)
+}
+
+/// A conformance session on the server at `addr`.
+fn session(addr: &str) -> RemoteSession {
+    let wire = WireClient::connect(addr, Default::default()).expect("connect");
+    RemoteSession::new(wire)
+}
 
 /// Line and block number of a run error or fault.
 fn line_and_block(e: &RunError) -> (usize, Option<u32>) {
@@ -247,7 +277,7 @@ fn run_command_reports_the_otc_type_error() {
 #[test]
 fn every_seed_trace_replays_over_tcp() {
     let server = common::TestServer::local();
-    let mut target = RemoteTarget::connect(&server.addr.to_string()).expect("connect");
+    let mut target = session(&server.addr.to_string());
     for name in RUNNING {
         let run = run_nc(&program(name));
         let trace = parse_trace(name, &run.trace(name)).unwrap();
@@ -258,7 +288,7 @@ fn every_seed_trace_replays_over_tcp() {
 
 /// The OTC manual's grinding disc (its tool data example: type 2, radius
 /// 30 mm, wear constant 100000, max infeed 20 mm) for entry 1 of group 1.
-fn grinding_disc() -> Vec<(u8, tool_store::ToolKey, tool_store::ToolValue)> {
+fn grinding_disc() -> Vec<(u8, ToolKey, ToolValue)> {
     use tool_store::{ToolField as F, ToolKey, ToolValue as V};
     let key = |f| ToolKey::new(1, f).unwrap();
     vec![
@@ -276,7 +306,7 @@ fn grinding_disc() -> Vec<(u8, tool_store::ToolKey, tool_store::ToolValue)> {
 /// replays.
 #[test]
 fn the_general_otc_example_wears_the_disc_along_the_corrected_line() {
-    let run = trace::nc_run::run_nc_with_tools(&program("otc_general.nc"), &grinding_disc());
+    let run = run_nc_with_tools(&program("otc_general.nc"), &grinding_disc());
     assert!(!run.failed(), "{:?} {:?}", run.error, run.report.faults);
     let wear = |n: &str| run.wear.iter().find(|(k, _)| k == n).map(|w| w.1);
     let w = wear("V.G.WZ_AKT.WEAR_RADIUS").unwrap();
@@ -312,7 +342,7 @@ fn tool_data_change_corrects_the_full_circle_as_a_whole_turn() {
     // Radius 5 left of a CW circle: radius 20, cut where N130's offset
     // line (10,10)→(20,20) shifted 5 to its left meets it.
     let tools = [(1, ToolKey::new(100, F::Radius).unwrap(), V::F64(5.0))];
-    let run = trace::nc_run::run_nc_with_tools(&program("tool_data_change.nc"), &tools);
+    let run = run_nc_with_tools(&program("tool_data_change.nc"), &tools);
     let arcs = circle(&run);
     assert_eq!(arcs.len(), 1, "{arcs:?}");
     let arc = arcs[0];
@@ -399,13 +429,13 @@ fn wr_quad_disc_with_a_plc_offset_of_2_mm_ends_at_state_20000() {
 #[test]
 fn otc_off_before_g40_in_wr_quad_disc_is_90050() {
     let printed = program("wr_quad_disc.nc");
-    let run = trace::nc_run::run_nc_with_tools(&printed, &grinding_disc());
+    let run = run_nc_with_tools(&printed, &grinding_disc());
     assert!(!run.failed(), "{:?} {:?}", run.error, run.report.faults);
     let swapped = printed
         .replace("N100 G40 G1 X0", "N100 #OTC OFF")
         .replace("N110 #OTC OFF", "N110 G40 G1 X0");
     assert_ne!(swapped, printed);
-    let run = trace::nc_run::run_nc_with_tools(&swapped, &grinding_disc());
+    let run = run_nc_with_tools(&swapped, &grinding_disc());
     assert_eq!(run.report.faults.len(), 1, "{:?}", run.report.faults);
     let f = &run.report.faults[0];
     assert!(matches!(f.kind, RunErrorKind::Otc { bit: 2, .. }), "{f:?}");
@@ -424,7 +454,7 @@ fn the_length_example_with_an_inclined_disc_wears_x_and_z() {
     for (angle, x, z) in [(0.0, 0.0, 10.0), (300_000.0, 5.0, 10.0 * 0.75f64.sqrt())] {
         let mut tools = grinding_disc();
         tools.push((tilt.0, tilt.1, V::F64(angle)));
-        let run = trace::nc_run::run_nc_with_tools(&program("otc_length.nc"), &tools);
+        let run = run_nc_with_tools(&program("otc_length.nc"), &tools);
         assert!(!run.failed(), "{:?} {:?}", run.error, run.report.faults);
         let wear = |n: &str| run.wear.iter().find(|(k, _)| k == n).unwrap().1;
         let (wx, wz) = (wear("V.G.WZ_AKT.WEAR[0]"), wear("V.G.WZ_AKT.WEAR[2]"));

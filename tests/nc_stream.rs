@@ -6,8 +6,14 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use trace::nc_run::{axis_text, run_nc};
-use trace::{parse_trace, replay};
+use nc::nc_run::{axis_text, NcRun};
+use trace::{fresh_emulator, parse_trace, replay, Header};
+
+/// A run on the emulator a trace without header options replays on.
+fn run_nc(text: &str) -> NcRun {
+    let Ok(run) = nc::nc_run::run_nc(&mut fresh_emulator(&Header::new("nc")), text);
+    run
+}
 
 /// A program of lines and half circles with TRC on, a loop and a
 /// condition, `n` moves in the loop's body.

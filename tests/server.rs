@@ -9,17 +9,33 @@ use std::net::TcpStream;
 use std::path::PathBuf;
 use std::time::Duration;
 
+use addipos::{RemoteSession, WireClient};
 use bytes::BytesMut;
 use emulator::EmulatorService;
 use tc_objects::{OtcObject, TcObject};
 use tc_request::{Reply, Request as TcRequest};
-use trace::remote::{replay_remote, RemoteTarget};
-use uoi::tcp::{BlockingClient, Client, Server, ServerConfig};
+use uoi::tcp::{BlockingClient, Client, ClientError, Server, ServerConfig};
 use uoi::wire::{encode_request, Answer, Op, ProtocolError, Request, PREFIX_LEN};
 use uoi::{AccessError, ObjectAddress, Value, ValueType};
 
 mod common;
 use common::TestServer;
+
+/// Replays `t` on a fresh conformance session of the server.
+fn replay_remote(t: &trace::Trace, session: &mut RemoteSession) -> Vec<trace::Mismatch> {
+    let h = &t.header;
+    let capacity = h.spool_capacity as u64;
+    session
+        .set_up(h.start, h.cycle.secs(), capacity)
+        .expect("setup");
+    trace::replay_on(t, session)
+}
+
+/// A conformance session on the server at `addr`.
+fn session(addr: &str) -> RemoteSession {
+    let wire = WireClient::connect(addr, Default::default()).expect("connect");
+    RemoteSession::new(wire)
+}
 
 fn corpus() -> Vec<trace::Trace> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("traces");
@@ -29,7 +45,7 @@ fn corpus() -> Vec<trace::Trace> {
 #[test]
 fn whole_corpus_passes_over_tcp() {
     let server = TestServer::local();
-    let mut target = RemoteTarget::connect(&server.addr.to_string()).expect("connect");
+    let mut target = session(&server.addr.to_string());
     let traces = corpus();
     assert!(traces.len() >= 40);
     let mut failed = Vec::new();
@@ -37,6 +53,29 @@ fn whole_corpus_passes_over_tcp() {
         failed.extend(replay_remote(t, &mut target).iter().map(|m| m.to_string()));
     }
     assert!(failed.is_empty(), "over TCP:\n{}", failed.join("\n"));
+}
+
+/// A conformance session whose connection is lost is not carried on by a
+/// new connection (which would be on the shared emulator); the next set-up
+/// connects again.
+#[test]
+fn a_lost_session_is_not_carried_on_by_a_new_connection() {
+    use tc_request::Runner;
+    let server = TestServer::local();
+    let mut s = session(&server.addr.to_string());
+    s.set_up([0.0; tc_request::AXES], 0.001, 64).expect("setup");
+    assert_eq!(s.run(&TcRequest::Queue).expect("queue"), Reply::Queue(0));
+    s.wire().disconnect();
+    let e = s.run(&TcRequest::Queue).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "(connection: the session's connection was lost)"
+    );
+    assert!(s.take_spooled().is_err());
+    s.set_up([0.0; tc_request::AXES], 0.001, 64)
+        .expect("setup again");
+    assert_eq!(s.run(&TcRequest::Queue).expect("queue"), Reply::Queue(0));
+    assert_eq!(s.wire().connections(), 2);
 }
 
 #[test]
@@ -99,9 +138,9 @@ fn frame(id: u32, req: &Request) -> Vec<u8> {
 }
 
 /// A TC request's reply over a blocking client.
-fn call(c: &mut BlockingClient, req: &TcRequest) -> Result<Reply, String> {
-    let ans = c.call(&req.to_wire()).map_err(|e| e.to_string())?;
-    Reply::from_wire(req.wire_op(), &ans).ok_or_else(|| format!("{ans:?}"))
+fn call(c: &mut BlockingClient, req: &TcRequest) -> Result<Reply, ClientError> {
+    let ans = c.call(&req.to_wire())?;
+    Reply::from_wire(req.wire_op(), &ans).ok_or_else(|| ClientError::Unexpected(format!("{ans:?}")))
 }
 
 fn is_closed(s: &mut TcpStream) -> bool {
@@ -444,5 +483,5 @@ fn two_hundred_clients_a_thousand_requests_each() {
         .expect("finished within 120 s");
     assert_eq!(result, 200 * 1000);
     let mut c = BlockingClient::connect(&a.to_string()).expect("connect");
-    assert_eq!(call(&mut c, &TcRequest::Queue), Ok(Reply::Queue(0)));
+    assert_eq!(call(&mut c, &TcRequest::Queue).unwrap(), Reply::Queue(0));
 }

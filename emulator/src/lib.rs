@@ -42,6 +42,7 @@ pub mod journal;
 #[cfg(feature = "opcua")]
 pub mod opcua;
 mod reference;
+mod runner;
 mod service;
 mod serving;
 mod session;

@@ -11,6 +11,10 @@
 //!   [`ErrorCode`] (the CANopen code of an access error, or a code of the
 //!   library's own); motion calls, `exec`, `position`, `queue`; a session
 //!   recorded as a conformance trace;
+//! * the one wire client of `addipos serve` ([`WireClient`]: timeouts,
+//!   connecting again after a failure, `INFO`), which the command line's
+//!   `call` and `replay --server` (on a conformance session,
+//!   [`RemoteSession`], a `tc_request::Runner`) use too;
 //! * the C ABI (`libaddipos`, header `include/addipos.h`), a thin layer
 //!   over it: `addipos_open`, `uoi_init`, `uoi_read_int`, `tc_lin`,
 //!   `tc_exec`, ... (docs/host-api.md).
@@ -35,20 +39,24 @@ mod machine;
 mod objects;
 pub mod record;
 mod registry;
+mod remote_session;
 mod serve_record;
 mod served;
 mod served_target;
 pub mod target;
+mod wire_client;
 
 pub use error::{Error, ErrorCode, Result};
 pub use handles::{Epoch, Handle, MAX_HANDLES};
 pub use machine::{Machine, DEFAULT_TIMEOUT, RECORD_ENV};
 pub use objects::{find_object, Descriptor};
 pub use record::RecordHeader;
+pub use remote_session::{RemoteSession, SessionError};
 pub use serve_record::ServeRecorder;
 pub use served::CONNECT_TIMEOUT;
 pub use served_target::{ServedTarget, TOKEN_ENV, TOKEN_FILE_ENV};
 pub use target::{EmbeddedOptions, Target};
+pub use wire_client::{WireClient, WireError};
 
 pub use emulator::RealTimeFactor;
 pub use tc_request::{ArcDir, AxisPos, AxisWords, SpoolRecord, AXES, AXIS_NAMES};

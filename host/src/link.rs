@@ -1,14 +1,16 @@
-//! What a connection talks to: the [`Link`] trait, and its embedded
-//! emulator ([`Embedded`]), stepped or in real time. A server target
-//! (a running `addipos serve`, `crate::served::Served`) is the second
-//! implementation of the same trait.
+//! What a connection talks to: the [`Link`] trait, the one runner of
+//! requests of `tc-request` ([`Runner`]) with what a connection needs
+//! beside it (time, Clean epochs, recording), and its embedded emulator
+//! ([`Embedded`]), stepped or in real time. A server target (a running
+//! `addipos serve`, `crate::served::Served`) is the second implementation
+//! of the same trait (decision 490).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use emulator::{Emulator, RealTimeClock};
 use tc_module::ExecLeft;
-use tc_request::{Reply, Request, SpoolRecord};
+use tc_request::{Reply, Request, Runner, SpoolRecord};
 
 use crate::error::{Error, ErrorCode, Result};
 use crate::handles::Epoch;
@@ -69,9 +71,11 @@ impl Limits<'_> {
     }
 }
 
-/// One target of a connection. Every method is called with the
-/// connection's lock held.
-pub trait Link: Send {
+/// One target of a connection: a [`Runner`] (requests, spooled elements,
+/// the axes X, Y, Z) with the library's errors, and what a connection
+/// needs beside it. Every method is called with the connection's lock
+/// held.
+pub trait Link: Runner<Error = Error> + Send {
     /// The target, as a target string would name it.
     fn describe(&self) -> String;
 
@@ -88,9 +92,6 @@ pub trait Link: Send {
     /// slice); returns how many cycles ran (0 when stepped).
     fn tick(&mut self) -> u64;
 
-    /// Carries out one request.
-    fn call(&mut self, req: &Request) -> Result<Reply>;
-
     /// The emulator's Clean epoch: its server and the Cleans carried out.
     fn clean_epoch(&mut self) -> Result<Epoch>;
 
@@ -102,7 +103,7 @@ pub trait Link: Send {
         if self.clean_epoch()? != epoch {
             return Ok(None);
         }
-        self.call(req).map(Some)
+        self.run(req).map(Some)
     }
 
     /// How long one request may take (a server target; an embedded one
@@ -138,12 +139,6 @@ pub trait Link: Send {
     /// Logs spooled elements from now on (`on`), or stops; whether the
     /// target can.
     fn set_spool_log(&mut self, on: bool) -> bool;
-
-    /// The elements spooled since the last call.
-    fn take_spooled(&mut self) -> Vec<SpoolRecord>;
-
-    /// The machine axes allocated as X, Y, Z (for the `I J K` of arcs).
-    fn axis_nr(&mut self) -> [u8; 3];
 }
 
 /// An emulator inside this process, stepped or with a real-time clock.
@@ -279,10 +274,6 @@ impl Link for Embedded {
         }
     }
 
-    fn call(&mut self, req: &Request) -> Result<Reply> {
-        Ok(self.emu.run(req))
-    }
-
     fn clean_epoch(&mut self) -> Result<Epoch> {
         Ok(Epoch::from(self.emu.clean_epoch()))
     }
@@ -304,12 +295,21 @@ impl Link for Embedded {
         self.emu.set_spool_log(on);
         true
     }
+}
 
-    fn take_spooled(&mut self) -> Vec<SpoolRecord> {
-        self.emu.take_spool_log()
+/// The embedded emulator runs every request itself (it never fails).
+impl Runner for Embedded {
+    type Error = Error;
+
+    fn run(&mut self, req: &Request) -> Result<Reply> {
+        Ok(self.emu.run(req))
     }
 
-    fn axis_nr(&mut self) -> [u8; 3] {
-        self.emu.tc().axis_nr()
+    fn take_spooled(&mut self) -> Result<Vec<SpoolRecord>> {
+        Ok(self.emu.take_spool_log())
+    }
+
+    fn axis_nr(&mut self) -> Result<[u8; 3]> {
+        Ok(self.emu.tc().axis_nr())
     }
 }

@@ -539,7 +539,7 @@ impl Session {
     /// One request to the target, recorded with its answer and what it
     /// spooled; an access error explained with `what`.
     fn request(&mut self, req: &Request, what: impl FnOnce() -> String) -> Result<Reply> {
-        let reply = self.link.call(req)?;
+        let reply = self.link.run(req)?;
         self.answered(req, reply, what)
     }
 
@@ -559,9 +559,9 @@ impl Session {
             self.record(|r| r.read(*addr, *ty, &reply));
             self.recorded = true;
         } else if self.recorder.is_some() || self.spool_log.is_some() {
-            let spooled = self.link.take_spooled();
+            let spooled = self.link.take_spooled()?;
             if self.recorder.is_some() {
-                let axis_nr = self.link.axis_nr();
+                let axis_nr = self.link.axis_nr()?;
                 self.record(|r| r.exchange(req, &reply, &spooled, axis_nr));
                 self.recorded = true;
             }
@@ -613,7 +613,7 @@ impl Session {
         let errors: Vec<(u16, Option<i32>)> = explain::error_registers(req, e)
             .into_iter()
             .map(|(g, addr)| {
-                let read = self.link.call(&Request::Read(addr, uoi::ValueType::I32));
+                let read = self.link.run(&Request::Read(addr, uoi::ValueType::I32));
                 let bits = match read {
                     Ok(Reply::Value(v)) => v.as_i32(),
                     _ => None,

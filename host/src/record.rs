@@ -14,8 +14,8 @@ use std::fmt::Write as _;
 use std::io::{self, BufWriter, Write};
 
 use tc_module::{AxisPos, AXIS_NAMES};
+use tc_request::text::format_record;
 use tc_request::{Reply, Request, SpoolRecord};
-use trace::format_record;
 use uoi::{ObjectAddress, Value, ValueType};
 
 /// Size of the buffer between the recorder and its file.

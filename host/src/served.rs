@@ -1,5 +1,6 @@
 //! A connection to a running `addipos serve`: the second [`Link`], over
-//! the UOI wire (docs/protocol.md) with `uoi::tcp::BlockingClient`.
+//! the UOI wire (docs/protocol.md) with the one wire client
+//! ([`WireClient`], `crate::wire_client`).
 //!
 //! * Every call is bounded in time: connecting by [`CONNECT_TIMEOUT`],
 //!   each request by the connection's timeout (30 s,
@@ -29,14 +30,13 @@
 //!   then does not replay (the server had other clients, or did not start
 //!   fresh).
 
-use std::net::SocketAddr;
 use std::time::Duration;
 
 use emulator::info_op::info_request;
-use emulator::{parse_address, Emulator, EmulatorInfo, GuardedOutcome, GuardedWrite};
+use emulator::{Emulator, EmulatorInfo, GuardedOutcome, GuardedWrite};
 use tc_module::CycleTime;
-use tc_request::{Reply, Request, SpoolRecord};
-use uoi::tcp::{AccessToken, BlockingClient, ClientError, ClientOptions, Waited};
+use tc_request::{Reply, Request, Runner, SpoolRecord};
+use uoi::tcp::{ClientError, ClientOptions, Waited};
 use uoi::wire::{Answer, ProtocolError, Request as WireRequest};
 
 use crate::error::{Error, ErrorCode, Result};
@@ -44,6 +44,7 @@ use crate::handles::Epoch;
 use crate::link::{Limits, Link};
 use crate::record::RecordHeader;
 use crate::served_target::ServedTarget;
+use crate::wire_client::{WireClient, WireError};
 
 /// Longest wait for a server to accept a connection.
 pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(5);
@@ -52,14 +53,9 @@ pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(5);
 pub struct Served {
     /// The address as the target string gave it.
     name: String,
-    addr: SocketAddr,
-    /// The access token presented on connecting, if any.
-    token: Option<AccessToken>,
-    /// The process that opened the connection (a child after `fork`
-    /// must not use its parent's socket).
-    pid: u32,
-    client: Option<BlockingClient>,
-    timeout: Duration,
+    /// The connection, with the access token and the timeouts (a child
+    /// after `fork` does not use its parent's socket).
+    wire: WireClient,
     /// What `INFO` answered last.
     info: EmulatorInfo,
     /// While recording: the shadow emulator whose spool log gives the
@@ -92,15 +88,16 @@ impl Served {
     /// request waits at most `timeout`.
     pub fn connect(target: &ServedTarget, timeout: Duration) -> Result<Self> {
         let name = target.address.as_str();
-        let addr = parse_address(name)
+        let opts = ClientOptions {
+            connect_timeout: CONNECT_TIMEOUT,
+            request_timeout: timeout,
+            token: target.token.clone(),
+        };
+        let wire = WireClient::new(name, opts)
             .map_err(|e| Error::new(ErrorCode::Connection, format!("target `{name}`: {e}")))?;
         let mut s = Self {
             name: name.to_string(),
-            addr,
-            token: target.token.clone(),
-            pid: std::process::id(),
-            client: None,
-            timeout,
+            wire,
             info: EmulatorInfo {
                 cleans: 0,
                 realtime: None,
@@ -120,32 +117,26 @@ impl Served {
         Ok(s)
     }
 
-    /// The client, connected now if the last call lost it.
-    fn client(&mut self) -> Result<&mut BlockingClient> {
-        if self.pid != std::process::id() {
-            return Err(Error::new(
+    /// The library error of a failed exchange of the wire client.
+    fn wire_failure(&mut self, e: WireError, what: &str) -> Error {
+        match e {
+            WireError::Connect(e) => self.failure(e, "connect"),
+            WireError::Exchange(e) => self.failure(e, what),
+            WireError::Unexpected(ans) => self.unreadable(what, &ans),
+            WireError::Address(m) => Error::new(
+                ErrorCode::Connection,
+                format!("target `{}`: {m}", self.name),
+            ),
+            WireError::Forked { pid } => Error::new(
                 ErrorCode::Connection,
                 format!(
-                    "this connection to the server at {} was opened by process {} before a \
+                    "this connection to the server at {} was opened by process {pid} before a \
                      fork: a child process cannot use it (the two would read each other's \
                      answers); open a connection of its own in the child with addipos_open",
-                    self.name, self.pid
+                    self.name
                 ),
-            ));
+            ),
         }
-        if self.client.is_none() {
-            let opts = ClientOptions {
-                connect_timeout: CONNECT_TIMEOUT,
-                request_timeout: self.timeout,
-                token: self.token.clone(),
-            };
-            let c = BlockingClient::connect_with(&self.addr.to_string(), &opts)
-                .map_err(|e| self.failure(e, "connect"))?;
-            self.client = Some(c);
-        }
-        self.client
-            .as_mut()
-            .ok_or_else(|| Error::new(ErrorCode::Internal, "no client"))
     }
 
     /// The library error of a failed exchange; a lost or timed-out
@@ -207,14 +198,14 @@ impl Served {
         };
         // Whatever went wrong, the connection is not trusted any more:
         // its answers may be out of step with its requests.
-        self.client = None;
+        self.wire.disconnect();
         Error::new(code, text)
     }
 
     /// A protocol failure of an answer the library cannot take: the
     /// connection is dropped (the next call connects again).
     fn unreadable(&mut self, what: impl std::fmt::Display, ans: &Answer) -> Error {
-        self.client = None;
+        self.wire.disconnect();
         Error::new(
             ErrorCode::Protocol,
             format!(
@@ -232,7 +223,7 @@ impl Served {
 
     fn keep_info(&mut self, ans: &Answer) -> Result<EmulatorInfo> {
         let Some(info) = EmulatorInfo::from_wire(ans) else {
-            self.client = None;
+            self.wire.disconnect();
             if let Answer::Protocol(p) = ans {
                 return Err(self.failure(ClientError::Protocol(*p), "INFO"));
             }
@@ -251,7 +242,8 @@ impl Served {
 
     /// Sends `reqs` in one write and reads their answers.
     fn exchange(&mut self, reqs: &[WireRequest], what: &str) -> Result<Vec<Answer>> {
-        self.exchange_until(reqs, what, &|| false)
+        let out = self.wire.exchange(reqs);
+        out.map_err(|e| self.wire_failure(e, what))
     }
 
     /// As [`exchange`](Self::exchange), given up as soon as `stop` says
@@ -262,8 +254,8 @@ impl Served {
         what: &str,
         stop: &dyn Fn() -> bool,
     ) -> Result<Vec<Answer>> {
-        let out = self.client()?.pipeline_until(reqs, stop);
-        out.map_err(|e| self.failure(e, what))
+        let out = self.wire.exchange_until(reqs, stop);
+        out.map_err(|e| self.wire_failure(e, what))
     }
 
     /// The reply of the server to `req`, decoded; an answer of another
@@ -276,7 +268,7 @@ impl Served {
             None => Err(self.unreadable(req, ans)),
             Some(r) => {
                 if matches!(r, Reply::Protocol(_)) {
-                    self.client = None;
+                    self.wire.disconnect();
                 }
                 Ok(r)
             }
@@ -458,6 +450,36 @@ fn exec_outcome(what: &str, server: &str, reply: Reply) -> Result<()> {
     }
 }
 
+/// The server as a runner of requests. The wire does not show what the
+/// shared emulator spooled: the spooled elements are those of the shadow
+/// emulator a recording runs, and the axes X, Y, Z are its own.
+impl Runner for Served {
+    type Error = Error;
+
+    fn run(&mut self, req: &Request) -> Result<Reply> {
+        let (_, ans) = self.send(req, false)?;
+        let reply = self.reply(req, &ans)?;
+        self.follow(req, &reply);
+        if self.shadow.is_some() && matches!(req, Request::Exec(_)) {
+            // The cycles our own EXEC ran are not the server's beside it.
+            self.accounted = self.refresh()?.cycles;
+        }
+        Ok(reply)
+    }
+
+    fn take_spooled(&mut self) -> Result<Vec<SpoolRecord>> {
+        Ok(self
+            .shadow
+            .as_mut()
+            .map(Emulator::take_spool_log)
+            .unwrap_or_default())
+    }
+
+    fn axis_nr(&mut self) -> Result<[u8; 3]> {
+        Ok(self.shadow.as_ref().map_or([0, 1, 2], |s| s.tc().axis_nr()))
+    }
+}
+
 impl Link for Served {
     fn describe(&self) -> String {
         self.name.clone()
@@ -497,17 +519,6 @@ impl Link for Served {
         self.cycles_beside().unwrap_or(0)
     }
 
-    fn call(&mut self, req: &Request) -> Result<Reply> {
-        let (_, ans) = self.send(req, false)?;
-        let reply = self.reply(req, &ans)?;
-        self.follow(req, &reply);
-        if self.shadow.is_some() && matches!(req, Request::Exec(_)) {
-            // The cycles our own EXEC ran are not the server's beside it.
-            self.accounted = self.refresh()?.cycles;
-        }
-        Ok(reply)
-    }
-
     fn call_in_epoch(&mut self, req: &Request, epoch: Epoch) -> Result<Option<Reply>> {
         if let Request::Write(addr, value) = req {
             return self.write_in_epoch(*addr, *value, epoch);
@@ -516,7 +527,7 @@ impl Link for Served {
             if epoch_of(&self.refresh()?) != epoch {
                 return Ok(None);
             }
-            return self.call(req).map(Some);
+            return self.run(req).map(Some);
         }
         let (info, ans) = self.send(req, true)?;
         if info.is_some_and(|i| epoch_of(&i) != epoch) {
@@ -567,9 +578,8 @@ impl Link for Served {
     }
 
     fn set_timeout(&mut self, timeout: Duration) -> Result<()> {
-        self.timeout = timeout;
         // The client takes its request timeout when it connects.
-        self.client = None;
+        self.wire.set_request_timeout(timeout);
         Ok(())
     }
 
@@ -591,17 +601,6 @@ impl Link for Served {
             self.accounted = i.cycles;
         }
         true
-    }
-
-    fn take_spooled(&mut self) -> Vec<SpoolRecord> {
-        self.shadow
-            .as_mut()
-            .map(Emulator::take_spool_log)
-            .unwrap_or_default()
-    }
-
-    fn axis_nr(&mut self) -> [u8; 3] {
-        self.shadow.as_ref().map_or([0, 1, 2], |s| s.tc().axis_nr())
     }
 
     fn take_warning(&mut self) -> Option<String> {

@@ -11,8 +11,9 @@ use std::path::Path;
 use std::sync::{Arc, Mutex};
 
 use addipos::{Descriptor, EmbeddedOptions, ErrorCode, Handle, Machine, ObjectAddress};
-use tc_request::{Motion, Reply, Request, SpoolRecord};
-use trace::{load_trace, replay, replay_on, Header, Target};
+use tc_objects::TcObject;
+use tc_request::{Motion, Reply, Request, Runner, SpoolRecord};
+use trace::{load_trace, replay, replay_on, Header};
 use uoi::{Value, ValueType};
 
 fn d(device: i32, index: i32, sub: i32) -> Descriptor {
@@ -190,29 +191,40 @@ impl Library {
     }
 }
 
-impl Target for Library {
-    fn run(&mut self, req: &Request) -> Result<Reply, String> {
+/// Why the library could not carry a trace's request out.
+#[derive(Debug, thiserror::Error)]
+enum LibraryError {
+    /// A request no trace holds.
+    #[error("not in traces: {0:?}")]
+    NotInTraces(Request),
+    /// The library's error.
+    #[error(transparent)]
+    Library(#[from] addipos::Error),
+}
+
+impl Runner for Library {
+    type Error = LibraryError;
+
+    fn run(&mut self, req: &Request) -> Result<Reply, LibraryError> {
         Ok(match req {
             Request::Read(a, _) | Request::Write(a, _) => self.access(req, *a),
             Request::Motion(m) => self.motion(m),
             Request::Exec(n) => reply(self.m.exec(*n), |()| Reply::Ok),
             Request::Pos => reply(self.m.position(), Reply::Pos),
             Request::Queue => reply(self.m.queue(), Reply::Queue),
-            other => return Err(format!("not in traces: {other:?}")),
+            other => return Err(LibraryError::NotInTraces(other.clone())),
         })
     }
 
-    fn take_spooled(&mut self) -> Result<Vec<SpoolRecord>, String> {
+    fn take_spooled(&mut self) -> Result<Vec<SpoolRecord>, LibraryError> {
         Ok(self.m.take_spooled())
     }
 
-    fn axis_nr(&mut self) -> Result<[u8; 3], String> {
+    fn axis_nr(&mut self) -> Result<[u8; 3], LibraryError> {
         let mut out = [0u8; 3];
-        for (k, o) in (0..3).zip(out.iter_mut()) {
-            let h = self
-                .handle(tc_objects::TcObject::AxisNr.sub(k))
-                .map_err(|e| e.to_string())?;
-            *o = self.m.read_int(h).map_err(|e| e.to_string())? as u8;
+        for (sub, o) in (0..3).zip(out.iter_mut()) {
+            let h = self.handle(TcObject::AxisNr.sub(sub))?;
+            *o = self.m.read_int(h)? as u8;
         }
         Ok(out)
     }

@@ -50,6 +50,12 @@
 //! with `EXEC`, as a controller's interpreter waits for its interpolator.
 //! [`parse_program`] and [`run::run_program`] do the same on a program
 //! held whole (tests, small programs).
+//!
+//! **Running on a target.** [`nc_run`] runs a checked program on any
+//! [`tc_request::Runner`] (the CLI and the plot pass a fresh emulator),
+//! hands each request on with its answer and spooled elements, and
+//! writes the run as an equivalent conformance trace as it goes
+//! (`addipos run`).
 
 mod block;
 mod commands;
@@ -58,6 +64,7 @@ mod error;
 mod expr;
 mod lines;
 mod model;
+pub mod nc_run;
 mod plain;
 mod refusal;
 pub mod run;

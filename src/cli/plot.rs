@@ -5,11 +5,11 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use nc::nc_run::run_nc_with_tools;
 use plot::{
     collect_paths_with, nc_steps, render, trace_steps, Paths, PlotStep, MAX_STEPPED_CYCLES,
 };
-use trace::nc_run::run_nc_with_tools;
-use trace::{load_trace, Header};
+use trace::{fresh_emulator, load_trace, Header};
 
 use super::progress::count_bar;
 use super::run::read_tool_values;
@@ -39,7 +39,8 @@ fn nc_paths(args: &PlotArgs, name: &str) -> Result<(Paths, bool), Failure> {
     let text = std::fs::read_to_string(&args.file)
         .map_err(|e| Failure::trouble(format!("{name}: cannot read: {e}")))?;
     let tools = read_tool_values(args.tools.as_deref(), args.group).map_err(Failure::trouble)?;
-    let run = run_nc_with_tools(&text, &tools);
+    // The emulator a trace without header options replays on.
+    let Ok(run) = run_nc_with_tools(&mut fresh_emulator(&Header::new("nc")), &text, &tools);
     if let Some(e) = run.parse_errors.first() {
         return Err(Failure::failed(format!("{name}: {e}")));
     }
@@ -67,7 +68,7 @@ pub fn cmd_plot(args: &PlotArgs) -> Outcome {
         // fails (exit 1), as from `replay`.
         std::fs::File::open(&args.file)
             .map_err(|e| Failure::trouble(format!("{name}: cannot read: {e}")))?;
-        let t = load_trace(&args.file).map_err(Failure::failed)?;
+        let t = load_trace(&args.file).map_err(|e| Failure::failed(e.to_string()))?;
         (paths_shown(&t.header, &trace_steps(&t)), false)
     } else {
         nc_paths(args, &name)?

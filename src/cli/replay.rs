@@ -11,13 +11,13 @@ use std::time::Instant;
 use clap::Args;
 use indicatif::ProgressBar;
 
-use trace::remote::RemoteTarget;
-use trace::{fresh_emulator, printable, replay_stream, trace_files, Target, TraceReader};
+use addipos::{RemoteSession, SessionError};
+use trace::{fresh_emulator, printable, replay_stream, trace_files, Header, Mismatch, TraceReader};
 
 use super::junit::{write_junit, CaseResult, Suite, NO_REQUEST};
 use super::progress::bytes_bar;
 use super::remote_args::{connect, RemoteArgs};
-use super::shard::Shard;
+use super::shard::{parse_shard, Shard};
 use super::{Failure, Outcome};
 
 /// Mismatch lines printed per trace unless `--max-reports` says otherwise:
@@ -46,7 +46,7 @@ pub struct ReplayArgs {
     /// positions K, K+N, K+2N ... of the list the arguments give. N jobs
     /// given the same arguments replay every trace exactly once
     /// (docs/trace-format.md, "Replays in CI").
-    #[arg(long, value_name = "K/N")]
+    #[arg(long, value_name = "K/N", value_parser = parse_shard)]
     pub shard: Option<Shard>,
     /// Mismatch lines printed per trace at most; the rest are counted
     /// (0: no limit).
@@ -56,24 +56,57 @@ pub struct ReplayArgs {
     pub remote: RemoteArgs,
 }
 
+/// Why the traces to replay could not be found, or replayed.
+#[derive(Debug, thiserror::Error)]
+enum ReplayError {
+    /// A path named that does not exist.
+    #[error("{0}: no such file or folder")]
+    NoSuchPath(String),
+    /// A path that cannot be looked at, or a folder that cannot be
+    /// listed.
+    #[error("{shown}: {error}")]
+    Unreadable {
+        /// The path, control characters escaped.
+        shown: String,
+        /// Why.
+        error: std::io::Error,
+    },
+    /// A folder without traces.
+    #[error("no traces found: {0} holds no *.trace file")]
+    NoTraces(String),
+    /// The server could not set up a fresh emulator for a trace: the
+    /// other traces cannot run either.
+    #[error("{name}: the server did not set up a fresh emulator: {error}")]
+    SetUp {
+        /// The trace file.
+        name: String,
+        /// Why.
+        error: SessionError,
+    },
+}
+
 /// The trace files the arguments name: files as given, folders as their
 /// `*.trace` files. A path that does not exist, or a folder without
 /// traces, is an error.
-fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>, ReplayError> {
     let mut out = Vec::new();
     for p in paths {
         let shown = printable(&p.display().to_string()).into_owned();
+        let unreadable = |error, shown: &str| ReplayError::Unreadable {
+            shown: shown.to_string(),
+            error,
+        };
         let meta = std::fs::metadata(p).map_err(|e| match e.kind() {
-            std::io::ErrorKind::NotFound => format!("{shown}: no such file or folder"),
-            _ => format!("{shown}: {e}"),
+            std::io::ErrorKind::NotFound => ReplayError::NoSuchPath(shown.clone()),
+            _ => unreadable(e, &shown),
         })?;
         if !meta.is_dir() {
             out.push(p.clone());
             continue;
         }
-        let files = trace_files(p).map_err(|e| format!("{shown}: {e}"))?;
+        let files = trace_files(p).map_err(|e| unreadable(e, &shown))?;
         if files.is_empty() {
-            return Err(format!("no traces found: {shown} holds no *.trace file"));
+            return Err(ReplayError::NoTraces(shown));
         }
         out.extend(files);
     }
@@ -115,10 +148,10 @@ impl Reports<'_> {
 /// `Err` (the server is lost, the other traces cannot run either).
 fn replay_file(
     path: &Path,
-    remote: Option<&mut RemoteTarget>,
+    remote: Option<&mut RemoteSession>,
     max: usize,
     bar: &ProgressBar,
-) -> Result<CaseResult, String> {
+) -> Result<CaseResult, ReplayError> {
     // A file name's control characters are escaped wherever it is shown.
     let name = printable(&path.display().to_string()).into_owned();
     let mut out = Reports {
@@ -143,24 +176,30 @@ fn replay_file(
         }
     };
     let header = reader.header().clone();
-    let mut emulator;
-    let target: &mut dyn Target = match remote {
+    let mut report = |m: Mismatch| out.report(m.to_string());
+    let done = match remote {
         Some(r) => {
-            r.prepare(&header)
-                .map_err(|e| format!("{name}: the server did not set up a fresh emulator: {e}"))?;
-            r
+            set_up(r, &header).map_err(|error| ReplayError::SetUp {
+                name: name.clone(),
+                error,
+            })?;
+            replay_stream(&mut reader, r, &mut report)
         }
-        None => {
-            emulator = fresh_emulator(&header);
-            &mut emulator
-        }
+        None => replay_stream(&mut reader, &mut fresh_emulator(&header), &mut report),
     };
-    match replay_stream(&mut reader, target, &mut |m| out.report(m.to_string())) {
+    match done {
         Ok(done) => out.case.steps = done.steps,
         Err(e) => out.case.error = Some(e.to_string()),
     }
     out.finish();
     Ok(out.case)
+}
+
+/// A fresh conformance session on the server for a trace of `header`.
+fn set_up(session: &mut RemoteSession, header: &Header) -> Result<(), SessionError> {
+    // A capacity is at most 1,000,000: it fits u64.
+    let capacity = header.spool_capacity as u64;
+    session.set_up(header.start, header.cycle.secs(), capacity)
 }
 
 /// Prints what a trace's replay ended with, beyond its mismatches.
@@ -257,7 +296,7 @@ pub fn cmd_replay(args: &ReplayArgs) -> Outcome {
     let mut remote = args
         .server
         .as_deref()
-        .map(|s| connect(s, &args.remote))
+        .map(|s| connect(s, &args.remote).map(RemoteSession::new))
         .transpose()
         .map_err(Failure::trouble)?;
     let total: u64 = files

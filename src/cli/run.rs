@@ -4,6 +4,7 @@
 //! finds every error, and only a program without one runs) and streamed:
 //! the output and the trace are written as the run goes.
 
+use std::convert::Infallible;
 use std::fs::File;
 use std::io::{self, BufReader, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -11,11 +12,58 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use nc::check_program_counted;
+use nc::nc_run::{
+    axis_text, run_checked_nc, trace_head, trace_lines, Exchange, NcOutcome, NcRunError,
+    SpoolLabels,
+};
 use nc::run::RunError;
 use tool_store::{ToolKey, ToolValue};
-use trace::nc_run::{axis_text, run_checked_nc, trace_head, trace_lines, NcOutcome, SpoolLabels};
+use trace::{fresh_emulator, Header};
 
 use super::{Failure, Outcome};
+
+/// Why `run` (or `plot`'s NC run) could not read its input or write its
+/// output.
+#[derive(Debug, thiserror::Error)]
+pub enum RunCmdError {
+    /// The program or the tool file cannot be read.
+    #[error("{name}: cannot read: {error}")]
+    Unreadable {
+        /// The file, as given.
+        name: String,
+        /// Why.
+        error: io::Error,
+    },
+    /// A program from a pipe beyond [`MAX_PIPED_BYTES`].
+    #[error(
+        "{0}: a program from a pipe may hold at most 64 MiB ({MAX_PIPED_BYTES} bytes); give a \
+         longer one as a regular file"
+    )]
+    PipeTooLong(String),
+    /// Bad lines in the tool file (each said on stderr).
+    #[error("{name}: {count} bad line(s) in the tool file; nothing was run")]
+    BadToolLines {
+        /// The tool file.
+        name: String,
+        /// How many.
+        count: usize,
+    },
+    /// The trace file cannot be written.
+    #[error("{path}: cannot write: {error}")]
+    Unwritable {
+        /// The trace file.
+        path: String,
+        /// Why.
+        error: io::Error,
+    },
+    /// The standard output cannot be written.
+    #[error("standard output: {0}")]
+    Stdout(io::Error),
+    /// The run stopped: an output of the sink failed (its message says
+    /// which).
+    #[error(transparent)]
+    Run(#[from] NcRunError<Infallible>),
+}
 
 /// Arguments of `addipos run`.
 #[derive(Args, Debug)]
@@ -44,7 +92,7 @@ pub struct RunArgs {
 }
 
 /// The tool values of the `--tools` file, checked like a tool file.
-fn tool_values(args: &RunArgs) -> Result<Vec<(u8, ToolKey, ToolValue)>, String> {
+fn tool_values(args: &RunArgs) -> Result<Vec<(u8, ToolKey, ToolValue)>, RunCmdError> {
     read_tool_values(args.tools.as_deref(), args.group)
 }
 
@@ -53,20 +101,23 @@ fn tool_values(args: &RunArgs) -> Result<Vec<(u8, ToolKey, ToolValue)>, String> 
 pub fn read_tool_values(
     path: Option<&std::path::Path>,
     group: u8,
-) -> Result<Vec<(u8, ToolKey, ToolValue)>, String> {
+) -> Result<Vec<(u8, ToolKey, ToolValue)>, RunCmdError> {
     let Some(path) = path else {
         return Ok(Vec::new());
     };
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(error) => return Err(RunCmdError::Unreadable { name, error }),
+    };
     let (table, errors) = tool_store::parse_group_file_lenient(&name, &text);
     if !errors.is_empty() {
         // Every bad line, as `tools import` says them; nothing runs.
         errors.iter().for_each(|e| eprintln!("{e}"));
-        return Err(format!(
-            "{name}: {} bad line(s) in the tool file; nothing was run",
-            errors.len()
-        ));
+        return Err(RunCmdError::BadToolLines {
+            name,
+            count: errors.len(),
+        });
     }
     Ok(table.iter().map(|(k, v)| (group, k, v)).collect())
 }
@@ -79,7 +130,12 @@ pub fn cmd_run(args: &RunArgs) -> Outcome {
     let (parse_errors, more) = source
         .reader()
         .map(check_program_counted)
-        .map_err(|e| Failure::trouble(format!("{name}: cannot read: {e}")))?;
+        .map_err(|error| {
+            Failure::trouble(RunCmdError::Unreadable {
+                name: name.clone(),
+                error,
+            })
+        })?;
     if !parse_errors.is_empty() {
         report_errors(&parse_errors, &name);
         report_more(more, "errors", &name);
@@ -106,8 +162,11 @@ enum Source {
 impl Source {
     /// The program at `path` (called `name` in errors); errors: it cannot
     /// be read, or a pipe delivers more than [`MAX_PIPED_BYTES`].
-    fn open(path: &Path, name: &str) -> Result<Source, String> {
-        let cannot = |e: io::Error| format!("{name}: cannot read: {e}");
+    fn open(path: &Path, name: &str) -> Result<Source, RunCmdError> {
+        let cannot = |error| RunCmdError::Unreadable {
+            name: name.to_string(),
+            error,
+        };
         let file = File::open(path).map_err(cannot)?;
         if file.metadata().map_err(cannot)?.is_file() {
             return Ok(Source::File(path.to_path_buf()));
@@ -116,10 +175,7 @@ impl Source {
         let mut capped = io::Read::take(file, MAX_PIPED_BYTES + 1);
         io::Read::read_to_end(&mut capped, &mut text).map_err(cannot)?;
         if text.len() as u64 > MAX_PIPED_BYTES {
-            return Err(format!(
-                "{name}: a program from a pipe may hold at most 64 MiB ({MAX_PIPED_BYTES} \
-                 bytes); give a longer one as a regular file"
-            ));
+            return Err(RunCmdError::PipeTooLong(name.to_string()));
         }
         Ok(Source::Memory(text))
     }
@@ -139,8 +195,11 @@ fn run_streamed(
     source: &Source,
     name: &str,
     tools: &[(u8, ToolKey, ToolValue)],
-) -> Result<NcOutcome, String> {
-    let cannot_write = |path: &Path, e: io::Error| format!("{}: cannot write: {e}", path.display());
+) -> Result<NcOutcome, RunCmdError> {
+    let cannot_write = |path: &Path, error| RunCmdError::Unwritable {
+        path: path.display().to_string(),
+        error,
+    };
     let mut trace = match &args.trace {
         Some(path) => {
             let mut w = File::create(path)
@@ -153,11 +212,12 @@ fn run_streamed(
         None => None,
     };
     let mut out = BufWriter::new(io::stdout().lock());
-    let reader = source
-        .reader()
-        .map_err(|e| format!("{name}: cannot read: {e}"))?;
+    let reader = source.reader().map_err(|error| RunCmdError::Unreadable {
+        name: name.to_string(),
+        error,
+    })?;
     let mut labels = SpoolLabels::default();
-    let mut sink = |x: trace::nc_run::Exchange, axis_nr: [u8; 3]| -> io::Result<()> {
+    let mut sink = |x: Exchange, axis_nr: [u8; 3]| -> io::Result<()> {
         for line in labels.lines(&x, axis_nr) {
             writeln!(out, "{line}")
                 .map_err(|e| io::Error::new(e.kind(), format!("standard output: {e}")))?;
@@ -165,12 +225,14 @@ fn run_streamed(
         if let Some((w, path)) = &mut trace {
             let text = trace_lines(&x, axis_nr);
             w.write_all(text.as_bytes())
-                .map_err(|e| io::Error::new(e.kind(), cannot_write(path, e)))?;
+                .map_err(|e| io::Error::new(e.kind(), cannot_write(path, e).to_string()))?;
         }
         Ok(())
     };
-    let outcome = run_checked_nc(reader, tools, &mut sink).map_err(|e| e.to_string())?;
-    print_end(&mut out, &outcome).map_err(|e| format!("standard output: {e}"))?;
+    // The emulator a trace without header options replays on.
+    let mut emulator = fresh_emulator(&Header::new("nc"));
+    let outcome = run_checked_nc(&mut emulator, reader, tools, &mut sink)?;
+    print_end(&mut out, &outcome).map_err(RunCmdError::Stdout)?;
     if let Some((mut w, path)) = trace {
         w.flush().map_err(|e| cannot_write(path, e))?;
     }

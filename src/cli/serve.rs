@@ -112,12 +112,61 @@ struct ServeSettings {
     _tools_lock: Option<std::fs::File>,
 }
 
+/// Why `serve` could not start; each names where the bad value came
+/// from.
+#[derive(Debug, thiserror::Error)]
+enum ServeError {
+    /// An address option that is not an address (`parse_address`'s
+    /// reason).
+    #[error("--{option}: {reason}")]
+    Address {
+        /// The option.
+        option: &'static str,
+        /// Why.
+        reason: String,
+    },
+    /// A `--realtime` factor out of range.
+    #[error("--realtime {factor}: {error}")]
+    Realtime {
+        /// The factor given.
+        factor: f64,
+        /// Why.
+        error: emulator::clock::FactorError,
+    },
+    /// Bad settings.
+    #[error("{origin}: {error}")]
+    Settings {
+        /// The settings file, or the built-in settings.
+        origin: String,
+        /// What is wrong.
+        error: ConfigError,
+    },
+    /// The access token cannot be read or made.
+    #[error("access token: {0}")]
+    Token(std::io::Error),
+    /// The tool data cannot be opened (the emulator's reason names the
+    /// file and the line).
+    #[error("{0}")]
+    Tools(String),
+    /// `--record`'s file cannot be created.
+    #[error("--record {path}: cannot create: {error}")]
+    Record {
+        /// The file.
+        path: String,
+        /// Why.
+        error: std::io::Error,
+    },
+}
+
+/// An address option read, or the error naming the option.
+fn address_of(option: &'static str, text: &str) -> Result<SocketAddr, ServeError> {
+    parse_address(text).map_err(|reason| ServeError::Address { option, reason })
+}
+
 /// The command line over the settings; a bad value names its option.
-fn apply_args(cfg: &mut Config, args: &ServeArgs) -> Result<(), String> {
+fn apply_args(cfg: &mut Config, args: &ServeArgs) -> Result<(), ServeError> {
     if let Some(l) = &args.listen {
-        cfg.listen = parse_address(l)
-            .map_err(|e| format!("--listen: {e}"))?
-            .to_string();
+        cfg.listen = address_of("listen", l)?.to_string();
     }
     cfg.allow_remote |= args.allow_remote;
     if let Some(d) = &args.data_dir {
@@ -125,16 +174,15 @@ fn apply_args(cfg: &mut Config, args: &ServeArgs) -> Result<(), String> {
     }
     cfg.persist &= !args.no_persist;
     if let Some(f) = args.realtime {
-        emulator::RealTimeFactor::new(f).map_err(|e| format!("--realtime {f}: {e}"))?;
+        emulator::RealTimeFactor::new(f)
+            .map_err(|error| ServeError::Realtime { factor: f, error })?;
         cfg.realtime = f;
     }
     cfg.ignore_bad_tools |= args.ignore_bad_tools;
     if let Some(addr) = &args.opcua {
         cfg.opcua.enabled = true;
         if !addr.is_empty() {
-            cfg.opcua.listen = parse_address(addr)
-                .map_err(|e| format!("--opcua: {e}"))?
-                .to_string();
+            cfg.opcua.listen = address_of("opcua", addr)?.to_string();
         }
     }
     Ok(())
@@ -143,32 +191,35 @@ fn apply_args(cfg: &mut Config, args: &ServeArgs) -> Result<(), String> {
 /// The settings file (or the built-in settings) with the command line
 /// applied, checked, and the tool data opened; every error names where
 /// the bad value came from.
-fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
+fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, ServeError> {
     let config = args.config.as_deref();
-    let source = config.map_or_else(|| "built-in settings".into(), |p| p.display().to_string());
+    let source: String =
+        config.map_or_else(|| "built-in settings".into(), |p| p.display().to_string());
+    let in_source = |error: ConfigError| ServeError::Settings {
+        origin: source.clone(),
+        error,
+    };
     let text = match config {
         None => DEFAULT_CONFIG.to_string(),
-        Some(p) => read_settings_file(p).map_err(|e| format!("{source}: {e}"))?,
+        Some(p) => read_settings_file(p).map_err(in_source)?,
     };
-    let in_source = |e: ConfigError| format!("{source}: {e}");
     let mut cfg = Config::parse(&text).map_err(in_source)?;
     apply_args(&mut cfg, args)?;
     let mut server = cfg.server().map_err(in_source)?;
     let mut service = cfg.service().map_err(in_source)?;
     let mut opcua = cfg.opcua().map_err(in_source)?;
     if cfg.wants_token() {
-        let token = server_token(&cfg.data_dir).map_err(|e| format!("access token: {e}"))?;
+        let token = server_token(&cfg.data_dir).map_err(ServeError::Token)?;
         if let Some(face) = &mut opcua {
             face.token = Some(token.clone());
         }
         server.access.token = Some(token);
     }
     let lock = if cfg.persist {
-        Some(open_tools(
-            &mut service,
-            &cfg.data_dir,
-            cfg.ignore_bad_tools,
-        )?)
+        Some(
+            open_tools(&mut service, &cfg.data_dir, cfg.ignore_bad_tools)
+                .map_err(ServeError::Tools)?,
+        )
     } else {
         tracing::info!("tool data kept in memory only (--no-persist)");
         None
@@ -190,11 +241,11 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, String> {
 fn web_settings(
     args: &ServeArgs,
     server: &uoi::tcp::ServerConfig,
-) -> Result<Option<web_view::WebConfig>, String> {
+) -> Result<Option<web_view::WebConfig>, ServeError> {
     let Some(addr) = &args.web else {
         return Ok(None);
     };
-    let listen = parse_address(addr).map_err(|e| format!("--web: {e}"))?;
+    let listen = address_of("web", addr)?;
     let mut web = web_view::WebConfig::new(listen);
     web.allow_remote = server.allow_remote;
     web.access = server.access.clone();
@@ -206,13 +257,16 @@ fn time_and_recording(
     service: &mut EmulatorService,
     cfg: &Config,
     record: Option<&Path>,
-) -> Result<(), String> {
+) -> Result<(), ServeError> {
     if let Some(f) = service.realtime() {
         tracing::info!("real time: the executor runs with the wall clock, {f} times faster");
     }
     if let Some(path) = record {
         let recorder = ServeRecorder::create(path, &record_header(cfg, service.realtime()))
-            .map_err(|e| format!("--record {}: cannot create: {e}", path.display()))?;
+            .map_err(|error| ServeError::Record {
+                path: path.display().to_string(),
+                error,
+            })?;
         service.set_journal(Box::new(recorder));
         tracing::info!(
             "recording every request carried out into {}",

@@ -2,7 +2,6 @@
 //! parallel jobs of a CI system replay a corpus between them (decision 311).
 
 use std::fmt;
-use std::str::FromStr;
 
 /// One part of a deterministic split: part `k` (from 1) of `n`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -31,16 +30,18 @@ impl Shard {
     }
 }
 
-impl FromStr for Shard {
-    type Err = String;
+/// A `--shard` that is not `K/N` with `1 <= K <= N`.
+#[derive(Debug, PartialEq, Eq, thiserror::Error)]
+#[error("`{0}` is not K/N with 1 <= K <= N (e.g. 2/4)")]
+pub(crate) struct BadShard(String);
 
-    fn from_str(s: &str) -> Result<Self, String> {
-        let bad = || format!("`{s}` is not K/N with 1 <= K <= N (e.g. 2/4)");
-        let (k, n) = s.split_once('/').ok_or_else(bad)?;
-        let k = k.trim().parse().map_err(|_| bad())?;
-        let n = n.trim().parse().map_err(|_| bad())?;
-        Shard::new(k, n).ok_or_else(bad)
-    }
+/// Reads `--shard K/N`.
+pub(crate) fn parse_shard(s: &str) -> Result<Shard, BadShard> {
+    let bad = || BadShard(s.to_string());
+    let (k, n) = s.split_once('/').ok_or_else(bad)?;
+    let k = k.trim().parse().map_err(|_| bad())?;
+    let n = n.trim().parse().map_err(|_| bad())?;
+    Shard::new(k, n).ok_or_else(bad)
 }
 
 impl fmt::Display for Shard {
@@ -77,10 +78,10 @@ mod tests {
 
     #[test]
     fn parses_k_of_n_and_refuses_the_rest() {
-        assert_eq!("2/4".parse::<Shard>(), Ok(Shard { k: 2, n: 4 }));
-        assert_eq!("1/1".parse::<Shard>().unwrap().to_string(), "1/1");
+        assert_eq!(parse_shard("2/4"), Ok(Shard { k: 2, n: 4 }));
+        assert_eq!(parse_shard("1/1").unwrap().to_string(), "1/1");
         for bad in ["0/4", "5/4", "2", "a/b", "2/0", "-1/3", ""] {
-            assert!(bad.parse::<Shard>().is_err(), "{bad}");
+            assert!(parse_shard(bad).is_err(), "{bad}");
         }
     }
 }

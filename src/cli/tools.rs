@@ -16,7 +16,54 @@ use tool_store::{Record, Strictness, ToolStore};
 use emulator::{Config, DEFAULT_CONFIG};
 
 use super::{Failure, Outcome};
+use snapshot::{SnapshotError, StoreAt};
 use values::{Import, ToolSet};
+
+/// Why a `tools` subcommand could not run.
+#[derive(Debug, thiserror::Error)]
+enum ToolsError {
+    /// The settings file cannot be read.
+    #[error("cannot read {path}: {error}")]
+    Unreadable {
+        /// The file.
+        path: String,
+        /// Why.
+        error: std::io::Error,
+    },
+    /// The settings are bad.
+    #[error("{origin}: {error}")]
+    Settings {
+        /// The settings file, or the built-in settings.
+        origin: String,
+        /// What is wrong.
+        error: emulator::ConfigError,
+    },
+    /// The export file cannot be written.
+    #[error("cannot write {path}: {error}")]
+    Unwritable {
+        /// The file.
+        path: String,
+        /// Why.
+        error: std::io::Error,
+    },
+    /// The tool folder cannot be made.
+    #[error("cannot create {path}: {error}")]
+    NoFolder {
+        /// The folder.
+        path: String,
+        /// Why.
+        error: std::io::Error,
+    },
+    /// The tool folder is held by another (a server).
+    #[error(transparent)]
+    Locked(#[from] tool_store::LockError),
+    /// The tool data cannot be read.
+    #[error(transparent)]
+    Snapshot(#[from] SnapshotError),
+    /// The tool data is bad, or the import cannot be saved.
+    #[error(transparent)]
+    Store(#[from] StoreAt),
+}
 
 /// Exit statuses of `tools import`, for `--help`.
 const TOOLS_EXIT_HELP: &str = "Exit status: 0 success; 1 the file to import is invalid \
@@ -114,7 +161,7 @@ pub struct DirArgs {
 
 impl DirArgs {
     /// The tool folder: `--data-dir`, or the settings' data_dir, + tools.
-    fn tools_dir(&self) -> Result<PathBuf, String> {
+    fn tools_dir(&self) -> Result<PathBuf, ToolsError> {
         if let Some(d) = &self.data_dir {
             return Ok(tool_store::tools_dir(d));
         }
@@ -122,11 +169,16 @@ impl DirArgs {
             None => ("built-in settings".to_owned(), DEFAULT_CONFIG.to_owned()),
             Some(p) => (
                 p.display().to_string(),
-                std::fs::read_to_string(p)
-                    .map_err(|e| format!("cannot read {}: {e}", p.display()))?,
+                std::fs::read_to_string(p).map_err(|error| ToolsError::Unreadable {
+                    path: p.display().to_string(),
+                    error,
+                })?,
             ),
         };
-        let cfg = Config::parse(&text).map_err(|e| format!("{source}: {e}"))?;
+        let cfg = Config::parse(&text).map_err(|error| ToolsError::Settings {
+            origin: source,
+            error,
+        })?;
         Ok(tool_store::tools_dir(&cfg.data_dir))
     }
 }
@@ -159,7 +211,7 @@ pub fn cmd_tools(command: ToolsCommand) -> Outcome {
 
 /// The values that differ from their defaults (of `group` only, if
 /// given), read without the lock; notes about the data on stderr.
-fn read_values(dir: &DirArgs, group: Option<u8>) -> Result<Vec<ToolSet>, String> {
+fn read_values(dir: &DirArgs, group: Option<u8>) -> Result<Vec<ToolSet>, ToolsError> {
     let dir = dir.tools_dir()?;
     let (store, report) = snapshot::load(&dir)?;
     snapshot::report_notes(&dir, &report)
@@ -187,15 +239,16 @@ fn print(text: &str) {
     print!("{text}");
 }
 
-fn export(text: &str, file: Option<&Path>) -> Result<(), String> {
+fn export(text: &str, file: Option<&Path>) -> Result<(), ToolsError> {
     match file {
         None => {
             print(text);
             Ok(())
         }
-        Some(p) => {
-            std::fs::write(p, text).map_err(|e| format!("cannot write {}: {e}", p.display()))
-        }
+        Some(p) => std::fs::write(p, text).map_err(|error| ToolsError::Unwritable {
+            path: p.display().to_string(),
+            error,
+        }),
     }
 }
 
@@ -224,9 +277,17 @@ fn cmd_import(dir: &DirArgs, file: &Path, group: Option<u8>, json: bool, replace
 
 /// Writes the checked values into the tool folder `dir` under its lock:
 /// one durable journal batch, then compaction into the tool files.
-fn apply(dir: &Path, import: &Import, group: Option<u8>, replace: bool) -> Result<String, String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let _lock = tool_store::lock_exclusive(dir).map_err(|e| e.to_string())?;
+fn apply(
+    dir: &Path,
+    import: &Import,
+    group: Option<u8>,
+    replace: bool,
+) -> Result<String, ToolsError> {
+    std::fs::create_dir_all(dir).map_err(|error| ToolsError::NoFolder {
+        path: dir.display().to_string(),
+        error,
+    })?;
+    let _lock = tool_store::lock_exclusive(dir)?;
     // Replacing everything need not read the old data: bad lines in it
     // are skipped (and listed) instead of refusing.
     let strictness = match (replace, group) {
@@ -234,7 +295,7 @@ fn apply(dir: &Path, import: &Import, group: Option<u8>, replace: bool) -> Resul
         _ => Strictness::Strict,
     };
     let (mut store, report) =
-        ToolStore::open_dir(dir, strictness).map_err(|e| snapshot::store_error(dir, &e))?;
+        ToolStore::open_dir(dir, strictness).map_err(|e| snapshot::store_error(dir, e))?;
     snapshot::report_notes(dir, &report)
         .iter()
         .for_each(|n| eprintln!("{n}"));
@@ -250,11 +311,11 @@ fn apply(dir: &Path, import: &Import, group: Option<u8>, replace: bool) -> Resul
     let records: Vec<Record> = reset.into_iter().chain(sets).collect();
     store
         .append(&records)
-        .map_err(|e| snapshot::store_error(dir, &e))?;
+        .map_err(|e| snapshot::store_error(dir, e))?;
     if let Err(e) = store.compact() {
         eprintln!(
             "warning: the values are saved in the journal but the tool files were not rewritten: {}",
-            snapshot::store_error(dir, &e)
+            snapshot::store_error(dir, e)
         );
     }
     Ok(summary(dir, import, replace))

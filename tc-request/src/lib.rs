@@ -11,6 +11,10 @@
 //!   layer `uoi` carries them without knowing what they mean);
 //! * the NC front end (`nc`) turns program blocks into [`Request`]s.
 //!
+//! Whatever runs requests — the emulator in the process, a server over
+//! the wire — is a [`Runner`]: trace replay, the NC runner and the host
+//! library drive it through that one trait.
+//!
 //! The model's own modules are private: every type is named at the root;
 //! [`text`] and [`wire`] are namespaces of their own.
 //!
@@ -33,6 +37,7 @@ mod axes;
 mod element;
 mod motion;
 mod request;
+mod runner;
 pub mod text;
 pub mod wire;
 
@@ -40,3 +45,4 @@ pub use axes::{axis_index, AxisPos, AxisWords, AXES, AXIS_NAMES};
 pub use element::{ArcRecord, Origin, SpoolRecord};
 pub use motion::{ArcDir, Motion, SSF_FLUSH};
 pub use request::{Reply, Request, MAX_EXEC_CYCLES};
+pub use runner::Runner;

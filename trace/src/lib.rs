@@ -4,8 +4,8 @@
 //! which parses headers, requests, expectations and spool lines line by
 //! line, and the replayer, which runs each step as it is read, so a trace
 //! of any length replays in bounded memory, on an in-process emulator or
-//! over the wire ([`remote`]). An NC program run is written as a trace by
-//! [`nc_run`].
+//! on any other [`tc_request::Runner`] (a server's conformance session,
+//! which the host library's wire client opens).
 //!
 //! ```
 //! use trace::{parse_trace, replay};
@@ -19,16 +19,11 @@ mod echo;
 mod expect;
 mod files;
 mod model;
-pub mod nc_run;
 mod parse;
-pub mod remote;
 mod replay;
 
 pub use echo::{printable, shorten, MAX_ECHO_CHARS};
-pub use files::{load_corpus, load_trace, open_trace, trace_files};
+pub use files::{load_corpus, load_trace, open_trace, trace_files, TraceFileError};
 pub use model::{Expect, Header, SpoolExpect, SpoolKind, Step, Trace, TraceError, DEFAULT_TOL};
 pub use parse::{parse_trace, TraceReader, MAX_LINE_BYTES};
-pub use replay::{
-    format_record, format_record_fed, fresh_emulator, replay, replay_on, replay_stream, Mismatch,
-    Replayed, Target,
-};
+pub use replay::{fresh_emulator, replay, replay_on, replay_stream, Mismatch, Replayed};

@@ -1,13 +1,13 @@
-//! The replayer: runs a trace on a fresh [`Emulator`] and reports every
-//! line whose answer differs from the expectation, step by step as the
-//! trace is read.
+//! The replayer: runs a trace on a fresh [`Emulator`], or on any other
+//! [`Runner`] (a server's conformance session), and reports every line
+//! whose answer differs from the expectation, step by step as the trace
+//! is read.
 
-use std::fmt::Write as _;
+use std::fmt::Display;
 use std::io::BufRead;
 
-use tc_module::{AXES, AXIS_NAMES};
-use tc_request::text::write_axis_words;
-use tc_request::{Reply, Request, SpoolRecord};
+use tc_request::text::{centre_offset, format_record, write_axis_words};
+use tc_request::{Reply, Runner, SpoolRecord, AXES};
 use uoi::Value;
 
 use super::echo::shorten;
@@ -53,7 +53,7 @@ fn axis_words(words: [Option<f64>; AXES]) -> String {
     s.trim_start().to_string()
 }
 
-fn describe(a: &Result<Reply, String>) -> String {
+fn describe(a: &Result<Reply, impl Display>) -> String {
     match a {
         Ok(Reply::Ok) => "ok".into(),
         Ok(Reply::Access(e)) => format!("err {}", e.name()),
@@ -81,7 +81,7 @@ fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol || (a.is_nan() && b.is_nan()) || (a.is_infinite() && a == b)
 }
 
-fn matches(expect: &Expect, got: &Result<Reply, String>, tol: f64) -> bool {
+fn matches<E>(expect: &Expect, got: &Result<Reply, E>, tol: f64) -> bool {
     let Ok(got) = got else { return false };
     match (expect, got) {
         (Expect::Success, Reply::Access(_) | Reply::Protocol(_)) => false,
@@ -99,93 +99,10 @@ fn matches(expect: &Expect, got: &Result<Reply, String>, tol: f64) -> bool {
     }
 }
 
-/// What a trace is replayed against: the emulator in this process, or a
-/// server over the wire.
-pub trait Target {
-    /// Carries out one request; `Err` when it could not be carried to the
-    /// target (a broken connection).
-    fn run(&mut self, req: &Request) -> Result<Reply, String>;
-    /// The elements spooled since the last call.
-    fn take_spooled(&mut self) -> Result<Vec<SpoolRecord>, String>;
-    /// Device 0 AxisNr X/Y/Z (to read `I J K` of spooled arcs).
-    fn axis_nr(&mut self) -> Result<[u8; 3], String>;
-}
-
-impl Target for Emulator {
-    fn run(&mut self, req: &Request) -> Result<Reply, String> {
-        Ok(Emulator::run(self, req))
-    }
-
-    fn take_spooled(&mut self) -> Result<Vec<SpoolRecord>, String> {
-        Ok(self.take_spool_log())
-    }
-
-    fn axis_nr(&mut self) -> Result<[u8; 3], String> {
-        Ok(self.tc().axis_nr())
-    }
-}
-
-/// The offset of an arc's centre from its start along machine axis `m`,
-/// if `m` is one of its plane axes.
-fn centre_offset(e: &SpoolRecord, m: u8) -> Option<f64> {
-    let a = e.arc?;
-    let start = *e.start.get(usize::from(m))?;
-    if m == a.plane[0] {
-        Some(a.centre[0] - start)
-    } else if m == a.plane[1] {
-        Some(a.centre[1] - start)
-    } else {
-        None
-    }
-}
-
-/// Writes a spooled element in trace syntax: changed axes, and `I J K` of
-/// an arc along the axes allocated as X, Y, Z (`axis_nr`).
-pub fn format_record(e: &SpoolRecord, axis_nr: [u8; 3]) -> String {
-    let mut s = String::with_capacity(64);
-    match &e.arc {
-        None => s.push_str("LIN"),
-        Some(a) => s.push_str(if a.ccw { "CIR CCW" } else { "CIR CW" }),
-    }
-    for (i, name) in AXIS_NAMES.iter().enumerate() {
-        if e.end[i] != e.start[i] || i < 2 {
-            push_word(&mut s, name, e.end[i]);
-        }
-    }
-    for (letter, &m) in ['I', 'J', 'K'].iter().zip(&axis_nr) {
-        if let Some(o) = centre_offset(e, m) {
-            push_word(&mut s, letter, o);
-        }
-    }
-    s
-}
-
-/// ` X10`: a word with its value as `f64`'s `Display` writes it; a whole
-/// number by the integer path, which writes the same digits faster (the
-/// spool lines of a long NC run are mostly such numbers).
-fn push_word(s: &mut String, letter: impl std::fmt::Display, v: f64) {
-    let _ = write!(s, " {letter}");
-    let whole = v.fract() == 0.0 && v.abs() < 1e15 && (v != 0.0 || v.is_sign_positive());
-    if whole {
-        // Exact: |v| < 1e15 is an integer below 2^53.
-        let _ = write!(s, "{}", v as i64);
-    } else {
-        let _ = write!(s, "{v}");
-    }
-}
-
-/// [`format_record`] with the element's feed (`F..`), as `addipos run`
-/// prints and writes it.
-pub fn format_record_fed(e: &SpoolRecord, axis_nr: [u8; 3]) -> String {
-    let mut s = format_record(e, axis_nr);
-    push_word(&mut s, 'F', e.feed);
-    s
-}
-
 fn element_matches(exp: &SpoolExpect, got: &SpoolRecord, axis_nr: [u8; 3], tol: f64) -> bool {
     let kind_ok = match (&exp.kind, &got.arc) {
         (SpoolKind::Line, None) => true,
-        (SpoolKind::Arc(d), Some(a)) => (*d == tc_module::ArcDir::Ccw) == a.ccw,
+        (SpoolKind::Arc(d), Some(a)) => (*d == tc_request::ArcDir::Ccw) == a.ccw,
         _ => false,
     };
     let end_ok = (0..AXES).all(|i| close(exp.words[i].unwrap_or(got.start[i]), got.end[i], tol));
@@ -244,8 +161,9 @@ pub fn replay(trace: &Trace) -> Vec<Mismatch> {
 }
 
 /// Replays `trace` against a target already set up for it (fresh state at
-/// the trace's start, spool log on).
-pub fn replay_on(trace: &Trace, target: &mut dyn Target) -> Vec<Mismatch> {
+/// the trace's start, spool log on): the emulator of [`fresh_emulator`],
+/// or a server's conformance session.
+pub fn replay_on<T: Runner + ?Sized>(trace: &Trace, target: &mut T) -> Vec<Mismatch> {
     let mut out = Vec::new();
     for step in &trace.steps {
         if !replay_step(step, &trace.header, target, &mut |m| out.push(m)) {
@@ -268,9 +186,9 @@ pub struct Replayed {
 /// its header; hands each mismatch to `report` as it is found. Only the
 /// step being replayed is in memory. A malformed line ends the replay with
 /// its error (the steps before it have been replayed and reported).
-pub fn replay_stream<R: BufRead>(
+pub fn replay_stream<R: BufRead, T: Runner + ?Sized>(
     reader: &mut TraceReader<R>,
-    target: &mut dyn Target,
+    target: &mut T,
     report: &mut dyn FnMut(Mismatch),
 ) -> Result<Replayed, TraceError> {
     let header = reader.header().clone();
@@ -293,10 +211,10 @@ pub fn replay_stream<R: BufRead>(
 
 /// Replays one step; `false` when the target broke and the rest of the
 /// trace cannot run.
-fn replay_step(
+fn replay_step<T: Runner + ?Sized>(
     step: &Step,
     header: &Header,
-    target: &mut dyn Target,
+    target: &mut T,
     report: &mut dyn FnMut(Mismatch),
 ) -> bool {
     let mismatch = |expected: String, got: String| Mismatch {
@@ -313,7 +231,7 @@ fn replay_step(
     let spooled = match target.take_spooled() {
         Ok(s) => s,
         Err(e) => {
-            report(mismatch("a spool log".into(), e));
+            report(mismatch("a spool log".into(), e.to_string()));
             return false;
         }
     };
@@ -326,35 +244,8 @@ fn replay_step(
             true
         }
         Err(e) => {
-            report(mismatch("a spool log".into(), e));
+            report(mismatch("a spool log".into(), e.to_string()));
             false
-        }
-    }
-}
-
-#[cfg(test)]
-mod word_tests {
-    use super::push_word;
-
-    /// The integer path writes exactly what `f64`'s `Display` writes.
-    #[test]
-    fn whole_numbers_are_written_as_display_writes_them() {
-        for v in [
-            0.0,
-            -0.0,
-            1.0,
-            -1.0,
-            6000.0,
-            1e14,
-            -1e14,
-            999999999999999.0,
-            1e15,
-            0.5,
-            -2.25,
-        ] {
-            let mut s = String::new();
-            push_word(&mut s, 'X', v);
-            assert_eq!(s, format!(" X{v}"), "{v}");
         }
     }
 }

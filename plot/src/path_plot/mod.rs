@@ -9,7 +9,7 @@ use tc_request::{ArcDir, AxisPos, AxisWords, Motion, Request, SpoolRecord, AXES}
 
 use crate::picture::{Plot, Stroke};
 use emulator::Emulator;
-use trace::nc_run::NcRun;
+use nc::nc_run::NcRun;
 use trace::{fresh_emulator, Header, Trace};
 
 mod points;

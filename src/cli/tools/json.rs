@@ -147,25 +147,51 @@ pub fn parse(file: &str, text: &str, group: Option<u8>) -> Result<Import, Vec<St
     }
 }
 
+/// What is wrong with an entry of a JSON import.
+#[derive(Debug, thiserror::Error)]
+enum EntryError {
+    /// The group is not one.
+    #[error("group out of range (1..=32)")]
+    Group,
+    /// The entry is not one.
+    #[error("entry out of range (0..=1023)")]
+    Entry,
+    /// The same group and entry given before.
+    #[error("duplicate entry (first given in entries[{first}])")]
+    Duplicate {
+        /// The index of the first.
+        first: usize,
+    },
+    /// A value out of its field's range.
+    #[error("{field}: {error}")]
+    Value {
+        /// The field's name.
+        field: &'static str,
+        /// Why.
+        error: tool_store::ValueError,
+    },
+}
+
 /// The values of one entry, range-checked; a second entry with the same
 /// group and index is an error.
 fn check_entry(
     e: &EntryJson,
     n: usize,
     seen: &mut HashMap<(u8, u16), usize>,
-) -> Result<Vec<ToolSet>, String> {
+) -> Result<Vec<ToolSet>, EntryError> {
     if !GROUPS.contains(&e.group) {
-        return Err("group out of range (1..=32)".into());
+        return Err(EntryError::Group);
     }
     if let Some(first) = seen.insert((e.group, e.entry), n) {
-        return Err(format!("duplicate entry (first given in entries[{first}])"));
+        return Err(EntryError::Duplicate { first });
     }
     let mut sets = Vec::new();
     for (field, value) in e.fields() {
-        let key = ToolKey::new(e.entry, field).ok_or("entry out of range (0..=1023)")?;
-        field
-            .check(value)
-            .map_err(|err| format!("{}: {err}", field.name()))?;
+        let key = ToolKey::new(e.entry, field).ok_or(EntryError::Entry)?;
+        field.check(value).map_err(|error| EntryError::Value {
+            field: field.name(),
+            error,
+        })?;
         sets.push((e.group, key, value));
     }
     Ok(sets)

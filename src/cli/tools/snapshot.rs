@@ -1,7 +1,8 @@
 //! The tool data of a data directory as it is now, read without the lock
 //! and without changing a byte (a server may be writing meanwhile).
 
-use std::path::Path;
+use std::fmt;
+use std::path::{Path, PathBuf};
 
 use tool_store::{
     group_file_name, FsStorage, MemStorage, OpenReport, Storage, StoreError, Strictness, ToolStore,
@@ -27,12 +28,14 @@ fn read_files(disk: &mut FsStorage) -> std::io::Result<Files> {
 /// times (a compaction in between would pair old files with an emptied
 /// journal). Opening the copy never touches the disk, so a torn journal
 /// tail of a write in progress is left alone.
-pub fn load(dir: &Path) -> Result<(ToolStore<MemStorage>, OpenReport), String> {
+pub fn load(dir: &Path) -> Result<(ToolStore<MemStorage>, OpenReport), SnapshotError> {
     let mut disk = FsStorage::new(dir);
-    let io = |what: &str| {
-        let dir = dir.display().to_string();
-        let what = what.to_owned();
-        move |e: std::io::Error| format!("{dir}: reading {what}: {e}")
+    let io = |what: &'static str| {
+        move |error| SnapshotError::Unreadable {
+            dir: dir.display().to_string(),
+            what,
+            error,
+        }
     };
     for _ in 0..ATTEMPTS {
         let before = read_files(&mut disk).map_err(io("the tool files"))?;
@@ -47,27 +50,68 @@ pub fn load(dir: &Path) -> Result<(ToolStore<MemStorage>, OpenReport), String> {
             }
         }
         *copy.journal_mut() = journal;
-        return ToolStore::open(copy, Strictness::Strict).map_err(|e| store_error(dir, &e));
+        return ToolStore::open(copy, Strictness::Strict).map_err(|e| store_error(dir, e).into());
     }
-    Err(format!(
-        "{}: the tool files kept changing while being read (a server compacting?); try again",
-        dir.display()
-    ))
+    Err(SnapshotError::KeptChanging(dir.display().to_string()))
+}
+
+/// Why the tool data of a data directory could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum SnapshotError {
+    /// A file of the tool folder cannot be read.
+    #[error("{dir}: reading {what}: {error}")]
+    Unreadable {
+        /// The tool folder.
+        dir: String,
+        /// What was read.
+        what: &'static str,
+        /// Why.
+        error: std::io::Error,
+    },
+    /// The tool data is bad.
+    #[error(transparent)]
+    Store(#[from] StoreAt),
+    /// The files changed at every try.
+    #[error(
+        "{0}: the tool files kept changing while being read (a server compacting?); try again"
+    )]
+    KeptChanging(String),
+}
+
+/// A store error of the tool folder `dir`, shown with the full path of
+/// the file it names.
+#[derive(Debug, thiserror::Error)]
+pub struct StoreAt {
+    dir: PathBuf,
+    error: StoreError,
+}
+
+impl fmt::Display for StoreAt {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let dir = &self.dir;
+        match &self.error {
+            StoreError::File(p) => {
+                write!(f, "{}:{}: {}", dir.join(&p.file).display(), p.line, p.error)
+            }
+            StoreError::Journal { file, error } => {
+                write!(
+                    f,
+                    "{}:{}: {}",
+                    dir.join(file).display(),
+                    error.line,
+                    error.error
+                )
+            }
+            other => write!(f, "{}: {other}", dir.display()),
+        }
+    }
 }
 
 /// A store error with the full path of the file it names.
-pub fn store_error(dir: &Path, e: &StoreError) -> String {
-    match e {
-        StoreError::File(p) => format!("{}:{}: {}", dir.join(&p.file).display(), p.line, p.error),
-        StoreError::Journal { file, error } => {
-            format!(
-                "{}:{}: {}",
-                dir.join(file).display(),
-                error.line,
-                error.error
-            )
-        }
-        other => format!("{}: {other}", dir.display()),
+pub fn store_error(dir: &Path, error: StoreError) -> StoreAt {
+    StoreAt {
+        dir: dir.to_path_buf(),
+        error,
     }
 }
 

@@ -45,9 +45,11 @@ pub fn parse(file: &str, text: &str, group: Option<u8>) -> Result<Import, Vec<St
         }
         let parsed =
             parse_line(code, group).and_then(|(g, key, value)| match seen.insert((g, key), line) {
-                Some(first) => Err(format!(
-                    "duplicate key g{g} {key} (first set on line {first})"
-                )),
+                Some(first) => Err(LineError::Duplicate {
+                    group: g,
+                    key,
+                    first,
+                }),
                 None => Ok((g, key, value)),
             });
         match parsed {
@@ -63,8 +65,32 @@ pub fn parse(file: &str, text: &str, group: Option<u8>) -> Result<Import, Vec<St
     }
 }
 
+/// What is wrong with a line of a text import.
+#[derive(Debug, thiserror::Error)]
+enum LineError {
+    /// Not a record line (the journal's parser says why).
+    #[error(transparent)]
+    Record(#[from] tool_store::RecordError),
+    /// A line without a group, and no `--group`.
+    #[error("no compensation group: write `g<group> {0}`, or give the group with --group")]
+    NoGroup(String),
+    /// A record, but no tool value.
+    #[error("`{0}` is not a tool value (`[g<group>] wz[<index>].<field> <value>`)")]
+    NotAValue(String),
+    /// The same key set before.
+    #[error("duplicate key g{group} {key} (first set on line {first})")]
+    Duplicate {
+        /// The group.
+        group: u8,
+        /// The key.
+        key: ToolKey,
+        /// The line it was first set on.
+        first: usize,
+    },
+}
+
 /// One line without comment: `[g<group>] wz[<index>].<field> <value>`.
-fn parse_line(code: &str, group: Option<u8>) -> Result<ToolSet, String> {
+fn parse_line(code: &str, group: Option<u8>) -> Result<ToolSet, LineError> {
     let first = code.split_whitespace().next().unwrap_or("");
     let prefixed = first
         .strip_prefix('g')
@@ -77,14 +103,12 @@ fn parse_line(code: &str, group: Option<u8>) -> Result<ToolSet, String> {
     // The journal's own record parser, so an import takes exactly what a
     // tool file or journal line holds; it wants a checksummed line.
     let line = format!("{body} *{:08x}", crc32fast::hash(body.as_bytes()));
-    match Record::decode(line.as_bytes()).map_err(|e| e.to_string())? {
-        Record::Set { .. } if !prefixed && group.is_none() => Err(format!(
-            "no compensation group: write `g<group> {code}`, or give the group with --group"
-        )),
+    match Record::decode(line.as_bytes())? {
+        Record::Set { .. } if !prefixed && group.is_none() => {
+            Err(LineError::NoGroup(code.to_string()))
+        }
         Record::Set { group, key, value } => Ok((group, key, value)),
-        _ => Err(format!(
-            "`{code}` is not a tool value (`[g<group>] wz[<index>].<field> <value>`)"
-        )),
+        _ => Err(LineError::NotAValue(code.to_string())),
     }
 }
 

@@ -1,38 +1,28 @@
 //! `addipos run`: an NC program parsed, interpreted into requests and run
-//! on a fresh emulator, every request handed on with its answer and the
-//! elements it spooled, so that the run can be printed and written as an
-//! equivalent conformance trace as it goes ([`run_checked_nc`], streamed:
-//! memory stays flat for a program of any length), or kept whole
-//! ([`run_nc`], for tests and plots).
+//! on a fresh target (any [`Runner`]: the CLI and the plot pass an
+//! emulator), every request handed on with its answer and the elements it
+//! spooled, so that the run can be printed and written as an equivalent
+//! conformance trace as it goes ([`run_checked_nc`], streamed: memory
+//! stays flat for a program of any length), or kept whole ([`run_nc`],
+//! for tests and plots). Decision 492.
 
-use std::fmt::Write as _;
 use std::io::{self, BufRead};
 
-use nc::run::{
-    run_reader, wear_axis, At, Controller, Report, RunError, WEAR_RADIUS, WEAR_RADIUS_CONT,
-};
-use nc::{check_program, Blocks, NcError};
 use tc_objects::TcObject;
-use tc_request::{AxisPos, Origin, Reply, Request, SpoolRecord, AXIS_NAMES};
+use tc_request::{AxisPos, Reply, Request, Runner, SpoolRecord};
 use tool_store::{ToolKey, ToolValue};
-
 use uoi::{Value, ValueType};
 
-use crate::replay::{format_record_fed, fresh_emulator};
-use emulator::Emulator;
+use crate::run::{
+    run_reader, wear_axis, At, Controller, Report, RunError, WEAR_RADIUS, WEAR_RADIUS_CONT,
+};
+use crate::{check_program, Blocks, NcError};
 
-/// One request of the run, its answer and what it spooled.
-#[derive(Debug, Clone)]
-pub struct Exchange {
-    /// The block it came from.
-    pub at: At,
-    /// The request.
-    pub request: Request,
-    /// The answer.
-    pub reply: Reply,
-    /// Elements it spooled.
-    pub spooled: Vec<SpoolRecord>,
-}
+mod exchange;
+mod text;
+
+pub use exchange::Exchange;
+pub use text::{axis_text, trace_head, trace_lines, SpoolLabels};
 
 /// A whole run: the exchanges, and what went wrong.
 #[derive(Debug, Clone, Default)]
@@ -71,36 +61,62 @@ pub struct NcOutcome {
     pub wear: Vec<(String, f64)>,
 }
 
+/// Why a streamed run stopped before its end.
+#[derive(Debug, thiserror::Error)]
+pub enum NcRunError<E: std::error::Error + 'static> {
+    /// The sink could not write an exchange out (its message names
+    /// where: the standard output, the trace file).
+    #[error(transparent)]
+    Output(#[from] io::Error),
+    /// The target could not carry a request out (a broken connection).
+    #[error("the target failed: {0}")]
+    Target(#[source] E),
+}
+
 /// Where each exchange of a run goes as it happens, with the machine axes
 /// used as X, Y, Z; an output error stops the writing (it is returned at
 /// the end of the run).
 pub type ExchangeSink<'s> = dyn FnMut(Exchange, [u8; 3]) -> io::Result<()> + 's;
 
-/// The emulator, handing everything it is asked to a sink.
-struct Recorder<'r, 's> {
-    emu: Emulator,
+/// The target, handing everything it is asked to a sink.
+struct Recorder<'t, 'r, 's, T: Runner + ?Sized> {
+    target: &'t mut T,
     sink: &'r mut ExchangeSink<'s>,
-    failed: Option<io::Error>,
+    failed: Option<NcRunError<T::Error>>,
 }
 
-impl Controller for Recorder<'_, '_> {
+impl<T: Runner + ?Sized> Recorder<'_, '_, '_, T> {
+    /// Runs `req` on the target: its answer, what it spooled and the axes
+    /// allocated as X, Y, Z.
+    fn exchange(&mut self, req: &Request) -> Result<(Reply, Vec<SpoolRecord>, [u8; 3]), T::Error> {
+        let reply = self.target.run(req)?;
+        let spooled = self.target.take_spooled()?;
+        Ok((reply, spooled, self.target.axis_nr()?))
+    }
+}
+
+impl<T: Runner + ?Sized> Controller for Recorder<'_, '_, '_, T> {
     fn call(&mut self, req: &Request, at: At) -> Reply {
         if self.failed.is_some() {
-            // The output failed: nothing more is run, the run stops here.
+            // The output or the target failed: nothing more is run, the
+            // run stops here.
             return Reply::Access(uoi::AccessError::State);
         }
-        let reply = self.emu.run(req);
-        let spooled = self.emu.take_spool_log();
-        {
-            let x = Exchange {
-                at,
-                request: req.clone(),
-                reply: reply.clone(),
-                spooled,
-            };
-            if let Err(e) = (self.sink)(x, self.emu.tc().axis_nr()) {
-                self.failed = Some(e);
+        let (reply, spooled, axis_nr) = match self.exchange(req) {
+            Ok(x) => x,
+            Err(e) => {
+                self.failed = Some(NcRunError::Target(e));
+                return Reply::Access(uoi::AccessError::State);
             }
+        };
+        let x = Exchange {
+            at,
+            request: req.clone(),
+            reply: reply.clone(),
+            spooled,
+        };
+        if let Err(e) = (self.sink)(x, axis_nr) {
+            self.failed = Some(NcRunError::Output(e));
         }
         reply
     }
@@ -116,16 +132,19 @@ fn wear_objects() -> Vec<(String, uoi::ObjectAddress)> {
     out
 }
 
-/// Parses `text` and runs it on a fresh emulator (the one a trace without
-/// header options replays on).
-pub fn run_nc(text: &str) -> NcRun {
-    run_nc_with_tools(text, &[])
+/// Parses `text` and runs it on `target`, fresh (the emulator a trace
+/// without header options replays on, say).
+pub fn run_nc<T: Runner + ?Sized>(target: &mut T, text: &str) -> Result<NcRun, T::Error> {
+    run_nc_with_tools(target, text, &[])
 }
 
 /// Writes the tool values of `tools` (group, entry and field, value) as
 /// requests, so that the trace of the run holds them too; WKZINDEX of each
 /// group touched is 0 again afterwards.
-fn preload(rec: &mut Recorder<'_, '_>, tools: &[(u8, ToolKey, ToolValue)]) {
+fn preload<T: Runner + ?Sized>(
+    rec: &mut Recorder<'_, '_, '_, T>,
+    tools: &[(u8, ToolKey, ToolValue)],
+) {
     let at = At::default();
     let wkz = |g: u8| TcObject::WkzIndex.of(u16::from(g));
     for (group, key, value) in tools {
@@ -148,22 +167,30 @@ fn preload(rec: &mut Recorder<'_, '_>, tools: &[(u8, ToolKey, ToolValue)]) {
 
 /// As [`run_nc`], with tool data written first (a tool file's values):
 /// an NC program's `D` word then selects an entry that holds them.
-pub fn run_nc_with_tools(text: &str, tools: &[(u8, ToolKey, ToolValue)]) -> NcRun {
+pub fn run_nc_with_tools<T: Runner + ?Sized>(
+    target: &mut T,
+    text: &str,
+    tools: &[(u8, ToolKey, ToolValue)],
+) -> Result<NcRun, T::Error> {
     let parse_errors = check_program(text.as_bytes());
     if !parse_errors.is_empty() {
-        return NcRun {
+        return Ok(NcRun {
             parse_errors,
             ..NcRun::default()
-        };
+        });
     }
     let mut exchanges = Vec::new();
     let mut keep = |x: Exchange, _: [u8; 3]| {
         exchanges.push(x);
         Ok(())
     };
-    // Collecting into memory cannot fail.
-    let outcome = run_checked_nc(text.as_bytes(), tools, &mut keep).unwrap_or_default();
-    NcRun {
+    let outcome = match run_checked_nc(target, text.as_bytes(), tools, &mut keep) {
+        Ok(o) => o,
+        Err(NcRunError::Target(e)) => return Err(e),
+        // Collecting into memory cannot fail.
+        Err(NcRunError::Output(_)) => NcOutcome::default(),
+    };
+    Ok(NcRun {
         exchanges,
         parse_errors,
         error: outcome.error,
@@ -171,22 +198,23 @@ pub fn run_nc_with_tools(text: &str, tools: &[(u8, ToolKey, ToolValue)]) -> NcRu
         axis_nr: outcome.axis_nr,
         position: outcome.position,
         wear: outcome.wear,
-    }
+    })
 }
 
-/// Runs the program `reader` delivers on a fresh emulator (the one a trace
-/// without header options replays on), after the tool data `tools`; every
-/// request goes to `sink` with its answer and spooled elements as it
-/// happens, so memory stays flat for a program of any length. The program
-/// must have been checked first ([`nc::check_program`]): a block in error
-/// stops the run there. Errors: the first output error of `sink`.
-pub fn run_checked_nc<R: BufRead>(
+/// Runs the program `reader` delivers on `target`, fresh, after the tool
+/// data `tools`; every request goes to `sink` with its answer and
+/// spooled elements as it happens, so memory stays flat for a program of
+/// any length. The program must have been checked first
+/// ([`crate::check_program`]): a block in error stops the run there.
+/// Errors: the first output error of `sink`, or the target's failure.
+pub fn run_checked_nc<T: Runner + ?Sized, R: BufRead>(
+    target: &mut T,
     reader: R,
     tools: &[(u8, ToolKey, ToolValue)],
     sink: &mut ExchangeSink<'_>,
-) -> io::Result<NcOutcome> {
+) -> Result<NcOutcome, NcRunError<T::Error>> {
     let mut rec = Recorder {
-        emu: fresh_emulator(&default_header()),
+        target,
         sink,
         failed: None,
     };
@@ -207,6 +235,26 @@ pub fn run_checked_nc<R: BufRead>(
         line: blocks.line(),
         number: None,
     };
+    let (position, wear, radius) = read_end(&mut rec, end);
+    if let Some(e) = rec.failed {
+        return Err(e);
+    }
+    Ok(NcOutcome {
+        axis_nr: rec.target.axis_nr().map_err(NcRunError::Target)?,
+        error,
+        report,
+        position,
+        wear,
+        radius,
+    })
+}
+
+/// What a run ends with: the executed position, the V.G. wear values and
+/// the radius of group 1, read (and handed on) at `end`.
+fn read_end<T: Runner + ?Sized>(
+    rec: &mut Recorder<'_, '_, '_, T>,
+    end: At,
+) -> (Option<AxisPos>, Vec<(String, f64)>, Option<f64>) {
     let position = match rec.call(&Request::Pos, end) {
         Reply::Pos(p) => Some(p),
         _ => None,
@@ -221,17 +269,7 @@ pub fn run_checked_nc<R: BufRead>(
         Reply::Value(Value::F64(r)) => Some(r),
         _ => None,
     };
-    if let Some(e) = rec.failed {
-        return Err(e);
-    }
-    Ok(NcOutcome {
-        axis_nr: rec.emu.tc().axis_nr(),
-        error,
-        report,
-        position,
-        wear,
-        radius,
-    })
+    (position, wear, radius)
 }
 
 /// The radius of correction group 1 (mm).
@@ -251,111 +289,6 @@ impl NcOutcome {
             .find(|(name, _)| name == "V.G.WZ_AKT.WEAR_RADIUS")?;
         (in_use < 0.0 && *wear > 0.0).then_some((name.as_str(), *wear, in_use + wear))
     }
-}
-
-/// The header of a trace with no options: what `run_nc` runs on.
-fn default_header() -> crate::model::Header {
-    crate::model::Header::new("nc")
-}
-
-/// `=> ...`: the answer as a trace expectation.
-fn expectation(reply: &Reply) -> Option<String> {
-    Some(match reply {
-        Reply::Ok => "ok".into(),
-        Reply::Value(v) => v.to_string(),
-        Reply::Pos(p) => axis_text(p),
-        Reply::Queue(n) => n.to_string(),
-        Reply::Access(e) => format!("err {}", e.name()),
-        Reply::Spool(..) | Reply::Protocol(_) => return None,
-    })
-}
-
-/// `X.. Y.. ..` of all axes.
-pub fn axis_text(p: &AxisPos) -> String {
-    let words: Vec<String> = AXIS_NAMES
-        .iter()
-        .zip(p)
-        .map(|(n, v)| format!("{n}{v}"))
-        .collect();
-    words.join(" ")
-}
-
-fn block_comment(at: At) -> String {
-    format!("# {}", block_name(at))
-}
-
-/// The first line of the trace of a run of program `name`.
-pub fn trace_head(name: &str) -> String {
-    format!("@name NC program {name}\n")
-}
-
-/// Labels each spooled element with the block it comes from. The
-/// correction holds one profile until the next block shows its corner
-/// (docs/trc.md, "The one-profile buffer"): the approach and corrected
-/// elements spooled at a block belong to the motion block before it, a
-/// transition to the corner between the two, an uncorrected element or a
-/// departure to the block that spooled it (decision 315).
-#[derive(Debug, Clone, Copy, Default)]
-pub struct SpoolLabels {
-    /// The block of the last motion request: the profile held, if any.
-    last_motion: Option<At>,
-}
-
-impl SpoolLabels {
-    /// The spooled elements of an exchange in trace `<` syntax, each with
-    /// its block (and the block it was spooled at where that differs), one
-    /// line each (without line ends). Call it for every exchange in order.
-    pub fn lines(&mut self, x: &Exchange, axis_nr: [u8; 3]) -> Vec<String> {
-        let held = self.last_motion;
-        let out = x
-            .spooled
-            .iter()
-            .map(|rec| {
-                let el = format_record_fed(rec, axis_nr);
-                format!("< {el}    # {}", label(rec.origin, held, x.at))
-            })
-            .collect();
-        if matches!(x.request, Request::Motion(_)) {
-            self.last_motion = Some(x.at);
-        }
-        out
-    }
-}
-
-/// `N10 (line 3)`, or `line 3` for a block without a number.
-fn block_name(at: At) -> String {
-    match at.number {
-        Some(n) => format!("N{n} (line {})", at.line),
-        None => format!("line {}", at.line),
-    }
-}
-
-/// Where an element of `origin`, spooled at block `now` while the profile
-/// of block `held` (if any) was held, comes from.
-fn label(origin: Origin, held: Option<At>, now: At) -> String {
-    match (origin, held) {
-        (Origin::Approach | Origin::Corrected, Some(h)) if h != now => {
-            format!("{}, spooled at {}", block_name(h), block_name(now))
-        }
-        (Origin::Transition, Some(h)) if h != now => {
-            format!("transition {} to {}", block_name(h), block_name(now))
-        }
-        _ => block_name(now),
-    }
-}
-
-/// An exchange as trace lines (line ends included): the request with its
-/// answer as the expectation, then the elements it spooled.
-pub fn trace_lines(x: &Exchange, axis_nr: [u8; 3]) -> String {
-    let mut t = format!("{}", x.request);
-    if let Some(e) = expectation(&x.reply) {
-        let _ = write!(t, " => {e}");
-    }
-    let _ = writeln!(t, "    {}", block_comment(x.at));
-    for rec in &x.spooled {
-        let _ = writeln!(t, "< {}", format_record_fed(rec, axis_nr));
-    }
-    t
 }
 
 impl NcRun {
