@@ -14,7 +14,7 @@ use std::time::Duration;
 use emulator::Emulator;
 use emulator::EmulatorService;
 use tc_module::NoKey;
-use tc_module::{AxisPos, Cycle, CycleTime, Groups, TcExtension, AXES};
+use tc_module::{AxisPos, Cycle, CycleModel, CycleTime, Groups, TcExtension, AXES};
 use tc_request::{Reply, Request};
 use uoi::tcp::BlockingClient;
 use uoi::ObjectDesc;
@@ -33,14 +33,21 @@ impl TcExtension for Hook {
     type Key = NoKey;
     type Group = ();
     type Tool = ();
+    type Model<'a> = &'a mut Self;
     const GROUP_OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
     const OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
 
-    fn cycle_active(&mut self, _: Groups<'_, Self>) -> bool {
+    fn cycle_model<'a>(&'a mut self, _: Groups<'a, Self>) -> &'a mut Self {
+        self
+    }
+}
+
+impl CycleModel for Hook {
+    fn active(&self) -> bool {
         !self.stop.load(Ordering::SeqCst)
     }
 
-    fn cycle(&mut self, _: &Cycle<'_>, _: Groups<'_, Self>) -> AxisPos {
+    fn cycle(&mut self, _: &Cycle<'_>) -> AxisPos {
         self.cycles.fetch_add(1, Ordering::SeqCst);
         [0.0; AXES]
     }

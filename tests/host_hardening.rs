@@ -62,10 +62,15 @@ struct Twisted {
 
 impl Handler for Twisted {
     type Session = ();
+    type Rest = emulator::ExecRest;
 
     fn open_session(&mut self) {}
 
-    fn serve(&mut self, req: WireRequest) -> Slice {
+    fn proceed(&mut self, rest: Self::Rest) -> Slice<Self::Rest> {
+        self.inner.proceed(rest)
+    }
+
+    fn serve(&mut self, req: WireRequest) -> Slice<Self::Rest> {
         let exec = matches!(&req, WireRequest::Ext(EXEC_OP, _));
         if self.stop_exec && exec {
             return Slice::Done(Answer::Protocol(ProtocolError::Stopped));

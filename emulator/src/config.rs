@@ -9,13 +9,11 @@ use opcua_face::FaceConfig;
 use serde::Deserialize;
 use tc_module::limits::{check_point, MAX_COORD};
 use tc_module::{check_capacity, DEFAULT_SPOOL_CAPACITY};
-use tc_module::{CycleTime, AXES};
+use tc_module::{AxisPos, CycleTime, AXES};
 use uoi::tcp::{AccessPolicy, ServerConfig};
 
 use crate::address::parse_address;
 use crate::clock::RealTimeFactor;
-
-use crate::service::EmulatorService;
 
 /// Most connections `max_connections` may allow (each holds up to two
 /// 64 KiB buffers).
@@ -363,21 +361,37 @@ impl Config {
             .map_err(|e| ConfigError(format!("realtime = {}: {e} (0: stepped)", self.realtime)))
     }
 
-    /// The emulator to serve (start, cycle, spooler capacity, real time),
-    /// checked.
-    pub fn service(&self) -> Result<EmulatorService, ConfigError> {
+    /// What the emulator is served with (start, cycle, spooler capacity,
+    /// real time), checked; the service is built from it
+    /// ([`Config::service`], with the service).
+    pub fn service_settings(&self) -> Result<ServiceSettings, ConfigError> {
         let realtime = self.realtime()?;
         let cycle = self.cycle()?;
         let capacity = check_capacity(self.spool_capacity)
             .map_err(|e| ConfigError(format!("spool_capacity = {}: {e}", self.spool_capacity)))?;
         check_point(&self.start)
             .map_err(|_| ConfigError(format!("start: every axis must lie within ±{MAX_COORD}")))?;
-        let mut service = EmulatorService::new(self.start, cycle).with_spool_capacity(capacity);
-        if let Some(f) = realtime {
-            service.set_realtime(f);
-        }
-        Ok(service)
+        Ok(ServiceSettings {
+            start: self.start,
+            cycle,
+            spool_capacity: capacity,
+            realtime,
+        })
     }
+}
+
+/// The checked settings of the emulator served
+/// ([`Config::service_settings`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ServiceSettings {
+    /// Where the machine stands at start.
+    pub start: AxisPos,
+    /// The interpolation cycle.
+    pub cycle: CycleTime,
+    /// The spooler's capacity, in elements.
+    pub spool_capacity: usize,
+    /// Real time, this many times faster; `None`: stepped.
+    pub realtime: Option<RealTimeFactor>,
 }
 
 #[cfg(test)]

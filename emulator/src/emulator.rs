@@ -2,7 +2,7 @@
 //! by the one request model.
 
 use otc_ext::OtcExtension;
-use tc_module::{AxisPos, CycleTime, ExecLeft, Motion, TcExtension, TcModule, AXES};
+use tc_module::{AxisPos, CycleTime, ExecLeft, Motion, Plan, TcExtension, TcModule, AXES};
 use tc_objects::TcObject;
 use tc_request::{Reply, Request, SpoolRecord};
 use uoi::wire::ProtocolError;
@@ -104,10 +104,24 @@ impl<E: TcExtension> Emulator<E> {
         self.tc.read_checked(addr, ty)
     }
 
-    /// Writes an object. A Clean carried out (1300/0/1/0 = 1) counts in
-    /// [`clean_epoch`](Self::clean_epoch).
+    /// Writes an object: planned, then applied at once. A Clean carried
+    /// out (1300/0/1/0 = 1) counts in [`clean_epoch`](Self::clean_epoch).
     pub fn write(&mut self, addr: ObjectAddress, value: Value) -> Result<(), AccessError> {
-        self.tc.write_checked(addr, value)?;
+        let plan = self.plan(addr, value)?;
+        self.apply(plan)
+    }
+
+    /// Checks a write and says what it would change of the tool data,
+    /// changing nothing ([`TcModule::plan_write`]).
+    pub fn plan(&self, addr: ObjectAddress, value: Value) -> Result<Plan<E>, AccessError> {
+        self.tc.plan_write(addr, value)
+    }
+
+    /// Carries out a planned write ([`TcModule::apply`]); a Clean carried
+    /// out counts in [`clean_epoch`](Self::clean_epoch).
+    pub fn apply(&mut self, plan: Plan<E>) -> Result<(), AccessError> {
+        let addr = plan.address();
+        self.tc.apply(plan)?;
         if addr == CLEAN {
             self.cleans = self.cleans.wrapping_add(1);
         }
@@ -120,8 +134,8 @@ impl<E: TcExtension> Emulator<E> {
     /// succeeded. A Clean rejects every TC object, so a host library
     /// voids the handles issued before the count last changed
     /// (docs/host-api.md, "Handles"). A refused Clean changes nothing and
-    /// is not counted; an emulator put back after a failed durable write
-    /// has its count put back with it.
+    /// is not counted, nor is a Clean whose tool changes the disk refused
+    /// (it is never applied).
     pub fn clean_epoch(&self) -> u64 {
         self.cleans
     }

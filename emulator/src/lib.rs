@@ -48,11 +48,11 @@ mod serving;
 mod session;
 pub mod tools;
 
-pub use address::parse_address;
+pub use address::{parse_address, AddressError};
 pub use clock::{RealTimeClock, RealTimeFactor};
 pub use config::{
-    read_settings_file, Config, ConfigError, OpcuaSettings, DEFAULT_CONFIG, MAX_CONNECTIONS,
-    MAX_EVICT_AFTER_MS, MAX_SETTINGS_BYTES, OPCUA_PKI_DIR,
+    read_settings_file, Config, ConfigError, OpcuaSettings, ServiceSettings, DEFAULT_CONFIG,
+    MAX_CONNECTIONS, MAX_EVICT_AFTER_MS, MAX_SETTINGS_BYTES, OPCUA_PKI_DIR,
 };
 pub use emulator::{Emulator, Tc};
 pub use exec_waits::MAX_EXEC_WAITS;
@@ -61,4 +61,5 @@ pub use info_op::{EmulatorInfo, INFO_OP};
 pub use journal::Journal;
 pub use reference::{bits_without_meaning, devices_without_section, object_reference};
 pub use service::{EmulatorService, WatchedSpool, MAX_WATCHED};
+pub use serving::ExecRest;
 pub use session::{ConformanceSession, LOG_CAPACITY, MAX_SESSIONS, MAX_SESSION_SPOOL};

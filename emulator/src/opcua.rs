@@ -17,8 +17,9 @@ use opcua_face::{
 };
 use otc_ext::{running_wear, OtcExtension, OtcTool};
 use tc_module::object_map::object_table;
-use tc_module::{Group, ToolEntry, WkzIndex, AXIS_NAMES, GROUPS, TC_BUS};
+use tc_module::{Group, ToolEntry, WkzIndex, AXIS_NAMES};
 use tc_objects::TcObject;
+use tc_objects::{GROUPS, TC_BUS};
 use tc_request::{Reply, Request};
 use tool_store::TOOL_ENTRIES;
 use uoi::wire::Answer;

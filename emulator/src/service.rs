@@ -15,6 +15,8 @@
 //! is answered here, never journaled.
 
 use std::collections::HashMap;
+use std::fs::File;
+use std::path::Path;
 use std::time::Instant;
 
 use otc_ext::OtcExtension;
@@ -26,13 +28,15 @@ use uoi::wire::{Answer, Request as WireRequest};
 use uoi::AccessError;
 
 use crate::clock::{RealTimeClock, RealTimeFactor};
+use crate::config::{Config, ConfigError};
 use crate::exec_waits::{ExecWaits, Until, EXEC_WAIT_BIT};
 use crate::guarded_write::GuardedWrite;
 use crate::info_op::{is_info, new_server_identity, EmulatorInfo};
 use crate::journal::Journal;
-use crate::serving::serve_slice;
+use crate::serving::{proceed_slice, serve_slice, ExecRest};
 use crate::session::{ConformanceSession, SessionPlaces};
 use crate::tools::durable::ToolPersistence;
+use crate::tools::open::{open_durable, OpenToolsError};
 use crate::Emulator;
 
 /// The emulator all connections share, as the TCP server's handler
@@ -94,7 +98,35 @@ struct Settings {
     spool_capacity: usize,
 }
 
+impl Config {
+    /// The emulator to serve (start, cycle, spooler capacity, real time),
+    /// checked ([`Config::service_settings`]).
+    pub fn service(&self) -> Result<EmulatorService, ConfigError> {
+        let set = self.service_settings()?;
+        let mut service =
+            EmulatorService::new(set.start, set.cycle).with_spool_capacity(set.spool_capacity);
+        if let Some(f) = set.realtime {
+            service.set_realtime(f);
+        }
+        Ok(service)
+    }
+}
+
 impl EmulatorService {
+    /// Opens the tool data in `data_dir` (docs/tool-files.md): locks the
+    /// folder, loads it into the emulator and makes every later tool write
+    /// durable. Returns the lock, to hold while serving. The error names
+    /// the file and the line of a bad tool file or journal record.
+    pub fn open_tools(
+        &mut self,
+        data_dir: &Path,
+        ignore_bad: bool,
+    ) -> Result<File, OpenToolsError> {
+        let opened = open_durable(&mut self.emu, data_dir, ignore_bad)?;
+        self.set_tools(Box::new(opened.durable));
+        Ok(opened.lock)
+    }
+
     /// Serves a fresh emulator at `start` with cycle `cycle`.
     pub fn new(start: AxisPos, cycle: CycleTime) -> Self {
         let mut s = Self::with_emulator(Emulator::new(start, cycle));
@@ -332,10 +364,8 @@ impl<E: TcExtension + Default> EmulatorService<E> {
     }
 
     /// Journals one slice of `req` served with `slice`; `before`: the
-    /// executor's cycles before it (an `EXEC` cut into slices is written
-    /// as the cycles each slice ran, so that requests of other
-    /// connections served in between keep their place).
-    fn journal_slice(&mut self, req: &WireRequest, slice: &Slice, before: u64) {
+    /// executor's cycles before it.
+    fn journal_slice(&mut self, req: &WireRequest, slice: &Slice<ExecRest>, before: u64) {
         if self.journal.is_none() {
             return;
         }
@@ -343,7 +373,6 @@ impl<E: TcExtension + Default> EmulatorService<E> {
             Ok(r) => r,
             Err(e) => return self.journal_note(&format!("a request refused: {e}")),
         };
-        let ran = || self.emu.tc().executor().cycles().saturating_sub(before);
         match (slice, &tc) {
             (Slice::Done(_), Request::Setup { .. } | Request::SpoolLog { .. }) => {
                 self.journal_note(&format!("{tc}: refused on the shared emulator (State)"));
@@ -352,18 +381,30 @@ impl<E: TcExtension + Default> EmulatorService<E> {
                 Some(reply) => self.journal_reply(&tc, &reply),
                 None => self.journal_note(&format!("{tc}: answered {a:?}")),
             },
-            (Slice::More(rest), Request::Exec(Some(n))) => {
-                let rest = match Request::from_wire(rest) {
-                    Ok(Request::Exec(Some(r))) => r,
-                    _ => 0,
-                };
-                self.journal_reply(&Request::Exec(Some(n.saturating_sub(rest))), &Reply::Ok);
-            }
-            (Slice::More(_), _) => {
-                let n = ran();
-                self.journal_reply(&Request::Exec(Some(n)), &Reply::Ok);
-            }
-            (Slice::Wait(_), _) => {}
+            (Slice::More(left), Request::Exec(cycles)) => self.journal_exec(*cycles, *left, before),
+            (Slice::More(_), _) | (Slice::Wait(_), _) => {}
+        }
+    }
+
+    /// Journals one slice of an `EXEC` of `cycles` that left `left` (an
+    /// `EXEC` cut into slices is written as the cycles each slice ran, so
+    /// that requests of other connections served in between keep their
+    /// place); `before`: the executor's cycles before it.
+    fn journal_exec(&mut self, cycles: Option<u64>, left: ExecRest, before: u64) {
+        let ran = match cycles {
+            Some(n) => n.saturating_sub(left.0.unwrap_or(0)),
+            None => self.emu.tc().executor().cycles().saturating_sub(before),
+        };
+        self.journal_reply(&Request::Exec(Some(ran)), &Reply::Ok);
+    }
+
+    /// Journals the slice of an `EXEC`'s rest `rest` served with `slice`;
+    /// the last one as the `EXEC` of what was left.
+    fn journal_rest(&mut self, rest: ExecRest, slice: &Slice<ExecRest>, before: u64) {
+        match slice {
+            Slice::Done(_) => self.journal_reply(&Request::Exec(rest.0), &Reply::Ok),
+            Slice::More(left) => self.journal_exec(rest.0, *left, before),
+            Slice::Wait(_) => {}
         }
     }
 }
@@ -371,7 +412,7 @@ impl<E: TcExtension + Default> EmulatorService<E> {
 /// Real time.
 impl<E: TcExtension + Default> EmulatorService<E> {
     /// `EXEC` in real time: a wait for the clock (`None`: not an `EXEC`).
-    fn exec_wait(&mut self, req: &WireRequest) -> Option<Slice> {
+    fn exec_wait(&mut self, req: &WireRequest) -> Option<Slice<ExecRest>> {
         let clock = self.clock.as_ref()?;
         let Ok(Request::Exec(cycles)) = Request::from_wire(req) else {
             return None;
@@ -441,6 +482,9 @@ impl<E: TcExtension + Default> Handler for EmulatorService<E> {
     /// `SETUP` gives a connection an emulator of its own.
     type Session = ConformanceSession;
 
+    /// The rest of a long `EXEC`, continued by `proceed`.
+    type Rest = ExecRest;
+
     /// A connection's session, without an emulator until it sends
     /// `SETUP`; at most [`MAX_SESSIONS`](crate::session::MAX_SESSIONS)
     /// of this service's sessions have one at once.
@@ -452,7 +496,7 @@ impl<E: TcExtension + Default> Handler for EmulatorService<E> {
     /// changes tool data waits until it is on disk. `SPOOL_LOG` (and a
     /// `SETUP`, which a connection's session always takes first) is
     /// refused with `State`: only a conformance session has a spool log.
-    fn serve(&mut self, req: WireRequest) -> Slice {
+    fn serve(&mut self, req: WireRequest) -> Slice<ExecRest> {
         self.tick();
         if is_info(&req) {
             return Slice::Done(match &req {
@@ -490,9 +534,21 @@ impl<E: TcExtension + Default> Handler for EmulatorService<E> {
         slice
     }
 
+    /// The next slice of a long `EXEC`, from its rest as it is (run in
+    /// real time, an `EXEC` waits for the clock and leaves no rest).
+    fn proceed(&mut self, rest: ExecRest) -> Slice<ExecRest> {
+        self.tick();
+        let before = self.emu.tc().executor().cycles();
+        let slice = proceed_slice(&mut self.emu, rest);
+        if self.journal.is_some() {
+            self.journal_rest(rest, &slice, before);
+        }
+        slice
+    }
+
     /// A tool write is on disk (or refused): applied and answered. An
     /// `EXEC` wait is over: answered.
-    fn resume(&mut self, token: u64, ok: bool) -> Slice {
+    fn resume(&mut self, token: u64, ok: bool) -> Slice<ExecRest> {
         if token & EXEC_WAIT_BIT != 0 {
             self.tick();
             return Slice::Done(match (ok, self.stopping) {
@@ -505,6 +561,10 @@ impl<E: TcExtension + Default> Handler for EmulatorService<E> {
             Some(t) => t.resume(&mut self.emu, token, ok),
             None => Slice::Done(Answer::Protocol(ProtocolError::Busy)),
         };
+        // Only what a recording kept is looked up.
+        if self.journal_pending.is_empty() {
+            return slice;
+        }
         if let Some(req) = self.journal_pending.remove(&token) {
             self.journal_slice(&req, &slice, 0);
         }
@@ -519,7 +579,7 @@ mod tests {
 
     /// The answer of the shared service to `req`, served to its end.
     fn answer(s: &mut EmulatorService, req: WireRequest) -> Answer {
-        s.serve(req).finish(|rest| s.serve(rest))
+        s.serve(req).finish(|rest| s.proceed(rest))
     }
 
     /// A journal that keeps its lines.

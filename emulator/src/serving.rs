@@ -2,7 +2,8 @@
 //! service ([`crate::service`]) and a conformance session
 //! ([`crate::session`]) both do. Object accesses (READ, WRITE) go straight
 //! to the emulator; the TC side's own ops are decoded with `tc-request`,
-//! run, and answered with the reply's wire form.
+//! run, and answered with the reply's wire form. A long `EXEC` leaves its
+//! rest typed ([`ExecRest`]), continued by [`proceed_slice`].
 
 use tc_module::{ExecLeft, TcExtension};
 use tc_request::Request;
@@ -10,6 +11,13 @@ use uoi::tcp::Slice;
 use uoi::wire::{Answer, Request as WireRequest};
 
 use crate::Emulator;
+
+/// The rest of an `EXEC` served in slices, as the handler keeps it
+/// between two slices ([`uoi::tcp::Handler::Rest`]): the cycles left, or
+/// `None` to run until the spooler is empty. Resumed as it is
+/// ([`proceed_slice`]), never encoded and decoded again.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ExecRest(pub Option<u64>);
 
 /// An emulator-control op: not the emulator's to serve.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -28,7 +36,7 @@ pub(crate) enum Control {
 pub(crate) fn serve_slice<E: TcExtension>(
     emu: &mut Emulator<E>,
     req: WireRequest,
-) -> Result<Slice, Control> {
+) -> Result<Slice<ExecRest>, Control> {
     let answer = match req {
         WireRequest::Read(a, ty) => match emu.read(a, ty) {
             Ok(v) => Answer::Value(v),
@@ -41,13 +49,22 @@ pub(crate) fn serve_slice<E: TcExtension>(
         ext => match Request::from_wire(&ext) {
             Ok(Request::Setup { .. }) => return Err(Control::Setup),
             Ok(Request::SpoolLog { logging }) => return Err(Control::SpoolLog(logging)),
-            Ok(Request::Exec(cycles)) => match emu.exec_slice(cycles) {
-                ExecLeft::Done => Answer::Ok,
-                ExecLeft::Rest(rest) => return Ok(Slice::More(Request::Exec(rest).to_wire())),
-            },
+            Ok(Request::Exec(cycles)) => return Ok(proceed_slice(emu, ExecRest(cycles))),
             Ok(r) => emu.run(&r).to_wire(),
             Err(e) => Answer::Protocol(e),
         },
     };
     Ok(Slice::Done(answer))
+}
+
+/// The next slice of an `EXEC` from its rest: `Ok` once it is complete,
+/// else the rest again.
+pub(crate) fn proceed_slice<E: TcExtension>(
+    emu: &mut Emulator<E>,
+    rest: ExecRest,
+) -> Slice<ExecRest> {
+    match emu.exec_slice(rest.0) {
+        ExecLeft::Done => Slice::Done(Answer::Ok),
+        ExecLeft::Rest(left) => Slice::More(ExecRest(left)),
+    }
 }

@@ -18,7 +18,7 @@ use uoi::tcp::{Session, Slice};
 use uoi::wire::{Answer, Op, ProtocolError, Request as WireRequest};
 use uoi::AccessError;
 
-use crate::serving::{serve_slice, Control};
+use crate::serving::{proceed_slice, serve_slice, Control, ExecRest};
 use crate::Emulator;
 
 /// Most conformance sessions open at once in one server: each may hold a
@@ -95,7 +95,7 @@ fn is_setup(req: &WireRequest) -> bool {
     req.op() == Op::Ext(TcOp::Setup.code())
 }
 
-impl Session for ConformanceSession {
+impl Session<ExecRest> for ConformanceSession {
     /// `SETUP` always; everything else once there is a session.
     fn takes(&self, req: &WireRequest) -> bool {
         self.own.is_some() || is_setup(req)
@@ -103,13 +103,26 @@ impl Session for ConformanceSession {
 
     /// One slice at a time (a long `EXEC` comes back as [`Slice::More`],
     /// so the connection lets others run and stops it if it is closed).
-    fn serve(&mut self, req: WireRequest) -> Slice {
+    fn serve(&mut self, req: WireRequest) -> Slice<ExecRest> {
         if is_setup(&req) {
             return Slice::Done(self.setup(&req));
         }
         match self.own.as_deref_mut() {
             Some(own) => own.serve(req),
             // Not taken: `takes` says no without an emulator.
+            None => Slice::Done(Answer::Access(AccessError::State)),
+        }
+    }
+
+    /// The next slice of a long `EXEC` on the session's emulator.
+    fn proceed(&mut self, rest: ExecRest) -> Slice<ExecRest> {
+        match self.own.as_deref_mut() {
+            Some(own) => {
+                let slice = proceed_slice(&mut own.emu, rest);
+                own.log.collect(&mut own.emu);
+                slice
+            }
+            // A rest comes only from a slice of its emulator.
             None => Slice::Done(Answer::Access(AccessError::State)),
         }
     }
@@ -190,7 +203,7 @@ struct Conformance {
 
 impl Conformance {
     /// Serves one slice of a request on the private emulator.
-    fn serve(&mut self, req: WireRequest) -> Slice {
+    fn serve(&mut self, req: WireRequest) -> Slice<ExecRest> {
         let slice = match serve_slice(&mut self.emu, req) {
             Ok(slice) => slice,
             Err(Control::SpoolLog(logging)) => {

@@ -63,10 +63,10 @@ impl Connection {
         let req = self.bounded(req);
         if self.session.takes(&req) {
             let session = &mut self.session;
-            session.serve(req).finish(|rest| session.serve(rest))
+            session.serve(req).finish(|rest| session.proceed(rest))
         } else {
             let shared = &mut self.shared;
-            shared.serve(req).finish(|rest| shared.serve(rest))
+            shared.serve(req).finish(|rest| shared.proceed(rest))
         }
     }
 

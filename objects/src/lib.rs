@@ -24,6 +24,7 @@ mod device;
 mod meaning;
 mod object;
 mod otc;
+mod otc_setting;
 mod tc;
 mod tool;
 
@@ -38,5 +39,6 @@ pub use otc::{
     OtcObject, OTC_AXIS_DEVICE, OTC_AXIS_OBJECTS, OTC_GROUP_DEVICE, OTC_GROUP_OBJECTS,
     WEAR_AXIS_SUBS,
 };
+pub use otc_setting::{OtcMode, ProcType};
 pub use tc::{TcObject, TC_OBJECTS};
 pub use tool::{ToolEffect, ToolField};

@@ -152,6 +152,7 @@ struct Objects(ObjectServer);
 
 impl Handler for Objects {
     type Session = ();
+    type Rest = Request;
     fn open_session(&mut self) {}
     fn serve(&mut self, req: Request) -> Slice {
         Slice::Done(match req {

@@ -36,6 +36,7 @@ struct Bench(MachineView);
 
 impl Handler for Bench {
     type Session = ();
+    type Rest = Request;
     fn open_session(&mut self) {}
     fn serve(&mut self, _req: Request) -> Slice {
         Slice::Done(Answer::Access(AccessError::NoObject))

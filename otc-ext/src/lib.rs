@@ -32,7 +32,6 @@ mod plc;
 mod quantity;
 mod registers;
 mod running;
-mod setting;
 mod state;
 mod switching;
 pub mod wear;
@@ -41,9 +40,9 @@ pub use extension::OtcExtension;
 pub use objects::{
     OtcObject, AXIS_DEVICE, AXIS_OBJECTS, GROUP_DEVICE, GROUP_OBJECTS, WEAR_AXIS_SUBS,
 };
+pub use per_cycle::WearModel;
 pub use plc::{clamp_command, PlcUnit};
 pub use quantity::{TenthMicrons, TiltAngle, WearRate};
 pub use running::running_wear;
-pub use setting::{OtcMode, ProcType};
 pub use state::{OtcErrorBits, OtcGroup, OtcTool, GRINDING};
 pub use tc_module::TcExtension;

@@ -19,7 +19,7 @@ mod tests {
         assert_eq!(overlapping_rows(&table), vec![]);
         assert_eq!(
             table.len(),
-            tc_module::TC_OBJECTS.len() + super::GROUP_OBJECTS.len() + super::AXIS_OBJECTS.len()
+            tc_objects::TC_OBJECTS.len() + super::GROUP_OBJECTS.len() + super::AXIS_OBJECTS.len()
         );
     }
 }

@@ -1,10 +1,10 @@
-//! The wear model plugged into the executor: for the group whose OTC is
-//! on, the settings in force are read from the group, its current tool
-//! entry and the axes, and the taken PLC units are lent to the model for
-//! one cycle (`TcExtension::cycle`); the model is at rest when those
-//! units stand on their targets.
+//! The wear model plugged into the executor ([`WearModel`], OTC's
+//! `CycleModel`): for the group whose OTC is on, the settings in force are
+//! read from the group, its current tool entry and the axes, and the taken
+//! PLC units are lent to the model for one cycle; the model is at rest
+//! when those units stand on their targets.
 
-use tc_module::{AxisPos, Cycle, GroupAccess, Groups, AXES};
+use tc_module::{AxisPos, Cycle, CycleModel, GroupAccess, Groups, AXES};
 
 use crate::plc::PlcUnit;
 use crate::switching::taken;
@@ -46,37 +46,65 @@ fn with_on_group<T>(
     Some(f(&mut s.wear, &mut units, &set))
 }
 
-impl OtcExtension {
+/// OTC's per-cycle model over the groups: the wear model of the group
+/// whose OTC is on ([`TcExtension::cycle_model`](tc_module::TcExtension::cycle_model)).
+#[derive(Debug)]
+pub struct WearModel<'a> {
+    axes: &'a mut [PlcUnit; AXES],
+    on: Option<u16>,
+    groups: Groups<'a, OtcExtension>,
+}
+
+impl<'a> WearModel<'a> {
+    /// The model of `ext` over `groups`.
+    pub(crate) fn new(ext: &'a mut OtcExtension, groups: Groups<'a, OtcExtension>) -> Self {
+        Self {
+            axes: &mut ext.axes,
+            on: ext.on_group,
+            groups,
+        }
+    }
+}
+
+impl CycleModel for WearModel<'_> {
+    /// Acts while a group's OTC is on.
+    fn active(&self) -> bool {
+        self.on.is_some()
+    }
+
     /// One interpolation cycle of the wear model: the offset of the group
     /// whose OTC is on (none while no OTC is on).
-    pub(crate) fn wear_cycle(&mut self, c: &Cycle<'_>, groups: Groups<'_, Self>) -> AxisPos {
+    fn cycle(&mut self, c: &Cycle<'_>) -> AxisPos {
         with_on_group(
-            &mut self.axes,
-            self.on_group,
-            groups,
+            self.axes,
+            self.on,
+            self.groups.reborrow(),
             |state, units, set| run_cycle(state, units, set, c),
         )
         .unwrap_or([0.0; AXES])
     }
 
+    /// At rest when a cycle in which nothing moves would change nothing:
+    /// the units the group whose OTC is on takes stand on their targets.
+    fn at_rest(&mut self) -> bool {
+        with_on_group(
+            self.axes,
+            self.on,
+            self.groups.reborrow(),
+            |_, units, set| units.at_rest(set.max_infeed),
+        )
+        .unwrap_or(true)
+    }
+
     /// The offset for the wear so far where the executor stands, no cycle
     /// passing (after a direct command).
-    pub(crate) fn wear_offset_now(&mut self, c: &Cycle<'_>, groups: Groups<'_, Self>) -> AxisPos {
+    fn offset_now(&mut self, c: &Cycle<'_>) -> AxisPos {
         with_on_group(
-            &mut self.axes,
-            self.on_group,
-            groups,
+            self.axes,
+            self.on,
+            self.groups.reborrow(),
             |state, units, set| offset_at(state, units, set, c),
         )
         .unwrap_or([0.0; AXES])
-    }
-
-    /// Whether a cycle in which nothing moves would change nothing: the
-    /// units the group whose OTC is on takes stand on their targets.
-    pub(crate) fn settled(&mut self, groups: Groups<'_, Self>) -> bool {
-        with_on_group(&mut self.axes, self.on_group, groups, |_, units, set| {
-            units.settled(set.max_infeed)
-        })
-        .unwrap_or(true)
     }
 }

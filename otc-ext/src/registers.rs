@@ -4,16 +4,17 @@
 //! switching is in `switching`, the per-cycle model in `wear` and
 //! `per_cycle`.
 
-use tc_module::{Cycle, GroupAccess, Groups, TcExtension, WkzIndex, AXES};
+use tc_module::{GroupAccess, Groups, TcExtension, WkzIndex, AXES};
 use uoi::{AccessError, ObjectAddress, ObjectDesc, Value};
 
 use crate::extension::OtcExtension;
 use crate::objects::{OtcObject, AXIS_OBJECTS, GROUP_OBJECTS, WEAR_AXIS_SUBS};
+use crate::per_cycle::WearModel;
 use crate::plc::clamp_command;
 use crate::quantity::{TenthMicrons, TiltAngle, WearRate};
-use crate::setting::{OtcMode, ProcType};
 use crate::state::{OtcErrorBits, OtcGroup, OtcTool};
-use crate::switching::check_units;
+use crate::switching::{booked_entry, check_units, switches_off};
+use tc_objects::{OtcMode, ProcType};
 
 type Access<'a> = GroupAccess<'a, OtcExtension>;
 
@@ -113,6 +114,7 @@ impl TcExtension for OtcExtension {
     type Key = OtcObject;
     type Group = OtcGroup;
     type Tool = OtcTool;
+    type Model<'a> = WearModel<'a>;
     const GROUP_OBJECTS: &'static [ObjectDesc<OtcObject>] = &GROUP_OBJECTS;
     const OBJECTS: &'static [ObjectDesc<OtcObject>] = &AXIS_OBJECTS;
 
@@ -139,7 +141,8 @@ impl TcExtension for OtcExtension {
             return self.write_on(addr.index, int(v) == 1, groups);
         }
         let mut g = groups.get(addr.index).ok_or(AccessError::NoObject)?;
-        if write_tool(obj, v, g.tool_ext()) || write_state(obj, v, g.state_mut()) {
+        // The tool fields are the module's to set (`write_tool`).
+        if write_state(obj, v, g.state_mut()) {
             if obj == OtcObject::RadiusOffsetEnable && int(v) == 1 && g.state().on {
                 check_units(&mut g, &self.axes);
             }
@@ -195,6 +198,24 @@ impl TcExtension for OtcExtension {
         Ok(())
     }
 
+    fn write_tool(obj: OtcObject, v: Value, tool: &mut OtcTool) -> bool {
+        write_tool(obj, v, tool)
+    }
+
+    fn tool_after(
+        &self,
+        obj: OtcObject,
+        v: Value,
+        group: &tc_module::Group<Self>,
+        running: bool,
+        main: tc_module::MainAxes,
+    ) -> Result<Option<tc_module::ToolEntry<OtcTool>>, AccessError> {
+        if obj != OtcObject::OtcOn || int(v) == 1 || !switches_off(&group.ext, running) {
+            return Ok(None);
+        }
+        booked_entry(&group.ext, group.tool(), &self.axes, main).map(Some)
+    }
+
     fn tool_changed(&mut self, outgoing: WkzIndex, mut g: Access<'_>) {
         let s = g.state_mut();
         s.handoff_count = s.handoff_count.wrapping_add(1);
@@ -211,24 +232,8 @@ impl TcExtension for OtcExtension {
         *self = Self::default();
     }
 
-    fn cycle_active(&mut self, _: Groups<'_, Self>) -> bool {
-        self.on_group.is_some()
-    }
-
-    fn cycle(&mut self, cycle: &Cycle<'_>, groups: Groups<'_, Self>) -> tc_module::AxisPos {
-        self.wear_cycle(cycle, groups)
-    }
-
-    fn cycle_offset_now(
-        &mut self,
-        cycle: &Cycle<'_>,
-        groups: Groups<'_, Self>,
-    ) -> tc_module::AxisPos {
-        self.wear_offset_now(cycle, groups)
-    }
-
-    fn cycle_at_rest(&mut self, groups: Groups<'_, Self>) -> bool {
-        self.settled(groups)
+    fn cycle_model<'a>(&'a mut self, groups: Groups<'a, Self>) -> WearModel<'a> {
+        WearModel::new(self, groups)
     }
 
     fn position_request(&mut self, mut groups: Groups<'_, Self>) -> Result<(), AccessError> {

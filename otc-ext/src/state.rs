@@ -5,8 +5,8 @@ use tc_module::AXES;
 
 use crate::plc::PlcUnit;
 use crate::quantity::{TenthMicrons, TiltAngle, WearRate};
-use crate::setting::{OtcMode, ProcType};
 use crate::wear::WearState;
+use tc_objects::{OtcMode, ProcType};
 
 pub use tc_objects::OtcErrorBits;
 

@@ -2,15 +2,16 @@
 //! to OTC": the wear booked at switch-off, position requests, tool
 //! changes), and the NotAllowed check of the PLC units ("The error bits").
 
-use tc_module::{GroupAccess, Groups, AXES};
+use tc_module::limits::within_limit;
+use tc_module::{GroupAccess, Groups, MainAxes, ToolEntry, AXES};
 use uoi::AccessError;
 
-use crate::plc::PlcUnit;
-use crate::setting::ProcType;
-use crate::state::{OtcErrorBits, GRINDING};
+use crate::plc::{PlcUnit, APPLIED_UNIT_MM};
+use crate::state::{OtcErrorBits, OtcGroup, OtcTool, GRINDING};
 use crate::wear::units::TakenUnits;
-use crate::wear::{TakenMut, WearState};
+use crate::wear::WearState;
 use crate::OtcExtension;
+use tc_objects::ProcType;
 
 type Access<'a> = GroupAccess<'a, OtcExtension>;
 
@@ -48,18 +49,56 @@ fn booked(w: f64) -> f64 {
     }
 }
 
+/// The wear `#OTC OFF` books on the tool, `(w, w_cont)`: since ON, the
+/// continuous part and the applied values of the taken units.
+fn booking(s: &OtcGroup, axes: &[PlcUnit; AXES], main: MainAxes) -> (f64, f64) {
+    let t = TakenUnits::of(s.proc_type, s.mode, main.plane.third);
+    let channel = if t.channel {
+        s.radius_unit.applied
+    } else {
+        0.0
+    };
+    let axis = t.axis.and_then(|a| axes.get(a)).map_or(0.0, |u| u.applied);
+    let w_disc = (channel + axis) * APPLIED_UNIT_MM;
+    let w_cont = booked(s.wear.w_cont);
+    (booked(w_cont + w_disc), w_cont)
+}
+
+/// Whether OTC of a group in state `s` goes off when written 0: it is on,
+/// and no RADIUS correction of it runs (that is out of sequence).
+pub(crate) fn switches_off(s: &OtcGroup, running: bool) -> bool {
+    s.on && !(s.proc_type == ProcType::Radius && running)
+}
+
+/// The tool entry `tool` with the wear of `#OTC OFF` booked on its radius
+/// or length; `Range` when the entry refuses it (beyond ±1e9).
+pub(crate) fn booked_entry(
+    s: &OtcGroup,
+    tool: &ToolEntry<OtcTool>,
+    axes: &[PlcUnit; AXES],
+    main: MainAxes,
+) -> Result<ToolEntry<OtcTool>, AccessError> {
+    let (w, _) = booking(s, axes, main);
+    let mut entry = *tool;
+    let field = match s.proc_type {
+        ProcType::Radius => &mut entry.radius,
+        _ => &mut entry.length,
+    };
+    *field -= w;
+    if within_limit(*field) {
+        Ok(entry)
+    } else {
+        Err(AccessError::Range)
+    }
+}
+
 /// `#OTC OFF`: the wear since ON is booked on the tool and read back
 /// through the V.G. values; every unit gives its offset back. A booking
 /// the tool entry refuses (a radius or length beyond ±1e9) changes
 /// nothing.
 fn switch_off(g: &mut Access<'_>, axes: &mut [PlcUnit; AXES]) -> Result<(), AccessError> {
-    let t = taken(g);
-    let s = g.state_mut();
-    let units = TakenMut::lend(t, &mut s.radius_unit, axes);
-    let w_disc = units.w_disc();
+    let (w, w_cont) = booking(g.state(), axes, g.main_axes());
     let s = g.state();
-    let w_cont = booked(s.wear.w_cont);
-    let w = booked(w_cont + w_disc);
     let dir = s.wear.last_dir.unwrap_or([0.0; AXES]);
     if s.proc_type == ProcType::Radius {
         g.reduce_radius(w)?;
@@ -126,11 +165,11 @@ impl OtcExtension {
             let Some(mut g) = groups.get(index) else {
                 return Ok(());
             };
-            if g.state().proc_type == ProcType::Radius && g.running() {
-                g.state_mut().error |= OtcErrorBits::SEQUENCE;
-            } else {
+            if switches_off(g.state(), g.running()) {
                 switch_off(&mut g, &mut self.axes)?;
                 self.on_group = None;
+            } else {
+                g.state_mut().error |= OtcErrorBits::SEQUENCE;
             }
         }
         Ok(())

@@ -6,7 +6,6 @@ use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 
 use addipos::{RecordHeader, ServeRecorder};
-use emulator::tools::open::open_tools;
 use emulator::{
     parse_address, read_settings_file, Config, ConfigError, EmulatorService, DEFAULT_CONFIG,
 };
@@ -217,8 +216,9 @@ fn serve_settings(args: &ServeArgs) -> Result<ServeSettings, ServeError> {
     }
     let lock = if cfg.persist {
         Some(
-            open_tools(&mut service, &cfg.data_dir, cfg.ignore_bad_tools)
-                .map_err(ServeError::Tools)?,
+            service
+                .open_tools(&cfg.data_dir, cfg.ignore_bad_tools)
+                .map_err(|e| ServeError::Tools(e.to_string()))?,
         )
     } else {
         tracing::info!("tool data kept in memory only (--no-persist)");

@@ -1,6 +1,9 @@
-//! The per-cycle seam: what a model that acts on every interpolation cycle
-//! (OTC's wear model) is told, and what it answers — an offset added to
-//! the nominal path position to give the executed position.
+//! The per-cycle seam, one trait ([`CycleModel`]) with one set of names
+//! from the executor to the extension: what a model that acts on every
+//! interpolation cycle (OTC's wear model) is told, and what it answers —
+//! an offset added to the nominal path position to give the executed
+//! position. An extension hands its model to the module over the groups
+//! ([`TcExtension::cycle_model`](crate::TcExtension::cycle_model)).
 
 use crate::element::{Origin, SpoolElement};
 use crate::plane::{AxisPos, AXES};
@@ -164,6 +167,26 @@ pub trait CycleModel {
     /// (`cycle.parts` is empty). Default: no offset.
     fn offset_now(&mut self, _cycle: &Cycle<'_>) -> AxisPos {
         [0.0; AXES]
+    }
+}
+
+/// A model lent for a while (an extension lends itself as its own model,
+/// [`TcExtension::cycle_model`](crate::TcExtension::cycle_model)).
+impl<M: CycleModel + ?Sized> CycleModel for &mut M {
+    fn active(&self) -> bool {
+        (**self).active()
+    }
+
+    fn cycle(&mut self, cycle: &Cycle<'_>) -> AxisPos {
+        (**self).cycle(cycle)
+    }
+
+    fn at_rest(&mut self) -> bool {
+        (**self).at_rest()
+    }
+
+    fn offset_now(&mut self, cycle: &Cycle<'_>) -> AxisPos {
+        (**self).offset_now(cycle)
     }
 }
 

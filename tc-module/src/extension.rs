@@ -9,13 +9,14 @@
 //!   [`TcExtension::Tool`] in each tool entry. TC data is read-only to the
 //!   extension except through named operations of [`GroupAccess`].
 //! * Events: tool change, group reset, Clean, position requests.
-//! * Cycles: [`TcExtension::cycle`] is the per-cycle model.
+//! * Cycles: [`TcExtension::cycle_model`] hands the module the per-cycle
+//!   model ([`CycleModel`]).
 
 use std::fmt::Debug;
 
 use uoi::{AccessError, ObjectAddress, ObjectDesc, Value};
 
-use crate::cycle::Cycle;
+use crate::cycle::{Cycle, CycleModel, NoModel};
 use crate::group::CorrGroup;
 use crate::plane::{AxisPos, MainAxes, AXES};
 use crate::tool_table::{ToolEntry, WkzIndex};
@@ -181,6 +182,10 @@ pub trait TcExtension: Debug + Send + Sized + 'static {
     type Group: Debug + Default + Clone + Send + 'static;
     /// Its fields of one tool entry.
     type Tool: Debug + Default + Copy + PartialEq + Send + 'static;
+    /// Its per-cycle model over the groups ([`TcExtension::cycle_model`]).
+    type Model<'a>: CycleModel
+    where
+        Self: 'a;
 
     /// Its objects indexed by compensation group (index range `GROUPS`);
     /// the group is created on first access like every group.
@@ -234,6 +239,32 @@ pub trait TcExtension: Debug + Send + Sized + 'static {
         Err(AccessError::NoObject)
     }
 
+    /// Sets the field of a tool entry's extension part `tool` that group
+    /// object `key` writes (an object of the entry at WKZINDEX); `false`
+    /// when `key` is no tool field. Such a write changes nothing else: the
+    /// module plans it and sets the field on the entry planned
+    /// ([`TcModule::plan_write`](crate::TcModule::plan_write)); it never
+    /// reaches [`TcExtension::write_group`].
+    fn write_tool(_key: Self::Key, _value: Value, _tool: &mut Self::Tool) -> bool {
+        false
+    }
+
+    /// The entry at WKZINDEX of `group` as a write of `value` to group
+    /// object `key` would leave it, when the write changes it on the side
+    /// (OTC switched off books its wear on it); `None`: it changes no tool
+    /// entry; `Err`: the write would be refused and change nothing.
+    /// `running`: the group's correction runs. Changes nothing.
+    fn tool_after(
+        &self,
+        _key: Self::Key,
+        _value: Value,
+        _group: &Group<Self>,
+        _running: bool,
+        _main: MainAxes,
+    ) -> Result<Option<ToolEntry<Self::Tool>>, AccessError> {
+        Ok(None)
+    }
+
     /// The group's WKZINDEX changed from `outgoing` (the tool handed back)
     /// to the group's current one.
     fn tool_changed(&mut self, _outgoing: WkzIndex, _group: GroupAccess<'_, Self>) {}
@@ -252,32 +283,13 @@ pub trait TcExtension: Debug + Send + Sized + 'static {
         Ok(())
     }
 
-    /// Whether the per-cycle model acts now (asked before every `EXEC` and
-    /// after every write to the extension's objects).
-    fn cycle_active(&mut self, _groups: Groups<'_, Self>) -> bool {
-        false
-    }
-
-    /// One interpolation cycle, while [`TcExtension::cycle_active`]: the
-    /// offset to add to the nominal position.
-    fn cycle(&mut self, _cycle: &Cycle<'_>, _groups: Groups<'_, Self>) -> AxisPos {
-        [0.0; AXES]
-    }
-
-    /// The offset of the per-cycle model for its state as it stands, no
-    /// cycle passing (see
-    /// [`CycleModel::offset_now`](crate::cycle::CycleModel::offset_now)).
-    /// Default: no offset.
-    fn cycle_offset_now(&mut self, _cycle: &Cycle<'_>, _groups: Groups<'_, Self>) -> AxisPos {
-        [0.0; AXES]
-    }
-
-    /// Whether the per-cycle model is at rest (see
-    /// [`CycleModel::at_rest`](crate::cycle::CycleModel::at_rest)): a
-    /// cycle in which nothing moves would change nothing. Default: no.
-    fn cycle_at_rest(&mut self, _groups: Groups<'_, Self>) -> bool {
-        false
-    }
+    /// The extension's per-cycle model over the groups, for one `EXEC`
+    /// slice (or one look at the offset after a direct command, or after a
+    /// write: whether it still acts). The one seam of the per-cycle model
+    /// ([`CycleModel`]: `active`, `cycle`, `at_rest`, `offset_now`). An
+    /// extension whose model needs no groups lends itself
+    /// (`type Model<'a> = &'a mut Self`).
+    fn cycle_model<'a>(&'a mut self, groups: Groups<'a, Self>) -> Self::Model<'a>;
 }
 
 /// The key of an extension without objects.
@@ -292,8 +304,13 @@ impl TcExtension for NoExtension {
     type Key = NoKey;
     type Group = ();
     type Tool = ();
+    type Model<'a> = NoModel;
     const GROUP_OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
     const OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
+
+    fn cycle_model<'a>(&'a mut self, _: Groups<'a, Self>) -> NoModel {
+        NoModel
+    }
 }
 
 /// No extension objects, and a per-cycle model that is always active and
@@ -306,14 +323,21 @@ impl TcExtension for AlwaysStepped {
     type Key = NoKey;
     type Group = ();
     type Tool = ();
+    type Model<'a> = &'a mut Self;
     const GROUP_OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
     const OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
 
-    fn cycle_active(&mut self, _: Groups<'_, Self>) -> bool {
+    fn cycle_model<'a>(&'a mut self, _: Groups<'a, Self>) -> &'a mut Self {
+        self
+    }
+}
+
+impl CycleModel for AlwaysStepped {
+    fn active(&self) -> bool {
         true
     }
 
-    fn cycle(&mut self, _: &Cycle<'_>, _: Groups<'_, Self>) -> AxisPos {
+    fn cycle(&mut self, _: &Cycle<'_>) -> AxisPos {
         [0.0; AXES]
     }
 }

@@ -51,8 +51,9 @@ pub use extension::{AlwaysStepped, Group, GroupAccess, Groups, NoExtension, NoKe
 pub use geometry::V2;
 pub use group::{CorrGroup, Side};
 pub use limits::{CycleTime, MAX_COORD};
+pub use module::plan::{Plan, ToolChange, WritePlan};
 pub use module::{ExecLeft, TcModule, EXEC_SLICE_CYCLES};
-pub use object_map::{TcKey, TcObject, GROUPS, GROUP_COUNT, TC_BUS, TC_OBJECTS};
+pub use object_map::TcKey;
 pub use plane::{AxisPos, MainAxes, PlaneAxes, TcPlane, AXES, AXIS_NAMES};
 pub use spooler::{
     check_capacity, CapacityError, Logged, Spooler, DEFAULT_SPOOL_CAPACITY, KEEP_WHEN_EMPTY,

@@ -10,9 +10,7 @@ use uoi::{Meaning, ObjectDesc};
 
 use crate::extension::TcExtension;
 
-pub use tc_objects::{
-    TcObject, AXIS, BOOL, COORD, GROUPS, GROUP_COUNT, MACHINE_AXES, PLANE_CODES, TC_BUS, TC_OBJECTS,
-};
+use tc_objects::{TcObject, GROUPS, TC_OBJECTS};
 
 /// The key of a row of the whole bus-1300 map.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -9,7 +9,7 @@
 
 use tc_module::NoKey;
 use tc_module::{
-    AxisPos, Cycle, CycleTime, Groups, NoExtension, Origin, TcExtension, TcModule, AXES,
+    AxisPos, Cycle, CycleModel, CycleTime, Groups, NoExtension, Origin, TcExtension, TcModule, AXES,
 };
 use tc_request::text::parse_request;
 use tc_request::Request;
@@ -56,14 +56,21 @@ impl TcExtension for NormalOffset {
     type Key = NoKey;
     type Group = ();
     type Tool = ();
+    type Model<'a> = &'a mut Self;
     const GROUP_OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
     const OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
 
-    fn cycle_active(&mut self, _: Groups<'_, Self>) -> bool {
+    fn cycle_model<'a>(&'a mut self, _: Groups<'a, Self>) -> &'a mut Self {
+        self
+    }
+}
+
+impl CycleModel for NormalOffset {
+    fn active(&self) -> bool {
         self.on
     }
 
-    fn cycle(&mut self, c: &Cycle<'_>, _: Groups<'_, Self>) -> AxisPos {
+    fn cycle(&mut self, c: &Cycle<'_>) -> AxisPos {
         let s = &mut self.seen;
         s.calls += 1;
         for p in c.parts {

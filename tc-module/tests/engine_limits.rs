@@ -10,8 +10,8 @@
 use tc_module::NoKey;
 use tc_module::KEEP_WHEN_EMPTY;
 use tc_module::{
-    AxisPos, Cycle, CycleTime, ExecLeft, Groups, NoExtension, TcExtension, TcModule, AXES,
-    EXEC_SLICE_CYCLES,
+    AxisPos, Cycle, CycleModel, CycleTime, ExecLeft, Groups, NoExtension, TcExtension, TcModule,
+    AXES, EXEC_SLICE_CYCLES,
 };
 use tc_request::text::parse_request;
 use tc_request::Request;
@@ -81,19 +81,26 @@ impl TcExtension for Counting {
     type Key = NoKey;
     type Group = ();
     type Tool = ();
+    type Model<'a> = &'a mut Self;
     const GROUP_OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
     const OBJECTS: &'static [ObjectDesc<NoKey>] = &[];
 
-    fn cycle_active(&mut self, _: Groups<'_, Self>) -> bool {
+    fn cycle_model<'a>(&'a mut self, _: Groups<'a, Self>) -> &'a mut Self {
+        self
+    }
+}
+
+impl CycleModel for Counting {
+    fn active(&self) -> bool {
         true
     }
 
-    fn cycle(&mut self, _: &Cycle<'_>, _: Groups<'_, Self>) -> AxisPos {
+    fn cycle(&mut self, _: &Cycle<'_>) -> AxisPos {
         self.calls += 1;
         [0.0; AXES]
     }
 
-    fn cycle_at_rest(&mut self, _: Groups<'_, Self>) -> bool {
+    fn at_rest(&mut self) -> bool {
         self.rests_after.is_some_and(|n| self.calls >= n)
     }
 }

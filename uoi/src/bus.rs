@@ -75,20 +75,7 @@ impl<B: Bus> ObjectBus for B {
     }
 
     fn write_checked(&mut self, addr: ObjectAddress, value: Value) -> Result<(), AccessError> {
-        if addr.bus != self.number() {
-            return Err(AccessError::NoObject);
-        }
-        let row = lookup(self.objects(), addr)?;
-        if !row.access.writable() {
-            return Err(AccessError::ReadOnly);
-        }
-        if row.ty != value.value_type() {
-            return Err(AccessError::TypeMismatch);
-        }
-        if !row.range.contains(value) {
-            return Err(AccessError::Range);
-        }
-        let key = row.key;
+        let key = check_write(self, addr, value)?;
         self.write(key, addr, value)
     }
 
@@ -99,4 +86,30 @@ impl<B: Bus> ObjectBus for B {
     fn as_any_mut(&mut self) -> &mut dyn Any {
         self
     }
+}
+
+/// The key of the object a write of `value` to `addr` goes to, once
+/// address, then access (`ReadOnly`), then type (`TypeMismatch`), then
+/// range (`Range`) are checked: the checks of
+/// [`ObjectBus::write_checked`], changing nothing (for a module that plans
+/// a write before it carries it out).
+pub fn check_write<B: Bus + ?Sized>(
+    bus: &B,
+    addr: ObjectAddress,
+    value: Value,
+) -> Result<B::Key, AccessError> {
+    if addr.bus != bus.number() {
+        return Err(AccessError::NoObject);
+    }
+    let row = lookup(bus.objects(), addr)?;
+    if !row.access.writable() {
+        return Err(AccessError::ReadOnly);
+    }
+    if row.ty != value.value_type() {
+        return Err(AccessError::TypeMismatch);
+    }
+    if !row.range.contains(value) {
+        return Err(AccessError::Range);
+    }
+    Ok(row.key)
 }

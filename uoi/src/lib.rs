@@ -53,7 +53,7 @@ mod value;
 pub mod wire;
 
 pub use address::{AddressParseError, ObjectAddress};
-pub use bus::{Bus, ObjectBus};
+pub use bus::{check_write, Bus, ObjectBus};
 pub use dictionary::{lookup, Access, Meaning, ObjectDesc, ValueRange};
 pub use error::AccessError;
 pub use log_limit::LogLimit;

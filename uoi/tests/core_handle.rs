@@ -17,6 +17,7 @@ struct Register(i32);
 
 impl Handler for Register {
     type Session = ();
+    type Rest = Request;
 
     fn open_session(&mut self) {}
 

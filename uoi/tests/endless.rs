@@ -39,9 +39,14 @@ struct Endless;
 
 impl Handler for Endless {
     type Session = EndlessSession;
+    type Rest = Request;
 
     fn open_session(&mut self) -> EndlessSession {
         EndlessSession
+    }
+
+    fn proceed(&mut self, rest: Request) -> Slice {
+        self.serve(rest)
     }
 
     fn serve(&mut self, req: Request) -> Slice {
@@ -63,6 +68,10 @@ struct EndlessSession;
 impl Session for EndlessSession {
     fn takes(&self, req: &Request) -> bool {
         matches!(req, Request::Read(a, _) if a.index == 0 && matches!(a.sub, 1 | 3 | 4))
+    }
+
+    fn proceed(&mut self, rest: Request) -> Slice {
+        self.serve(rest)
     }
 
     fn serve(&mut self, req: Request) -> Slice {

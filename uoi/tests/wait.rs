@@ -56,6 +56,7 @@ impl Waiting {
 impl Handler for Waiting {
     /// A session that takes READs of index 8 and waits for them the same way.
     type Session = Waiting;
+    type Rest = Request;
 
     fn open_session(&mut self) -> Waiting {
         Waiting {

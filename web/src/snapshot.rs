@@ -6,7 +6,8 @@
 use emulator::EmulatorService;
 use otc_ext::{running_wear, OtcExtension, OtcGroup, GRINDING};
 use serde::Serialize;
-use tc_module::{Group, ToolEntry, WkzIndex, AXIS_NAMES, GROUPS, TOOL_ENTRIES};
+use tc_module::{Group, ToolEntry, WkzIndex, AXIS_NAMES, TOOL_ENTRIES};
+use tc_objects::GROUPS;
 use tc_objects::{ErrorBits, OtcObject, StatusBits, TcObject};
 use uoi::{Value, ValueType};
 

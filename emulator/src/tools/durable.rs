@@ -2,23 +2,27 @@
 //! before its answer leaves, and the emulator's memory never runs ahead of
 //! the disk.
 //!
-//! * A direct tool write (RADIUS, WkzLen, the OTC tool fields) is checked
-//!   on the emulator and undone at once, so nobody sees it yet; its change
-//!   goes to the writer and the request waits (`Slice::Wait`) without
-//!   holding the emulator. Once the change is on disk it is applied
-//!   (`resume`); if the disk refused it, the answer is `Storage` and the
-//!   value stays what it was. Changes apply in the journal's order: a
-//!   change older than the one a field already holds is not applied.
+//! Every write is planned first ([`Emulator::plan`]): checked, and what it
+//! would change of the tool data said, nothing changed. The plan is
+//! applied ([`Emulator::apply`], the route of every write) once its
+//! change is on disk (docs/decisions.md, decision 480).
+//!
+//! * A direct tool write (RADIUS, WkzLen, the OTC tool fields): its
+//!   change goes to the writer and the request waits (`Slice::Wait`)
+//!   without holding the emulator. Once the change is on disk the plan is
+//!   applied (`resume`); if the disk refused it, the answer is `Storage`
+//!   and the value stays what it was. Changes apply in the journal's
+//!   order: a change older than the one a field already holds is not
+//!   applied.
 //! * A write that may change tool data on the side (Clean, Reset, a group
-//!   RESET, OTC switched off) is rare: it is applied, its tool changes are
-//!   made durable while the emulator waits, and if the disk refused them
-//!   the emulator is put back as it was before the write (answer
-//!   `Storage`: nothing changed).
+//!   RESET, OTC switched off) is rare: its planned tool changes are made
+//!   durable while the emulator waits, then it is applied; if the disk
+//!   refused them, it is not applied (answer `Storage`: nothing changed).
 
 use std::collections::HashMap;
 
 use otc_ext::OtcExtension;
-use tc_module::{TcExtension, WkzIndex};
+use tc_module::{Plan, TcExtension, ToolChange, WkzIndex};
 use tc_objects::{BusObject, OtcObject, TcObject};
 use tokio::sync::oneshot;
 use tool_store::{GroupTable, Record, ToolField, ToolKey, ToolValue};
@@ -26,7 +30,8 @@ use uoi::tcp::{Slice, Wait};
 use uoi::wire::{Answer, ProtocolError};
 use uoi::{AccessError, ObjectAddress, Value, ValueType};
 
-use super::entries::{all_tables, changes, direct_field, entry_mut, may_change_tools, set_value};
+use super::entries::{all_tables, changes, direct_field, may_change_tools, tables_after, value_of};
+use crate::serving::ExecRest;
 use crate::Emulator;
 use tool_store::{Done, DurableLog, Writer};
 
@@ -34,20 +39,30 @@ use tool_store::{Done, DurableLog, Writer};
 /// emulator's; conformance sessions keep nothing).
 pub trait ToolPersistence<E: TcExtension = OtcExtension>: Send + std::fmt::Debug {
     /// Serves a write if it changes tool data; `None` for any other.
-    fn serve(&mut self, emu: &mut Emulator<E>, addr: ObjectAddress, value: Value) -> Option<Slice>;
+    fn serve(
+        &mut self,
+        emu: &mut Emulator<E>,
+        addr: ObjectAddress,
+        value: Value,
+    ) -> Option<Slice<ExecRest>>;
     /// A direct tool write's wait is over.
-    fn resume(&mut self, emu: &mut Emulator<E>, token: u64, ok: bool) -> Slice;
+    fn resume(&mut self, emu: &mut Emulator<E>, token: u64, ok: bool) -> Slice<ExecRest>;
     /// Every queued change written; the journal compacted into the tool
     /// files (at shutdown).
     fn close(self: Box<Self>);
 }
 
 impl<J: DurableLog + std::fmt::Debug> ToolPersistence for Durable<J> {
-    fn serve(&mut self, emu: &mut Emulator, addr: ObjectAddress, value: Value) -> Option<Slice> {
+    fn serve(
+        &mut self,
+        emu: &mut Emulator,
+        addr: ObjectAddress,
+        value: Value,
+    ) -> Option<Slice<ExecRest>> {
         Durable::serve(self, emu, addr, value)
     }
 
-    fn resume(&mut self, emu: &mut Emulator, token: u64, ok: bool) -> Slice {
+    fn resume(&mut self, emu: &mut Emulator, token: u64, ok: bool) -> Slice<ExecRest> {
         Durable::resume(self, emu, token, ok)
     }
 
@@ -61,12 +76,13 @@ impl<J: DurableLog + std::fmt::Debug> ToolPersistence for Durable<J> {
 /// One field of one entry of one group.
 type FieldKey = (u8, u16, ToolField);
 
-/// A direct tool write waiting for the disk.
+/// A direct tool write waiting for the disk: its plan, applied once the
+/// change is on disk, and the change as journaled.
 #[derive(Debug, Clone, Copy)]
 struct Pending {
+    plan: Plan<OtcExtension>,
     group: u8,
-    index: WkzIndex,
-    field: ToolField,
+    key: ToolKey,
     value: ToolValue,
 }
 
@@ -92,126 +108,120 @@ impl<J: DurableLog> Durable<J> {
         }
     }
 
-    /// Serves `req` if it is a write that changes tool data: `None` for
-    /// every other request (served as before).
+    /// Serves a write if it changes tool data: `None` for every other
+    /// request (served as before). The write is planned first: refused,
+    /// it is answered at once and changes nothing.
     pub fn serve(
         &mut self,
         emu: &mut Emulator,
         addr: ObjectAddress,
         value: Value,
-    ) -> Option<Slice> {
-        if let Some(field) = direct_field(addr) {
-            return Some(self.direct(emu, addr, value, field));
+    ) -> Option<Slice<ExecRest>> {
+        let field = direct_field(addr);
+        if field.is_none() && !may_change_tools(addr, value) {
+            return None;
         }
-        may_change_tools(addr, value).then(|| Slice::Done(self.indirect(emu, addr, value)))
+        let plan = match emu.plan(addr, value) {
+            Ok(plan) => plan,
+            Err(e) => return Some(Slice::Done(Answer::Access(e))),
+        };
+        Some(match (plan.tools, field) {
+            (
+                ToolChange::Field {
+                    group,
+                    index,
+                    entry,
+                },
+                Some(field),
+            ) => self.direct(plan, group, index, value_of(&entry, field), field),
+            _ => Slice::Done(self.indirect(emu, plan)),
+        })
     }
 
-    /// A direct tool write: checked, undone, and sent to the disk.
+    /// A direct tool write: its change sent to the disk, the plan kept
+    /// until the change is there.
     fn direct(
         &mut self,
-        emu: &mut Emulator,
-        addr: ObjectAddress,
-        value: Value,
+        plan: Plan<OtcExtension>,
+        group: u16,
+        index: WkzIndex,
+        value: ToolValue,
         field: ToolField,
-    ) -> Slice {
-        // The table refuses a group index outside 1..=32 (`NoObject`).
-        let group = u8::try_from(addr.index).unwrap_or(0);
-        let index = emu
-            .tc()
-            .group_at(addr.index)
-            .map_or(WkzIndex::new(0), |g| Some(g.wkz));
-        let (Some(index), Some(before)) = (index, index.and_then(|i| current(emu, group, i)))
+    ) -> Slice<ExecRest> {
+        // The table refuses a group index outside 1..=32 (`NoObject`); a
+        // WkzIndex is below TOOL_ENTRIES.
+        let (Ok(group), Some(key)) = (u8::try_from(group), ToolKey::new(index.get() as u16, field))
         else {
-            return Slice::Done(answer(emu.write(addr, value)));
-        };
-        if let Err(e) = emu.write(addr, value) {
-            return Slice::Done(Answer::Access(e));
-        }
-        let Some(entry) = entry_mut(emu.tc_mut(), group, index) else {
-            return Slice::Done(Answer::Access(AccessError::NoObject));
-        };
-        let new = super::entries::value_of(entry, field);
-        *entry = before;
-        let Some(key) = ToolKey::new(index.get() as u16, field) else {
             return Slice::Done(Answer::Access(AccessError::NoObject));
         };
         self.last += 1;
         let token = self.last;
         let change = Pending {
+            plan,
             group,
-            index,
-            field,
-            value: new,
+            key,
+            value,
         };
         self.pending.insert(token, change);
         let (tx, rx) = oneshot::channel();
-        let record = Record::Set {
-            group,
-            key,
-            value: new,
-        };
+        let record = Record::Set { group, key, value };
         self.writer.submit(vec![record], Done::Async(tx));
         Slice::Wait(Wait { done: rx, token })
     }
 
-    /// A direct tool write is on disk (`ok`) or refused: applied if no
-    /// newer change holds the field, answered.
-    pub fn resume(&mut self, emu: &mut Emulator, token: u64, ok: bool) -> Slice {
+    /// A direct tool write is on disk (`ok`) or refused: its plan applied
+    /// if no newer change holds the field, answered.
+    pub fn resume(&mut self, emu: &mut Emulator, token: u64, ok: bool) -> Slice<ExecRest> {
         let Some(p) = self.pending.remove(&token) else {
             return Slice::Done(Answer::Protocol(ProtocolError::Busy));
         };
         if !ok {
             return Slice::Done(Answer::Access(AccessError::Storage));
         }
-        let key = (p.group, p.index.get() as u16, p.field);
-        if self.holds.get(&key).is_none_or(|&held| held < token) {
-            if let Some(e) = entry_mut(emu.tc_mut(), p.group, p.index) {
-                set_value(e, p.field, p.value);
+        // Tokens start at 1: a field no change holds yet takes any.
+        let held = self
+            .holds
+            .entry((p.group, p.key.index, p.key.field))
+            .or_insert(0);
+        if *held < token {
+            *held = token;
+            if let Err(e) = emu.apply(p.plan) {
+                return Slice::Done(Answer::Access(e));
             }
-            self.holds.insert(key, token);
         }
         Slice::Done(Answer::Ok)
     }
 
-    /// A write that may change tool data on the side: applied; its tool
-    /// changes made durable before the answer, or the whole write undone
-    /// (the emulator as it was before it: these writes are rare, a copy of
-    /// the emulator is affordable).
-    fn indirect(&mut self, emu: &mut Emulator, addr: ObjectAddress, value: Value) -> Answer {
+    /// A write that may change tool data on the side: the tool changes
+    /// of its plan made durable, then the plan applied; if the disk
+    /// refused them, nothing is applied (answer `Storage`).
+    fn indirect(&mut self, emu: &mut Emulator, plan: Plan<OtcExtension>) -> Answer {
         // Compared with the memory plus the changes still on their way, so
         // that the journal ends as memory does.
         let mut expected = all_tables(emu.tc());
         for p in self.pending.values() {
-            if let (Some(t), Some(key)) = (
-                expected.get_mut(usize::from(p.group) - 1),
-                ToolKey::new(p.index.get() as u16, p.field),
-            ) {
-                t.set(key, p.value);
+            if let Some(t) = expected.get_mut(usize::from(p.group) - 1) {
+                t.set(p.key, p.value);
             }
         }
-        if !may_touch_tools(emu, addr, &expected) {
-            return answer(emu.write(addr, value));
+        if !may_touch_tools(emu, plan.address(), &expected) {
+            return answer(emu.apply(plan));
         }
-        let saved = emu.clone();
-        if let Err(e) = emu.write(addr, value) {
-            return Answer::Access(e);
-        }
-        let records = changes(emu.tc(), &expected);
+        let records = changes(&tables_after(emu.tc(), &plan.tools), &expected);
         if records.is_empty() {
-            return Answer::Ok;
+            return answer(emu.apply(plan));
         }
         self.last += 1;
         if !self.writer.write_blocking(records.clone()) {
-            *emu = saved;
             return Answer::Access(AccessError::Storage);
         }
-        warn_group_reset(addr, &expected);
+        warn_group_reset(plan.address(), &expected);
         for r in &records {
             if let Record::Set { group, key, .. } = r {
                 self.holds.insert((*group, key.index, key.field), self.last);
             }
         }
-        Answer::Ok
+        answer(emu.apply(plan))
     }
 
     /// Stops the writer once every queued change is written; gives the
@@ -224,7 +234,7 @@ impl<J: DurableLog> Durable<J> {
 /// Whether the side-effect write to `addr` can change tool data, given
 /// the tool data `expected` (memory plus changes on their way): a RESET or
 /// Clean of tables that hold nothing cannot, nor can OTC OFF of a group
-/// whose OTC is off. Such writes then need no copy of the emulator.
+/// whose OTC is off. Such writes are applied at once.
 fn may_touch_tools(emu: &mut Emulator, addr: ObjectAddress, expected: &[GroupTable]) -> bool {
     let group = |i: u16| expected.get(usize::from(i).wrapping_sub(1));
     match BusObject::at(addr) {
@@ -260,15 +270,6 @@ fn warn_group_reset(addr: ObjectAddress, before: &[GroupTable]) {
         addr.index,
         entries.len()
     );
-}
-
-/// The entry at (`group`, `index`) as it is now (its group created).
-fn current(
-    emu: &mut Emulator,
-    group: u8,
-    index: WkzIndex,
-) -> Option<tc_module::ToolEntry<otc_ext::OtcTool>> {
-    entry_mut(emu.tc_mut(), group, index).map(|e| *e)
 }
 
 /// The answer to a write.

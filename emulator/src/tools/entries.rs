@@ -3,7 +3,7 @@
 //! the whole tool data as store tables (to load, compare and save).
 
 use otc_ext::{OtcExtension, OtcTool, TenthMicrons, TiltAngle, WearRate};
-use tc_module::{TcModule, ToolEntry, WkzIndex};
+use tc_module::{TcModule, ToolChange, ToolEntry, WkzIndex};
 use tc_objects::ToolEffect;
 use tool_store::{FileField, GroupTable, Record, ToolField, ToolKey, ToolValue, TOOL_ENTRIES};
 use uoi::{ObjectAddress, Value};
@@ -40,8 +40,9 @@ pub fn value_of(e: &ToolEntry<OtcTool>, field: ToolField) -> ToolValue {
 }
 
 /// Sets `field` of entry `e` (a value of the other kind is taken as its
-/// number).
-pub fn set_value(e: &mut ToolEntry<OtcTool>, field: ToolField, value: ToolValue) {
+/// number): tool data loaded from the tool files at start, before the
+/// emulator serves (a write goes through the module's plan and apply).
+fn set_value(e: &mut ToolEntry<OtcTool>, field: ToolField, value: ToolValue) {
     let f = match value {
         ToolValue::F64(v) => v,
         ToolValue::I32(v) => f64::from(v),
@@ -96,14 +97,13 @@ pub fn table_of(tc: &TcModule<OtcExtension>, group: u8) -> GroupTable {
     t
 }
 
-/// The records that turn tables `before` (index = group − 1) into the
-/// emulator's tool data now: every value that differs, bit for bit.
-pub fn changes(tc: &TcModule<OtcExtension>, before: &[GroupTable]) -> Vec<Record> {
+/// The records that turn tables `before` into tables `after` (index =
+/// group − 1): every value that differs, bit for bit.
+pub fn changes(after: &[GroupTable], before: &[GroupTable]) -> Vec<Record> {
     let mut out = Vec::new();
-    for (slot, old) in before.iter().enumerate() {
+    for (slot, (old, new)) in before.iter().zip(after).enumerate() {
         // At most 32 tables.
         let group = slot as u8 + 1;
-        let new = table_of(tc, group);
         for (key, value) in new.iter() {
             if old.get(key) != value {
                 out.push(Record::Set { group, key, value });
@@ -122,6 +122,43 @@ pub fn changes(tc: &TcModule<OtcExtension>, before: &[GroupTable]) -> Vec<Record
         }
     }
     out
+}
+
+/// The tool data of every group as store tables (index = group − 1) as
+/// a planned write leaves it: the emulator's now, with `change`.
+pub fn tables_after(tc: &TcModule<OtcExtension>, change: &ToolChange<OtcTool>) -> Vec<GroupTable> {
+    let mut tables = all_tables(tc);
+    let slot = |g: u16| usize::from(g).wrapping_sub(1);
+    match *change {
+        ToolChange::None => {}
+        ToolChange::AllCleared => tables.iter_mut().for_each(GroupTable::clear),
+        ToolChange::GroupCleared(g) => {
+            if let Some(t) = tables.get_mut(slot(g)) {
+                t.clear();
+            }
+        }
+        ToolChange::Field {
+            group,
+            index,
+            ref entry,
+        }
+        | ToolChange::Entry {
+            group,
+            index,
+            ref entry,
+        } => {
+            let Some(t) = tables.get_mut(slot(group)) else {
+                return tables;
+            };
+            for field in ToolField::ALL {
+                // A WkzIndex is below TOOL_ENTRIES.
+                if let Some(key) = ToolKey::new(index.get() as u16, field) {
+                    t.set(key, value_of(entry, field));
+                }
+            }
+        }
+    }
+    tables
 }
 
 /// The tool data of every group as store tables (index = group − 1).

@@ -1,6 +1,7 @@
 //! `#OTC`: options and switching written to the OTC objects (device 3),
 //! and the OTC error bits read back after switching.
 
+use tc_objects::{OtcMode as Mode, ProcType};
 use uoi::{Value, ValueType};
 
 use super::eval::eval;
@@ -44,20 +45,26 @@ impl Interpreter<'_> {
         let (addr, value) = match option {
             OtcOption::Kind(k) => (
                 objects::OTC_PROC_TYPE,
-                Value::I32(match k {
-                    OtcKind::Radius => 0,
-                    OtcKind::Length => 1,
-                    OtcKind::ToolDir => 2,
-                    OtcKind::SurfNormDir => 3,
-                }),
+                Value::I32(
+                    match k {
+                        OtcKind::Radius => ProcType::Radius,
+                        OtcKind::Length => ProcType::Length,
+                        OtcKind::ToolDir => ProcType::ToolDir,
+                        OtcKind::SurfNormDir => ProcType::SurfNormDir,
+                    }
+                    .code(),
+                ),
             ),
             OtcOption::Mode(m) => (
                 objects::OTC_MODE,
-                Value::I32(match m {
-                    OtcMode::Disc => 0,
-                    OtcMode::Cont => 1,
-                    OtcMode::Auto => 2,
-                }),
+                Value::I32(
+                    match m {
+                        OtcMode::Disc => Mode::Disc,
+                        OtcMode::Cont => Mode::Cont,
+                        OtcMode::Auto => Mode::Auto,
+                    }
+                    .code(),
+                ),
             ),
             OtcOption::WearConst(e) => (objects::OTC_WEAR_CONST, Value::F64(eval(e, self)?)),
             OtcOption::WearConstTool => (objects::OTC_WEAR_CONST_TOOL, Value::I32(1)),

@@ -17,8 +17,8 @@ use tc_module::{AxisPos, Cycle, Origin, PathPart, PlaneAxes, AXES};
 
 use crate::plc::{PlcUnit, APPLIED_UNIT_MM};
 use crate::quantity::{TenthMicrons, TiltAngle, WearRate};
-use crate::setting::{OtcMode, ProcType};
 use direction::{length_dir, radius_weight, surface_normal, tool_dir, xyz_mask};
+use tc_objects::{OtcMode, ProcType};
 
 /// What the model keeps of a group between cycles.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -119,7 +119,7 @@ impl<'a> TakenMut<'a> {
     }
 
     /// Whether every taken unit stands on its target.
-    pub fn settled(&self, max_infeed: TenthMicrons) -> bool {
+    pub fn at_rest(&self, max_infeed: TenthMicrons) -> bool {
         let on_target = |u: &Option<&mut PlcUnit>| {
             u.as_ref()
                 .is_none_or(|u| u.applied == ramp::target(u, max_infeed))

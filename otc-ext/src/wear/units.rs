@@ -4,7 +4,7 @@
 //! SURF_NORM_DIR only the axis unit of axis 2; CONT none.
 
 use crate::plc::PlcUnit;
-use crate::setting::{OtcMode, ProcType};
+use tc_objects::{OtcMode, ProcType};
 
 /// The machine axis whose unit TOOL_DIR adds and SURF_NORM_DIR takes.
 pub const TOOL_DIR_AXIS: usize = 2;

@@ -6,7 +6,8 @@ use uoi::{AccessError, Bus, ObjectAddress, ObjectDesc, Value};
 use super::registers::slot_of;
 use super::TcModule;
 use crate::extension::{Groups, TcExtension};
-use crate::object_map::{TcKey, TC_BUS};
+use crate::object_map::TcKey;
+use tc_objects::TC_BUS;
 
 impl<E: TcExtension> Bus for TcModule<E> {
     type Key = TcKey<E::Key>;
@@ -36,28 +37,15 @@ impl<E: TcExtension> Bus for TcModule<E> {
         }
     }
 
+    /// A write planned and applied at once ([`TcModule::apply`]): the
+    /// one route of every write.
     fn write(
         &mut self,
         key: Self::Key,
         addr: ObjectAddress,
         value: Value,
     ) -> Result<(), AccessError> {
-        let result = match key {
-            TcKey::Tc(obj) => self.write_global(obj, addr, value),
-            TcKey::Group(k) => {
-                self.group_mut(slot_of(addr));
-                let main = self.main_axes();
-                let groups = Groups::new(&mut self.groups[..], self.running, main);
-                self.ext.write_group(k, addr, value, groups)
-            }
-            TcKey::Ext(k) => {
-                let main = self.main_axes();
-                let groups = Groups::new(&mut self.groups[..], self.running, main);
-                self.ext.write(k, addr, value, groups)
-            }
-        };
-        // Any write may stop the extension's model (OTC OFF, Clean).
-        self.sync_offset();
-        result
+        let plan = self.plan_key(key, addr, value)?;
+        self.apply(plan)
     }
 }

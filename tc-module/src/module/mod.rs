@@ -6,11 +6,14 @@
 //!   Clean, changes while running);
 //! * `intake`: the programmed frame: limits, modal feed, rotation;
 //! * `commands`: motion commands, the correction, faults, direct
-//!   commands.
+//!   commands;
+//! * `plan`: a write planned (checked, what it changes of the tool
+//!   data), then applied: the one route of every write.
 
 mod commands;
 mod dispatch;
 mod intake;
+pub(crate) mod plan;
 mod registers;
 
 use crate::correction::FeedAdaption;
@@ -19,11 +22,12 @@ use crate::element::{ContourNormal, Origin, SpoolElement};
 use crate::executor::Executor;
 use crate::extension::{Group, Groups, NoExtension, TcExtension};
 use crate::limits::{CycleTime, DEFAULT_FEED};
-use crate::object_map::{object_table, TcKey, GROUP_COUNT};
+use crate::object_map::{object_table, TcKey};
 use crate::plane::{AxisPos, MainAxes, PlaneAxes, TcPlane, AXES};
 use crate::rotation::Rotation;
 use crate::spooler::{Spooler, MAX_SPOOL_CAPACITY, MIN_SPOOL_CAPACITY};
 use crate::tool_table::ToolTable;
+use tc_objects::GROUP_COUNT;
 use uoi::ObjectDesc;
 
 /// Stepped cycles one slice of an `EXEC` may run while an extension's
@@ -221,7 +225,8 @@ impl<E: TcExtension> TcModule<E> {
     /// after the other is the same as running the whole request.
     pub fn exec_slice(&mut self, cycles: Option<u64>) -> ExecLeft {
         let main = self.main_axes();
-        let mut model = ExtModel::new(&mut self.ext, &mut self.groups[..], self.running, main);
+        let groups = Groups::new(&mut self.groups[..], self.running, main);
+        let mut model = SliceModel::new(self.ext.cycle_model(groups));
         let (spooler, budget) = (&mut self.spooler, EXEC_SLICE_CYCLES);
         match cycles {
             Some(n) => match self.executor.run_for(spooler, n, &mut model, budget) {
@@ -242,8 +247,8 @@ impl<E: TcExtension> TcModule<E> {
     /// acting (after a write to its objects: OTC switched off).
     fn sync_offset(&mut self) {
         let main = self.main_axes();
-        let mut groups = Groups::new(&mut self.groups[..], self.running, main);
-        if !self.ext.cycle_active(groups.reborrow()) {
+        let groups = Groups::new(&mut self.groups[..], self.running, main);
+        if !self.ext.cycle_model(groups).active() {
             self.executor.clear_offset();
         }
     }
@@ -252,7 +257,8 @@ impl<E: TcExtension> TcModule<E> {
     /// (after a direct command moved it at once).
     fn refresh_offset(&mut self) {
         let main = self.main_axes();
-        let mut model = ExtModel::new(&mut self.ext, &mut self.groups[..], self.running, main);
+        let groups = Groups::new(&mut self.groups[..], self.running, main);
+        let mut model = SliceModel::new(self.ext.cycle_model(groups));
         self.executor.refresh_offset(&self.spooler, &mut model);
     }
 
@@ -278,44 +284,34 @@ impl<E: TcExtension> TcModule<E> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Departure(Option<ContourNormal>);
 
-/// The extension's per-cycle model, with the groups it reads and writes.
-struct ExtModel<'a, E: TcExtension> {
-    ext: &'a mut E,
-    groups: Groups<'a, E>,
+/// The extension's per-cycle model for one slice: whether it acts is
+/// asked once, when the slice begins.
+struct SliceModel<M> {
+    model: M,
     active: bool,
 }
 
-impl<'a, E: TcExtension> ExtModel<'a, E> {
-    fn new(
-        ext: &'a mut E,
-        slots: &'a mut crate::extension::GroupSlots<E>,
-        running: Option<usize>,
-        main: MainAxes,
-    ) -> Self {
-        let mut groups = Groups::new(slots, running, main);
-        let active = ext.cycle_active(groups.reborrow());
-        Self {
-            ext,
-            groups,
-            active,
-        }
+impl<M: CycleModel> SliceModel<M> {
+    fn new(model: M) -> Self {
+        let active = model.active();
+        Self { model, active }
     }
 }
 
-impl<E: TcExtension> CycleModel for ExtModel<'_, E> {
+impl<M: CycleModel> CycleModel for SliceModel<M> {
     fn active(&self) -> bool {
         self.active
     }
 
     fn cycle(&mut self, cycle: &Cycle<'_>) -> AxisPos {
-        self.ext.cycle(cycle, self.groups.reborrow())
+        self.model.cycle(cycle)
     }
 
     fn at_rest(&mut self) -> bool {
-        self.ext.cycle_at_rest(self.groups.reborrow())
+        self.model.at_rest()
     }
 
     fn offset_now(&mut self, cycle: &Cycle<'_>) -> AxisPos {
-        self.ext.cycle_offset_now(cycle, self.groups.reborrow())
+        self.model.offset_now(cycle)
     }
 }

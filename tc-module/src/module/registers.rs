@@ -9,10 +9,10 @@ use crate::bits::{ErrorBits, StatusBits};
 use crate::correction::{FeedAdaption, TransitionMode};
 use crate::extension::{Group, GroupAccess, TcExtension};
 use crate::group::Side;
-use crate::object_map::{TcObject, GROUP_COUNT};
 use crate::plane::TcPlane;
 use crate::rotation::Rotation;
 use crate::tool_table::WkzIndex;
+use tc_objects::{TcObject, GROUP_COUNT};
 
 /// The group slot (index - 1) of a device 1/2/3 address; the table limits
 /// the index to 1..=32.

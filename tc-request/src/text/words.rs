@@ -3,9 +3,12 @@
 
 use uoi::{ObjectAddress, ValueType};
 
+use super::error::TextError;
 use crate::axes::{axis_index, AxisWords};
 
-/// What is wrong with a piece of text (a message for the user).
+/// A text error kept as its message: the integer and number readers'
+/// results ([`parse_int`], [`parse_f64`]), which the trace reader returns
+/// as its own; every other reader here returns a [`TextError`].
 pub type TextResult<T> = Result<T, String>;
 
 /// Parses an integer: decimal or `0x` hex digits, with at most one sign,
@@ -13,6 +16,11 @@ pub type TextResult<T> = Result<T, String>;
 /// up to `0xffffffff` without `-` are read as the i32 with that bit
 /// pattern; anything else outside the i32 range is an error.
 pub fn parse_int(s: &str) -> TextResult<i32> {
+    Ok(integer(s)?)
+}
+
+/// An integer, as [`parse_int`] reads it.
+pub(super) fn integer(s: &str) -> Result<i32, TextError> {
     let (neg, body) = match s.strip_prefix('-') {
         Some(b) => (true, b),
         None => (false, s.strip_prefix('+').unwrap_or(s)),
@@ -23,9 +31,9 @@ pub fn parse_int(s: &str) -> TextResult<i32> {
     };
     // Digits only: `from_str_radix` would take one more sign after `0x`.
     if digits.is_empty() || !digits.chars().all(|c| c.is_digit(radix)) {
-        return Err(format!("bad integer `{s}`"));
+        return Err(TextError::BadInteger(s.into()));
     }
-    let out_of_range = || format!("integer `{s}` out of range");
+    let out_of_range = || TextError::IntegerOutOfRange(s.into());
     let mag = u64::from_str_radix(digits, radix).map_err(|_| out_of_range())?;
     if !neg && radix == 16 {
         if let Ok(bits) = u32::try_from(mag) {
@@ -42,6 +50,11 @@ pub fn parse_int(s: &str) -> TextResult<i32> {
 
 /// Parses a double (`inf`, `-inf`, `nan` allowed, to test rejection).
 pub fn parse_f64(s: &str) -> TextResult<f64> {
+    Ok(number(s)?)
+}
+
+/// A double, as [`parse_f64`] reads it.
+pub(super) fn number(s: &str) -> Result<f64, TextError> {
     let ok_chars = s
         .bytes()
         .all(|b| b.is_ascii_digit() || matches!(b, b'.' | b'-' | b'+' | b'e' | b'E'));
@@ -50,29 +63,29 @@ pub fn parse_f64(s: &str) -> TextResult<f64> {
         "inf" | "-inf" | "+inf" | "nan" | "-nan" | "+nan" | "infinity" | "-infinity"
     );
     if !(ok_chars || special) {
-        return Err(format!("bad number `{s}`"));
+        return Err(TextError::BadNumber(s.into()));
     }
-    s.parse::<f64>().map_err(|_| format!("bad number `{s}`"))
+    s.parse::<f64>().map_err(|_| TextError::BadNumber(s.into()))
 }
 
 /// Parses an object address `1300/1/2/8`.
-pub fn parse_addr(s: &str) -> TextResult<ObjectAddress> {
-    s.parse().map_err(|e: uoi::AddressParseError| e.to_string())
+pub fn parse_addr(s: &str) -> Result<ObjectAddress, TextError> {
+    Ok(s.parse()?)
 }
 
 /// Parses a type letter `i` or `d`.
-pub fn parse_type(s: &str) -> TextResult<ValueType> {
-    ValueType::from_letter(s).ok_or_else(|| format!("bad type `{s}` (want i or d)"))
+pub fn parse_type(s: &str) -> Result<ValueType, TextError> {
+    ValueType::from_letter(s).ok_or_else(|| TextError::BadType(s.into()))
 }
 
 /// Parses a lone axis letter (`X`, as in `JS X` or `SSF X 2001`).
-pub fn parse_axis(s: &str) -> TextResult<usize> {
+pub fn parse_axis(s: &str) -> Result<usize, TextError> {
     let mut c = s.chars();
     match (c.next(), c.next()) {
         (Some(l), None) => axis_index(l),
         _ => None,
     }
-    .ok_or_else(|| format!("bad axis `{s}`"))
+    .ok_or_else(|| TextError::BadAxis(s.into()))
 }
 
 /// The words of a motion line: axis letters, `I J K`, `F`.
@@ -105,26 +118,26 @@ impl Allow {
 
 /// Parses axis words (`X10 Y-2.5`), and `I J K` / `F` where allowed. A
 /// word given twice, or one without a number, is an error.
-pub fn parse_words(tokens: &[&str], allow: Allow) -> TextResult<Words> {
+pub fn parse_words(tokens: &[&str], allow: Allow) -> Result<Words, TextError> {
     let mut w = Words::default();
     for tok in tokens {
         let mut chars = tok.chars();
-        let letter = chars.next().ok_or("empty word")?;
+        let letter = chars.next().ok_or(TextError::EmptyWord)?;
         let num = chars.as_str();
         let up = letter.to_ascii_uppercase();
         let slot: &mut Option<f64> = match (axis_index(letter), up) {
             (Some(i), _) => &mut w.axes[i],
             (None, 'I' | 'J' | 'K') if allow.centre => &mut w.centre[usize::from(up as u8 - b'I')],
             (None, 'F') if allow.feed => &mut w.feed,
-            _ => return Err(format!("unexpected word `{tok}`")),
+            _ => return Err(TextError::UnexpectedWord((*tok).into())),
         };
         if slot.is_some() {
-            return Err(format!("word `{letter}` given twice"));
+            return Err(TextError::WordTwice(letter));
         }
         if num.is_empty() {
-            return Err(format!("word `{tok}` has no number"));
+            return Err(TextError::NoNumber((*tok).into()));
         }
-        *slot = Some(parse_f64(num)?);
+        *slot = Some(number(num)?);
     }
     Ok(w)
 }

@@ -148,22 +148,22 @@ pub(crate) async fn serve_connection<H: Handler>(
 }
 
 /// The answer to one frame, or the request its first slice left
-/// unfinished.
-enum Answered {
+/// unfinished (`R`: the handler's rest of a request).
+enum Answered<R> {
     /// The answer frame, and whether the connection goes on.
     Now(Reply, Then),
     /// A request with more slices to go, or waiting.
-    Later(Unfinished),
+    Later(Unfinished<R>),
 }
 
 /// A request its first slice did not finish.
-struct Unfinished {
+struct Unfinished<R> {
     id: u32,
     op: u8,
     /// Its connection's session serves it (else the shared handler).
     by_session: bool,
     /// What its last slice left: more to serve, or a wait.
-    slice: Slice,
+    slice: Slice<R>,
 }
 
 /// The state of one connection.
@@ -236,7 +236,7 @@ impl<H: Handler> Connection<H> {
     /// goes to the connection's session if it takes it, else to the
     /// shared handler. A peer not yet authorized gets `Unauthorized` for
     /// anything but HELLO, and the connection is closed.
-    fn answer(&mut self, item: Incoming) -> Answered {
+    fn answer(&mut self, item: Incoming) -> Answered<H::Rest> {
         let (out, then) = match item {
             Ok((id, Request::Hello(token))) => {
                 let (ans, then) = self.gate.hello(&token);
@@ -300,7 +300,7 @@ impl<H: Handler> Connection<H> {
     /// dropped, the request is answered `Stopped` and the connection ends;
     /// when the client has left, the rest is dropped and the connection
     /// ends without an answer.
-    async fn finish(&mut self, rest: Unfinished) -> (Reply, Then) {
+    async fn finish(&mut self, rest: Unfinished<H::Rest>) -> (Reply, Then) {
         let by = if rest.by_session {
             By::Session(&mut self.session)
         } else {

@@ -12,8 +12,15 @@ use crate::wire::{Answer, ProtocolError, Request};
 /// What serves the requests: the emulator, in `addipos`. HELLO frames
 /// are answered by the connection itself and never reach it.
 pub trait Handler: Send + 'static {
-    /// What each connection keeps for itself (`()` for nothing).
-    type Session: Session;
+    /// What each connection keeps for itself (`()` for nothing); it
+    /// continues its long requests with the same [`Handler::Rest`].
+    type Session: Session<Self::Rest>;
+
+    /// The rest of a request that needs more slices, as the handler keeps
+    /// it ([`Slice::More`]): resumed by [`Handler::proceed`] as it is,
+    /// never decoded again (docs/decisions.md, decision 482). A handler
+    /// whose requests all take one slice may name any type (`Request`).
+    type Rest: Send + 'static;
 
     /// The session of a connection just accepted; the connection drops it
     /// when it ends. A handler that bounds what sessions may take counts
@@ -24,13 +31,20 @@ pub trait Handler: Send + 'static {
     /// later, or a wait. The server releases the handler between slices,
     /// so requests of other connections are served in between and
     /// shutdown is not held up by a long request.
-    fn serve(&mut self, req: Request) -> Slice;
+    fn serve(&mut self, req: Request) -> Slice<Self::Rest>;
+
+    /// Serves the next slice of a request from the rest its last slice
+    /// left ([`Slice::More`]). Default (a handler that never leaves a rest
+    /// is never asked): `Busy`.
+    fn proceed(&mut self, _rest: Self::Rest) -> Slice<Self::Rest> {
+        Slice::Done(Answer::Protocol(ProtocolError::Busy))
+    }
 
     /// Continues a request that waited ([`Slice::Wait`]) once its wait is
     /// over; `ok` says whether what it waited for succeeded. Always called,
     /// even when the request's connection has closed meanwhile. Default
     /// (a handler that never waits is never asked): `Busy`.
-    fn resume(&mut self, _token: u64, _ok: bool) -> Slice {
+    fn resume(&mut self, _token: u64, _ok: bool) -> Slice<Self::Rest> {
         Slice::Done(Answer::Protocol(ProtocolError::Busy))
     }
 }
@@ -40,42 +54,50 @@ pub trait Handler: Send + 'static {
 /// when it ends, seen by no other connection. It is asked first whether
 /// it [`takes`](Session::takes) each of its connection's requests; those
 /// it takes it serves slice by slice in the connection's own task, the
-/// others go to the shared handler.
-pub trait Session: Send + 'static {
+/// others go to the shared handler. `R`: the rest of a request that needs
+/// more slices (its handler's [`Handler::Rest`]).
+pub trait Session<R = Request>: Send + 'static {
     /// Whether this session serves `req` (else the shared handler does).
     fn takes(&self, req: &Request) -> bool;
 
     /// Serves one slice of a request it takes, as [`Handler::serve`].
-    fn serve(&mut self, req: Request) -> Slice;
+    fn serve(&mut self, req: Request) -> Slice<R>;
+
+    /// Serves the next slice from a rest, as [`Handler::proceed`].
+    /// Default: `Busy`.
+    fn proceed(&mut self, _rest: R) -> Slice<R> {
+        Slice::Done(Answer::Protocol(ProtocolError::Busy))
+    }
 
     /// Continues a request that waited, as [`Handler::resume`]. Default:
     /// `Busy`.
-    fn resume(&mut self, _token: u64, _ok: bool) -> Slice {
+    fn resume(&mut self, _token: u64, _ok: bool) -> Slice<R> {
         Slice::Done(Answer::Protocol(ProtocolError::Busy))
     }
 }
 
 /// No state of its own: every request goes to the shared handler.
-impl Session for () {
+impl<R: Send + 'static> Session<R> for () {
     fn takes(&self, _req: &Request) -> bool {
         false
     }
 
     /// Never asked (it takes nothing).
-    fn serve(&mut self, _req: Request) -> Slice {
+    fn serve(&mut self, _req: Request) -> Slice<R> {
         Slice::Done(Answer::Protocol(ProtocolError::Busy))
     }
 }
 
-/// What one slice of a request left.
+/// What one slice of a request left; `R`: the rest of a request that
+/// needs more slices, in its handler's own type ([`Handler::Rest`]).
 #[derive(Debug)]
-pub enum Slice {
+pub enum Slice<R = Request> {
     /// The request is complete: its answer.
     Done(Answer),
-    /// The rest of the request, to serve as a further slice (other tasks
-    /// run, and the request stops if its connection is closed, in
-    /// between).
-    More(Request),
+    /// The rest of the request, to serve as a further slice
+    /// ([`Handler::proceed`]; other tasks run, and the request stops if
+    /// its connection is closed, in between).
+    More(R),
     /// The request waits for something outside the handler (a durable
     /// write): the server awaits it without holding the handler, so other
     /// requests are served meanwhile, then calls `resume` with the wait's
@@ -83,11 +105,11 @@ pub enum Slice {
     Wait(Wait),
 }
 
-impl Slice {
+impl<R> Slice<R> {
     /// The answer of a request served to its end without a runtime: this
     /// slice, then each rest served by `next`. A wait cannot be awaited
     /// here; it is answered `Busy`.
-    pub fn finish(self, mut next: impl FnMut(Request) -> Slice) -> Answer {
+    pub fn finish(self, mut next: impl FnMut(R) -> Slice<R>) -> Answer {
         let mut slice = self;
         loop {
             slice = match slice {

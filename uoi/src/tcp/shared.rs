@@ -63,12 +63,17 @@ impl<H: Handler> Shared<H> {
     }
 
     /// One slice of `req`, under the lock.
-    pub(crate) fn serve(&self, req: Request) -> Slice {
+    pub(crate) fn serve(&self, req: Request) -> Slice<H::Rest> {
         self.lock().serve(req)
     }
 
+    /// The next slice of a request from its rest, under the lock.
+    pub(crate) fn proceed(&self, rest: H::Rest) -> Slice<H::Rest> {
+        self.lock().proceed(rest)
+    }
+
     /// The rest of a request whose wait is over, under the lock.
-    pub(crate) fn resume(&self, token: u64, ok: bool) -> Slice {
+    pub(crate) fn resume(&self, token: u64, ok: bool) -> Slice<H::Rest> {
         self.lock().resume(token, ok)
     }
 

@@ -18,7 +18,7 @@ use std::future::Future;
 use super::handler::{Handler, Session, Slice, Wait};
 use super::idle::{Activity, Closed};
 use super::shared::Shared;
-use crate::wire::{Answer, Request};
+use crate::wire::Answer;
 
 /// Most times a request with more slices to go yields to requests
 /// waiting for the lock before it takes the next slice (so a steady
@@ -34,14 +34,14 @@ pub(crate) enum By<'a, H: Handler> {
 }
 
 impl<H: Handler> By<'_, H> {
-    fn serve(&mut self, req: Request) -> Slice {
+    fn proceed(&mut self, rest: H::Rest) -> Slice<H::Rest> {
         match self {
-            By::Session(s) => s.serve(req),
-            By::Shared(s) => s.serve(req),
+            By::Session(s) => s.proceed(rest),
+            By::Shared(s) => s.proceed(rest),
         }
     }
 
-    fn resume(&mut self, token: u64, ok: bool) -> Slice {
+    fn resume(&mut self, token: u64, ok: bool) -> Slice<H::Rest> {
         match self {
             By::Session(s) => s.resume(token, ok),
             By::Shared(s) => s.resume(token, ok),
@@ -102,7 +102,7 @@ pub(crate) enum Cut {
 /// keeps the handler busy.
 pub(crate) async fn to_the_end<H: Handler>(
     mut by: By<'_, H>,
-    mut slice: Slice,
+    mut slice: Slice<H::Rest>,
     activity: &Activity,
     caller: &mut impl Caller,
 ) -> Result<Answer, Cut> {
@@ -118,7 +118,7 @@ pub(crate) async fn to_the_end<H: Handler>(
                 if caller.left() {
                     return Err(Cut::Left);
                 }
-                by.serve(rest)
+                by.proceed(rest)
             }
             // Resumed even if the connection closed meanwhile: the
             // handler must learn how its wait ended.

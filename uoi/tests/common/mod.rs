@@ -19,6 +19,7 @@ pub struct Index;
 
 impl Handler for Index {
     type Session = ();
+    type Rest = Request;
 
     fn open_session(&mut self) {}
 

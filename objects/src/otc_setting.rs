@@ -1,5 +1,7 @@
 //! The OTC settings of a group that say what wear counts and where it
-//! acts: the processing type (device 3 sub 2) and the mode (sub 3).
+//! acts: the processing type (device 3 sub 2) and the mode (sub 3), with
+//! their register codes, written once here for the engine (`otc-ext`) and
+//! the NC front end (`nc`, `#OTC`).
 
 /// Processing type (device 3 sub 2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
