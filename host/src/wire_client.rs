@@ -30,7 +30,7 @@ use uoi::{ObjectAddress, Value, ValueType};
 pub enum WireError {
     /// The address is not one (`parse_address`'s reason).
     #[error("{0}")]
-    Address(String),
+    Address(#[source] emulator::AddressError),
     /// No connection could be made (or the server refused the token).
     #[error(transparent)]
     Connect(ClientError),

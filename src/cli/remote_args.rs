@@ -16,7 +16,7 @@ use uoi::wire::ProtocolError;
 pub enum ReachError {
     /// The address is not one (`parse_address`'s reason).
     #[error("{0}")]
-    Address(String),
+    Address(#[source] emulator::AddressError),
     /// The token file could not be read (its error names it).
     #[error(transparent)]
     TokenFile(std::io::Error),

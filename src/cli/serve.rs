@@ -122,7 +122,7 @@ enum ServeError {
         /// The option.
         option: &'static str,
         /// Why.
-        reason: String,
+        reason: emulator::AddressError,
     },
     /// A `--realtime` factor out of range.
     #[error("--realtime {factor}: {error}")]

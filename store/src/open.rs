@@ -72,13 +72,6 @@ pub enum OpenError {
     },
 }
 
-/// The message of `e`, for callers that report errors as text.
-impl From<OpenError> for String {
-    fn from(e: OpenError) -> Self {
-        e.to_string()
-    }
-}
-
 /// The tool data of a data directory, open and locked.
 #[derive(Debug)]
 pub struct OpenTools {

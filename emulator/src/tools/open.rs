@@ -22,7 +22,7 @@ pub enum OpenToolsError {
     /// A tool file or journal record is bad, or the folder is locked or
     /// unreadable: the tool store's message, naming the file and line.
     #[error("{0}")]
-    Store(String),
+    Store(#[source] tool_store::OpenError),
     /// The journal's writer thread did not start.
     #[error("cannot start the tool writer: {0}")]
     Writer(#[source] std::io::Error),
