@@ -15,7 +15,7 @@ use std::process::{Command, Output};
 
 /// The folder of the libaddipos this test was built with. Cargo builds
 /// it as this package's dev-dependency into `target/<profile>/deps/`,
-/// beside the test itself; `cargo build -p addipos-host` puts it one
+/// beside the test itself; `cargo build -p libaddipos` puts it one
 /// folder up. Built with cargo if it is in neither.
 fn library_dir() -> PathBuf {
     let exe = std::env::current_exe().unwrap();
@@ -28,11 +28,11 @@ fn library_dir() -> PathBuf {
         return dir.clone();
     }
     let status = Command::new(env!("CARGO"))
-        .args(["build", "-p", "addipos-host", "--lib"])
+        .args(["build", "-p", "libaddipos", "--lib"])
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .status()
         .unwrap();
-    assert!(status.success(), "cargo build -p addipos-host");
+    assert!(status.success(), "cargo build -p libaddipos");
     profile
 }
 
@@ -53,7 +53,7 @@ fn build(name: &str, out: &Path) -> PathBuf {
     let result = Command::new(&cc)
         .args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-O2"])
         .arg("-I")
-        .arg(root.join("host/include"))
+        .arg(root.join("libaddipos/include"))
         .arg(root.join("examples/c").join(format!("{name}.c")))
         .arg("-o")
         .arg(&exe)
@@ -255,7 +255,7 @@ int main(void)
 fn the_header_compiles_clean_as_c89_c99_and_cpp() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let dir = tempfile::tempdir().unwrap();
-    let include = root.join("host/include");
+    let include = root.join("libaddipos/include");
     let c = dir.path().join("use.c");
     let cpp = dir.path().join("use.cpp");
     std::fs::write(&c, HEADER_USE).unwrap();

@@ -15,7 +15,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-use addipos::{Descriptor, ErrorCode, Machine};
+use addipos_host::{Descriptor, ErrorCode, Machine};
 use bytes::{Bytes, BytesMut};
 use common::{loopback, ServeProcess, TestServer};
 use emulator::{EmulatorInfo, EmulatorService, INFO_OP, WRITE_IF_OP};
@@ -39,7 +39,7 @@ const CLEAN: Descriptor = Descriptor {
 /// The op code of EXEC.
 const EXEC_OP: u8 = 0x20;
 
-fn x(v: f64) -> addipos::AxisWords {
+fn x(v: f64) -> addipos_host::AxisWords {
     let mut w = [None; 8];
     w[0] = Some(v);
     w

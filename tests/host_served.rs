@@ -1,5 +1,5 @@
 //! The host library against a running `addipos serve`: the Rust API
-//! (`addipos::Machine`) on a served target, handles voided by a Clean of
+//! (`addipos_host::Machine`) on a served target, handles voided by a Clean of
 //! another connection, a server that dies mid-call or never answers,
 //! `serve --record` replayed, a library recording of a served session
 //! replayed, real time on the server, and the whole `traces/` corpus
@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use addipos::{Descriptor, EmbeddedOptions, ErrorCode, Machine};
+use addipos_host::{Descriptor, EmbeddedOptions, ErrorCode, Machine};
 use common::ServeProcess;
 use tc_request::{Motion, Request};
 use trace::{Expect, Trace};
@@ -32,7 +32,7 @@ const CLEAN: Descriptor = Descriptor {
     sub_index: 0,
 };
 
-fn x(v: f64) -> addipos::AxisWords {
+fn x(v: f64) -> addipos_host::AxisWords {
     let mut w = [None; 8];
     w[0] = Some(v);
     w
@@ -287,14 +287,14 @@ enum Got {
     Ok,
     Int(i32),
     Double(f64),
-    Pos(addipos::AxisPos),
+    Pos(addipos_host::AxisPos),
     Queue(u64),
     Err(ErrorCode),
 }
 
 /// One trace request through the library's calls.
 fn through_library(m: &Machine, req: &Request) -> Got {
-    let done = |r: addipos::Result<()>| r.map_or_else(|e| Got::Err(e.code()), |()| Got::Ok);
+    let done = |r: addipos_host::Result<()>| r.map_or_else(|e| Got::Err(e.code()), |()| Got::Ok);
     match req {
         Request::Read(a, ty) => match m.handle(&Descriptor::of(*a)) {
             Err(e) => Got::Err(e.code()),
@@ -426,7 +426,7 @@ fn requests_of_another_face_are_in_the_servers_recording_in_their_place() {
     // The OPC UA face submits through the server's CoreHandle, as here.
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("core.trace");
-    let header = addipos::RecordHeader {
+    let header = emulator::record::RecordHeader {
         name: "core".into(),
         start: [0.0; 8],
         cycle_ms: 1.0,
@@ -434,8 +434,10 @@ fn requests_of_another_face_are_in_the_servers_recording_in_their_place() {
         note: String::new(),
     };
     let mut service = emulator::EmulatorService::new([0.0; 8], tc_module::CycleTime::DEFAULT);
-    service.set_journal(Box::new(
-        addipos::ServeRecorder::create(&file, &header).unwrap(),
+    let path = file.clone();
+    let open = move || std::fs::File::create(path);
+    service.set_request_log(Box::new(
+        emulator::record::ServeRecorder::start("core.trace", open, &header).unwrap(),
     ));
     let rt = tokio::runtime::Runtime::new().unwrap();
     let server = rt

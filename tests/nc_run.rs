@@ -11,7 +11,7 @@ use std::process::Command;
 
 mod common;
 
-use addipos::{RemoteSession, WireClient};
+use addipos_host::{RemoteSession, WireClient};
 use nc::nc_run::NcRun;
 use nc::run::{run_program, At, Controller, Report, RunError, RunErrorKind};
 use tc_objects::OtcObject;

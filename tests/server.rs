@@ -9,7 +9,7 @@ use std::net::TcpStream;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use addipos::{RemoteSession, WireClient};
+use addipos_host::{RemoteSession, WireClient};
 use bytes::BytesMut;
 use emulator::EmulatorService;
 use tc_objects::{OtcObject, TcObject};

@@ -14,6 +14,11 @@
 //! * [`clock`]: real time, the executor's cycles advancing with the wall
 //!   clock (a [`RealTimeClock`]), and [`Emulator::clean_epoch`], the
 //!   count of Cleans a host library voids its handles by;
+//! * [`RequestLog`]: where the shared emulator's requests go while it is
+//!   recorded, and [`record`]: a session written as a conformance trace
+//!   ([`record::Recorder`]), and the shared emulator's log streamed as one
+//!   by a writer thread of its own ([`record::ServeRecorder`], `addipos
+//!   serve --record`);
 //! * [`tools`]: tool data that survives (the emulator's tool entries as
 //!   the tool store's records, written durably before a write is
 //!   answered);
@@ -38,10 +43,11 @@ mod emulator;
 mod exec_waits;
 pub mod guarded_write;
 pub mod info_op;
-pub mod journal;
 #[cfg(feature = "opcua")]
 pub mod opcua;
+pub mod record;
 mod reference;
+mod request_log;
 mod runner;
 mod service;
 mod serving;
@@ -58,8 +64,8 @@ pub use emulator::{Emulator, Tc};
 pub use exec_waits::MAX_EXEC_WAITS;
 pub use guarded_write::{GuardedOutcome, GuardedWrite, WRITE_IF_OP};
 pub use info_op::{EmulatorInfo, INFO_OP};
-pub use journal::Journal;
 pub use reference::{bits_without_meaning, devices_without_section, object_reference};
+pub use request_log::{LogError, RequestLog};
 pub use service::{EmulatorService, WatchedSpool, MAX_WATCHED};
 pub use serving::ExecRest;
 pub use session::{ConformanceSession, LOG_CAPACITY, MAX_SESSIONS, MAX_SESSION_SPOOL};

@@ -10,8 +10,8 @@
 //! In real time ([`EmulatorService::set_realtime`]) the clock's cycles are
 //! run before every request and at every [`tick`](EmulatorService::tick)
 //! (the server calls it a few hundred times a second), and `EXEC` waits
-//! for the clock ([`crate::exec_waits`]). With a [`Journal`] every request
-//! carried out is recorded ([`crate::journal`]). `INFO` ([`crate::info_op`])
+//! for the clock ([`crate::exec_waits`]). With a [`RequestLog`] every request
+//! carried out is recorded ([`crate::request_log`]). `INFO` ([`crate::info_op`])
 //! is answered here, never journaled.
 
 use std::collections::HashMap;
@@ -32,7 +32,7 @@ use crate::config::{Config, ConfigError};
 use crate::exec_waits::{ExecWaits, Until, EXEC_WAIT_BIT};
 use crate::guarded_write::GuardedWrite;
 use crate::info_op::{is_info, new_server_identity, EmulatorInfo};
-use crate::journal::Journal;
+use crate::request_log::{LogError, RequestLog};
 use crate::serving::{proceed_slice, serve_slice, ExecRest};
 use crate::session::{ConformanceSession, SessionPlaces};
 use crate::tools::durable::ToolPersistence;
@@ -57,7 +57,7 @@ pub struct EmulatorService<E: TcExtension = OtcExtension> {
     /// The server stops: an `EXEC` wait is answered `Stopped`.
     stopping: bool,
     /// The recording, while one goes on.
-    journal: Option<Box<dyn Journal>>,
+    journal: Option<Box<dyn RequestLog>>,
     /// Tool writes waiting for the disk, by token, to be journaled when
     /// answered.
     journal_pending: HashMap<u64, WireRequest>,
@@ -201,17 +201,17 @@ impl<E: TcExtension + Default> EmulatorService<E> {
         self.clock.as_ref().map(RealTimeClock::factor)
     }
 
-    /// Records every request carried out from now on into `journal`.
-    pub fn set_journal(&mut self, journal: Box<dyn Journal>) {
+    /// Records every request carried out from now on into `log`.
+    pub fn set_request_log(&mut self, log: Box<dyn RequestLog>) {
         self.emu.set_spool_log(true);
         // What a viewer has not taken yet is its, not the recording's.
         let before = self.emu.take_spool_log();
         self.keep_watched(&before);
-        self.journal = Some(journal);
+        self.journal = Some(log);
     }
 
     /// Ends the recording: what it holds goes to its file.
-    pub fn finish_journal(&mut self) {
+    pub fn finish_request_log(&mut self) {
         if let Some(mut j) = self.journal.take() {
             if let Err(e) = j.finish() {
                 tracing::error!("recording: {e}");
@@ -357,7 +357,7 @@ impl<E: TcExtension + Default> EmulatorService<E> {
         }
     }
 
-    fn journal_failed(&mut self, why: &str) {
+    fn journal_failed(&mut self, why: &LogError) {
         tracing::error!("recording stopped ({why}); the server goes on serving");
         self.journal = None;
         self.log_spool_if_needed();
@@ -586,24 +586,24 @@ mod tests {
     #[derive(Debug, Default, Clone)]
     struct Lines(std::sync::Arc<std::sync::Mutex<Vec<String>>>);
 
-    impl Journal for Lines {
+    impl RequestLog for Lines {
         fn exchange(
             &mut self,
             req: &Request,
             reply: &Reply,
             spooled: &[tc_request::SpoolRecord],
             _axis_nr: [u8; 3],
-        ) -> Result<(), String> {
+        ) -> Result<(), LogError> {
             let mut l = self.0.lock().unwrap();
             l.push(format!("{req} => {reply:?}"));
             l.extend(spooled.iter().map(|_| "<".to_string()));
             Ok(())
         }
-        fn note(&mut self, text: &str) -> Result<(), String> {
+        fn note(&mut self, text: &str) -> Result<(), LogError> {
             self.0.lock().unwrap().push(format!("# {text}"));
             Ok(())
         }
-        fn finish(&mut self) -> Result<(), String> {
+        fn finish(&mut self) -> Result<(), LogError> {
             Err("disk gone".into())
         }
     }
@@ -637,7 +637,7 @@ mod tests {
     fn the_journal_gets_every_request_with_its_answer_and_spooled_elements() {
         let mut s = EmulatorService::new([0.0; 8], CycleTime::DEFAULT);
         let lines = Lines::default();
-        s.set_journal(Box::new(lines.clone()));
+        s.set_request_log(Box::new(lines.clone()));
         for text in [
             "LIN X1 F600",
             "R 1300/0/3/0 i",
@@ -658,7 +658,7 @@ mod tests {
                 "W 1300/0/1/0 i 2 => Access(Range)",
             ]
         );
-        s.finish_journal();
+        s.finish_request_log();
         assert!(!s.recording());
     }
 
@@ -707,7 +707,7 @@ mod tests {
         s.watch_spool(true);
         lin(&mut s, 2);
         let lines = Lines::default();
-        s.set_journal(Box::new(lines.clone()));
+        s.set_request_log(Box::new(lines.clone()));
         lin(&mut s, 3);
         let seen = s.take_watched_spool();
         let ends: Vec<f64> = seen.records.iter().map(|r| r.end[0]).collect();
@@ -719,7 +719,7 @@ mod tests {
         assert_eq!(lines.0.lock().unwrap().len(), 4, "the recording goes on");
         // Without a recording: what the viewer left untaken is not kept
         // for the next one.
-        s.finish_journal();
+        s.finish_request_log();
         s.watch_spool(true);
         lin(&mut s, 5);
         s.watch_spool(false);

@@ -4,78 +4,113 @@
 
 use uoi::AccessError;
 
-uoi::code_list! {
-    /// The number a failed call returns (the C ABI's `ADDIPOS_E_*`). The
-    /// access errors keep their CANopen SDO abort codes (CiA 301, as in
-    /// docs/objects.md); the library's own codes are `0xADD0_00xx`, outside
-    /// every CANopen range.
-    pub enum ErrorCode: u32 {
-        /// Bus, device or index does not exist.
-        NoObject = 0x0602_0000,
-        /// The index exists but the subindex does not.
-        NoSubindex = 0x0609_0011,
-        /// The object cannot be read.
-        WriteOnly = 0x0601_0001,
-        /// The object cannot be written.
-        ReadOnly = 0x0601_0002,
-        /// The value type differs from the object's type (also: reading
-        /// an i32 object as a double).
-        TypeMismatch = 0x0607_0010,
-        /// A value outside the object's range.
-        Range = 0x0609_0030,
-        /// Refused in the current state.
-        State = 0x0800_0022,
-        /// No room: the spooler is full.
-        Full = 0x0504_0005,
-        /// The value could not be stored: nothing changed.
-        Storage = 0x0800_0020,
-        /// The handle was issued before a Clean, or released: initialise
-        /// it again.
-        StaleHandle = 0xADD0_0001,
-        /// The null handle 0.
-        NullHandle = 0xADD0_0002,
-        /// A NULL pointer, an axis or mask bit out of range, a bad text.
-        Argument = 0xADD0_0003,
-        /// The connection is closed, lost, timed out or refused.
-        Connection = 0xADD0_0004,
-        /// The target cannot be opened by this version of the library
-        /// (reserved).
-        NotSupported = 0xADD0_0005,
-        /// A wait (`tc_exec`), or a server's answer, took longer than the
-        /// connection's timeout; what ran stays run.
-        Timeout = 0xADD0_0006,
-        /// Not a handle of this connection.
-        BadHandle = 0xADD0_0007,
-        /// Every one of the connection's handles is in use.
-        TooManyHandles = 0xADD0_0008,
-        /// A recording could not be started.
-        Record = 0xADD0_0009,
-        /// The server refused a request as malformed, or answered what
-        /// the library cannot read; the TCP connection is closed (the
-        /// next call connects again).
-        Protocol = 0xADD0_000A,
-        /// The server stopped the request before its end (it is shutting
-        /// down); what ran up to there stays run.
-        Stopped = 0xADD0_000B,
-        /// A fault inside the library (a caught panic); the connection
-        /// may be in an unknown state.
-        Internal = 0xADD0_00FF,
-    }
+/// Declares [`ErrorCode`] from ONE table: the access errors of the
+/// object interface by name (their CANopen codes are [`AccessError`]'s,
+/// never written again here), then the library's own codes. Each entry's
+/// documentation is its meaning as the C header gives it
+/// ([`ErrorCode::meaning`]): the header's `ADDIPOS_E_*` constants are
+/// generated from this table (libaddipos/tests/header.rs), and the
+/// Python package's classes are checked against it
+/// (host/tests/python_codes.rs); decision 512.
+macro_rules! error_codes {
+    (
+        access { $( $(#[doc = $adoc:literal])+ $a:ident, )+ }
+        own { $( $(#[doc = $odoc:literal])+ $o:ident = $code:literal, )+ }
+    ) => {
+        uoi::code_list! {
+            /// The number a failed call returns (the C ABI's `ADDIPOS_E_*`).
+            /// The access errors keep their CANopen SDO abort codes (CiA 301,
+            /// as in docs/objects.md); the library's own codes are
+            /// `0xADD0_00xx`, outside every CANopen range.
+            pub enum ErrorCode: u32 {
+                $( $(#[doc = $adoc])+ $a = AccessError::$a.code(), )+
+                $( $(#[doc = $odoc])+ $o = $code, )+
+            }
+        }
+
+        impl ErrorCode {
+            /// What the code means, in the words of its documentation
+            /// (one line of text per line of it).
+            pub const fn meaning(self) -> &'static str {
+                match self {
+                    $( Self::$a => concat!($($adoc, "\n"),+), )+
+                    $( Self::$o => concat!($($odoc, "\n"),+), )+
+                }
+            }
+        }
+
+        impl From<AccessError> for ErrorCode {
+            fn from(e: AccessError) -> Self {
+                match e {
+                    $( AccessError::$a => Self::$a, )+
+                }
+            }
+        }
+    };
 }
 
-impl From<AccessError> for ErrorCode {
-    fn from(e: AccessError) -> Self {
-        match e {
-            AccessError::NoObject => ErrorCode::NoObject,
-            AccessError::NoSubindex => ErrorCode::NoSubindex,
-            AccessError::WriteOnly => ErrorCode::WriteOnly,
-            AccessError::ReadOnly => ErrorCode::ReadOnly,
-            AccessError::TypeMismatch => ErrorCode::TypeMismatch,
-            AccessError::Range => ErrorCode::Range,
-            AccessError::State => ErrorCode::State,
-            AccessError::Full => ErrorCode::Full,
-            AccessError::Storage => ErrorCode::Storage,
-        }
+error_codes! {
+    access {
+        /// Bus, device or index does not exist.
+        NoObject,
+        /// The index exists but the subindex does not.
+        NoSubindex,
+        /// The object cannot be read.
+        WriteOnly,
+        /// The object cannot be written.
+        ReadOnly,
+        /// The value type differs from the object's: an i32 object read with
+        /// `uoi_read_double`, a double written with `uoi_write_int`, ...
+        TypeMismatch,
+        /// A value outside the object's range, a non-finite double, a coordinate
+        /// beyond ±1e9, a feed too slow.
+        Range,
+        /// Refused in the current state (a faulted group, ...).
+        State,
+        /// No room: the spooler is full; run `tc_exec` and send it again.
+        Full,
+        /// The value could not be stored: nothing changed.
+        Storage,
+    }
+    own {
+        /// The handle was initialised before a Clean (Clean written 1), which
+        /// rejects every TC object, or was released: initialise it again with
+        /// `uoi_init`.
+        StaleHandle = 0xADD0_0001,
+        /// The null handle 0 was given.
+        NullHandle = 0xADD0_0002,
+        /// A NULL pointer, an axis or mask bit out of range, a bad target or
+        /// path text.
+        Argument = 0xADD0_0003,
+        /// The connection is closed (or was never opened); a server target
+        /// that refused the connection, went away or cannot be reached within
+        /// 5 s (the next call connects again).
+        Connection = 0xADD0_0004,
+        /// The target cannot be opened by this version of the library
+        /// (reserved: every target form of docs/host-api.md opens).
+        NotSupported = 0xADD0_0005,
+        /// `tc_exec` waited longer than the connection's timeout (30 s unless
+        /// `addipos_set_timeout` says otherwise), or a server target did not
+        /// answer a request within it; what ran stays run.
+        Timeout = 0xADD0_0006,
+        /// The handle was not issued by this connection.
+        BadHandle = 0xADD0_0007,
+        /// All 65535 handles of the connection are in use: release some with
+        /// `uoi_clean_handle`.
+        TooManyHandles = 0xADD0_0008,
+        /// A recording could not be started (the file cannot be created, or the
+        /// connection has carried out requests already).
+        Record = 0xADD0_0009,
+        /// A server target refused a request as malformed, or answered what
+        /// the library cannot read (not an `addipos serve` of this version).
+        Protocol = 0xADD0_000A,
+        /// The server stopped the request before its end (`tc_exec` while
+        /// `addipos serve` shuts down): the motion did not run to its end; what
+        /// ran up to there stays run.
+        Stopped = 0xADD0_000B,
+        /// A fault inside the library; the connection may be in an unknown
+        /// state: close it.
+        Internal = 0xADD0_00FF,
     }
 }
 

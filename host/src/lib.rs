@@ -1,4 +1,4 @@
-//! # addipos — the host library of the ADDIPOS TC emulator
+//! # addipos_host — the host library of the ADDIPOS TC emulator
 //!
 //! A legacy PCAP host program initialises object descriptors (BusNumber,
 //! DeviceNumber, Index, SubIndex), gets handles, reads and writes
@@ -15,12 +15,14 @@
 //!   connecting again after a failure, `INFO`), which the command line's
 //!   `call` and `replay --server` (on a conformance session,
 //!   [`RemoteSession`], a `tc_request::Runner`) use too;
-//! * the C ABI (`libaddipos`, header `include/addipos.h`), a thin layer
-//!   over it: `addipos_open`, `uoi_init`, `uoi_read_int`, `tc_lin`,
-//!   `tc_exec`, ... (docs/host-api.md).
+//! * the C ABI (`libaddipos`, header `libaddipos/include/addipos.h`), a
+//!   thin layer over it in a crate of its own (`libaddipos/`, decision
+//!   511): `addipos_open`, `uoi_init`, `uoi_read_int`, `tc_lin`,
+//!   `tc_exec`, ... (docs/host-api.md); the Python package `addipos`
+//!   wraps it too (docs/python.md).
 //!
 //! ```
-//! use addipos::{Descriptor, Machine};
+//! use addipos_host::{Descriptor, Machine};
 //!
 //! let m = Machine::open("embedded").unwrap();
 //! let plane = m.handle(&Descriptor { bus_number: 1300, device_number: 0, index: 3, sub_index: 0 }).unwrap();
@@ -32,15 +34,11 @@
 
 mod error;
 mod explain;
-pub mod ffi;
 mod handles;
 mod link;
 mod machine;
 mod objects;
-pub mod record;
-mod registry;
 mod remote_session;
-mod serve_record;
 mod served;
 mod served_target;
 pub mod target;
@@ -52,7 +50,6 @@ pub use machine::{Machine, DEFAULT_TIMEOUT, RECORD_ENV};
 pub use objects::{find_object, Descriptor};
 pub use record::RecordHeader;
 pub use remote_session::{RemoteSession, SessionError};
-pub use serve_record::ServeRecorder;
 pub use served::CONNECT_TIMEOUT;
 pub use served_target::{ServedTarget, TOKEN_ENV, TOKEN_FILE_ENV};
 pub use target::{EmbeddedOptions, Target};
@@ -61,3 +58,9 @@ pub use wire_client::{WireClient, WireError};
 pub use emulator::RealTimeFactor;
 pub use tc_request::{ArcDir, AxisPos, AxisWords, SpoolRecord, AXES, AXIS_NAMES};
 pub use uoi::{AccessError, ObjectAddress};
+
+/// A session recorded as a conformance trace: the emulator's trace
+/// writer (`emulator::record`), which `serve --record` writes with too.
+mod record {
+    pub use emulator::record::{RecordHeader, Recorder};
+}

@@ -211,14 +211,15 @@ impl Machine {
         out
     }
 
-    /// Refuses a call before it reaches the target: `e` is kept as the
-    /// last failure (and noted in the recording).
-    pub(crate) fn refuse(&self, e: Error) -> Result<()> {
+    /// Refuses a call before it reaches the target (a wrapper's check of
+    /// its arguments: the C ABI's NULL pointers, a Python value): `e` is
+    /// kept as the last failure (and noted in the recording).
+    pub fn refuse(&self, e: Error) -> Result<()> {
         self.with(|_| Err(e))
     }
 
     /// As [`refuse`](Self::refuse), giving the error back.
-    pub(crate) fn refuse_with(&self, e: Error) -> Error {
+    pub fn refuse_with(&self, e: Error) -> Error {
         self.refuse(e.clone()).err().unwrap_or(e)
     }
 
@@ -228,7 +229,7 @@ impl Machine {
     }
 
     /// Calls `f` with the last failure as a C string, under the lock.
-    pub(crate) fn with_failure<T>(&self, f: impl FnOnce(&CString) -> T) -> T {
+    pub fn with_failure<T>(&self, f: impl FnOnce(&CString) -> T) -> T {
         f(&self.lock().failure)
     }
 

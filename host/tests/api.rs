@@ -10,7 +10,7 @@ use std::io::{self, Write};
 use std::path::Path;
 use std::sync::{Arc, Mutex};
 
-use addipos::{Descriptor, EmbeddedOptions, ErrorCode, Handle, Machine, ObjectAddress};
+use addipos_host::{Descriptor, EmbeddedOptions, ErrorCode, Handle, Machine, ObjectAddress};
 use tc_objects::TcObject;
 use tc_request::{Motion, Reply, Request, Runner, SpoolRecord};
 use trace::{load_trace, replay, replay_on, Header};
@@ -79,7 +79,7 @@ impl Write for Shared {
     }
 }
 
-fn words(x: f64, y: f64) -> addipos::AxisWords {
+fn words(x: f64, y: f64) -> addipos_host::AxisWords {
     [Some(x), Some(y), None, None, None, None, None, None]
 }
 
@@ -126,7 +126,7 @@ struct Library {
     handles: HashMap<ObjectAddress, Handle>,
 }
 
-fn reply<T>(r: addipos::Result<T>, ok: impl FnOnce(T) -> Reply) -> Reply {
+fn reply<T>(r: addipos_host::Result<T>, ok: impl FnOnce(T) -> Reply) -> Reply {
     match r {
         Ok(v) => ok(v),
         Err(e) => match e.code().access_error() {
@@ -138,7 +138,7 @@ fn reply<T>(r: addipos::Result<T>, ok: impl FnOnce(T) -> Reply) -> Reply {
 
 impl Library {
     /// The handle of `addr`: the one kept, or a new one.
-    fn handle(&mut self, addr: ObjectAddress) -> addipos::Result<Handle> {
+    fn handle(&mut self, addr: ObjectAddress) -> addipos_host::Result<Handle> {
         if let Some(h) = self.handles.get(&addr) {
             return Ok(*h);
         }
@@ -148,7 +148,7 @@ impl Library {
     }
 
     /// A read or write through the object's handle.
-    fn through(&mut self, req: &Request, h: Handle) -> addipos::Result<Reply> {
+    fn through(&mut self, req: &Request, h: Handle) -> addipos_host::Result<Reply> {
         Ok(match *req {
             Request::Read(_, ValueType::I32) => Reply::Value(Value::I32(self.m.read_int(h)?)),
             Request::Read(_, ValueType::F64) => Reply::Value(Value::F64(self.m.read_double(h)?)),
@@ -199,7 +199,7 @@ enum LibraryError {
     NotInTraces(Request),
     /// The library's error.
     #[error(transparent)]
-    Library(#[from] addipos::Error),
+    Library(#[from] addipos_host::Error),
 }
 
 impl Runner for Library {

@@ -9,7 +9,7 @@
 
 use std::time::{Duration, Instant};
 
-use addipos::{EmbeddedOptions, Machine, RealTimeFactor};
+use addipos_host::{EmbeddedOptions, Machine, RealTimeFactor};
 
 fn machine(factor: f64) -> Machine {
     Machine::embedded(EmbeddedOptions {
@@ -18,7 +18,7 @@ fn machine(factor: f64) -> Machine {
     })
 }
 
-fn x(v: f64) -> addipos::AxisWords {
+fn x(v: f64) -> addipos_host::AxisWords {
     [Some(v), None, None, None, None, None, None, None]
 }
 

@@ -1,6 +1,6 @@
 //! The library's failures as Python exceptions.
 
-use addipos::{Error, ErrorCode};
+use addipos_host::{Error, ErrorCode};
 use pyo3::prelude::*;
 
 use crate::pyside;

@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use addipos::Descriptor;
+use addipos_host::Descriptor;
 use pyo3::prelude::*;
 use uoi::ValueType;
 
@@ -22,7 +22,7 @@ use crate::numbers;
 pub struct Handle {
     link: Arc<Link>,
     /// The library's handle.
-    pub raw: addipos::Handle,
+    pub raw: addipos_host::Handle,
     descriptor: Descriptor,
     ty: ValueType,
 }
@@ -31,7 +31,7 @@ impl Handle {
     /// A handle of `link` to the object `descriptor` names, of type `ty`.
     pub fn new(
         link: Arc<Link>,
-        raw: addipos::Handle,
+        raw: addipos_host::Handle,
         descriptor: Descriptor,
         ty: ValueType,
     ) -> Self {
@@ -45,12 +45,12 @@ impl Handle {
 }
 
 /// Reads an i32 object through `h`.
-pub fn read_int(link: &Link, py: Python<'_>, h: addipos::Handle) -> PyResult<i32> {
+pub fn read_int(link: &Link, py: Python<'_>, h: addipos_host::Handle) -> PyResult<i32> {
     link.call(py, |m| m.read_int(h))
 }
 
 /// Reads an f64 object through `h`.
-pub fn read_double(link: &Link, py: Python<'_>, h: addipos::Handle) -> PyResult<f64> {
+pub fn read_double(link: &Link, py: Python<'_>, h: addipos_host::Handle) -> PyResult<f64> {
     link.call(py, |m| m.read_double(h))
 }
 
@@ -59,7 +59,7 @@ pub fn read_double(link: &Link, py: Python<'_>, h: addipos::Handle) -> PyResult<
 pub fn write_int(
     link: &Link,
     py: Python<'_>,
-    h: addipos::Handle,
+    h: addipos_host::Handle,
     value: &Bound<'_, PyAny>,
 ) -> PyResult<()> {
     let v = match numbers::saturating_int(value) {
@@ -87,7 +87,12 @@ pub fn repr(value: &Bound<'_, PyAny>) -> String {
 }
 
 /// Writes an f64 object through `h`.
-pub fn write_double(link: &Link, py: Python<'_>, h: addipos::Handle, value: f64) -> PyResult<()> {
+pub fn write_double(
+    link: &Link,
+    py: Python<'_>,
+    h: addipos_host::Handle,
+    value: f64,
+) -> PyResult<()> {
     link.call(py, |m| m.write_double(h, value))
 }
 

@@ -18,7 +18,11 @@ const SIGNAL_POLL: Duration = Duration::from_millis(20);
 
 /// `EXEC` of `cycles` on `machine`, given up when a signal handler
 /// raises.
-pub fn exec(py: Python<'_>, machine: Arc<addipos::Machine>, cycles: Option<u64>) -> PyResult<()> {
+pub fn exec(
+    py: Python<'_>,
+    machine: Arc<addipos_host::Machine>,
+    cycles: Option<u64>,
+) -> PyResult<()> {
     let interrupt = Arc::new(AtomicBool::new(false));
     let (done_tx, done) = mpsc::channel();
     // Shared with the GIL-free closure below (a receiver is not `Sync`).
@@ -45,7 +49,10 @@ pub fn exec(py: Python<'_>, machine: Arc<addipos::Machine>, cycles: Option<u64>)
                 let _ = waiter.join();
                 return Err(errors::to_py(
                     py,
-                    &addipos::Error::new(addipos::ErrorCode::Internal, "exec: the wait ended"),
+                    &addipos_host::Error::new(
+                        addipos_host::ErrorCode::Internal,
+                        "exec: the wait ended",
+                    ),
                 ));
             }
             Err(mpsc::RecvTimeoutError::Timeout) => {}

@@ -1,11 +1,11 @@
 //! # `addipos._addipos` — the host library for Python
 //!
 //! The extension module of the Python package `addipos` (docs/python.md):
-//! the host library's Rust API ([`addipos::Machine`]) with PyO3. A
-//! connection ([`machine::Machine`]) opens a target string, hands out
-//! object handles ([`handle::Handle`]), spools motion and runs the
-//! executor; every failure of the library is raised as the exception class
-//! the package defines for its code (`addipos.Range`, `addipos.StaleHandle`,
+//! the host library's Rust API ([`addipos_host::Machine`]) with PyO3. A
+//! connection ([`machine::PyMachine`], the class `addipos.Machine`) opens
+//! a target string, hands out object handles ([`handle::Handle`]), spools
+//! motion and runs the executor; every failure of the library is raised as
+//! the exception class the package defines for its code (`addipos.Range`, `addipos.StaleHandle`,
 //! ...). Calls that reach the emulator run with the GIL released.
 //!
 //! The package around it (`python/addipos/__init__.py`) defines the
@@ -34,8 +34,8 @@ fn open(
     target: Option<&str>,
     record: Option<std::path::PathBuf>,
     timeout: Option<f64>,
-) -> PyResult<machine::Machine> {
-    machine::Machine::open(py, target.unwrap_or(""), record, timeout)
+) -> PyResult<machine::PyMachine> {
+    machine::PyMachine::open(py, target.unwrap_or(""), record, timeout)
 }
 
 /// The extension module.
@@ -43,7 +43,7 @@ fn open(
 fn _addipos(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(open, m)?)?;
-    m.add_class::<machine::Machine>()?;
+    m.add_class::<machine::PyMachine>()?;
     m.add_class::<handle::Handle>()?;
     Ok(())
 }

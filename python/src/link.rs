@@ -1,5 +1,5 @@
 //! The connection behind a Python `Machine` and its handles: the host
-//! library's [`addipos::Machine`] until `close`, and the way every call
+//! library's [`addipos_host::Machine`] until `close`, and the way every call
 //! reaches it (the GIL released while it runs).
 
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -11,23 +11,23 @@ use crate::errors;
 /// One open connection, shared by the `Machine` object and its handles.
 #[derive(Debug)]
 pub struct Link {
-    machine: Mutex<Option<Arc<addipos::Machine>>>,
+    machine: Mutex<Option<Arc<addipos_host::Machine>>>,
 }
 
 impl Link {
     /// A link to an open machine.
-    pub fn new(machine: addipos::Machine) -> Self {
+    pub fn new(machine: addipos_host::Machine) -> Self {
         Self {
             machine: Mutex::new(Some(Arc::new(machine))),
         }
     }
 
-    fn slot(&self) -> MutexGuard<'_, Option<Arc<addipos::Machine>>> {
+    fn slot(&self) -> MutexGuard<'_, Option<Arc<addipos_host::Machine>>> {
         self.machine.lock().unwrap_or_else(|p| p.into_inner())
     }
 
     /// The machine, or `Connection` once closed.
-    pub fn machine(&self) -> Result<Arc<addipos::Machine>, addipos::Error> {
+    pub fn machine(&self) -> Result<Arc<addipos_host::Machine>, addipos_host::Error> {
         self.slot().clone().ok_or_else(errors::closed)
     }
 
@@ -50,7 +50,7 @@ impl Link {
     pub fn call<T: Send>(
         &self,
         py: Python<'_>,
-        call: impl FnOnce(&addipos::Machine) -> addipos::Result<T> + Send,
+        call: impl FnOnce(&addipos_host::Machine) -> addipos_host::Result<T> + Send,
     ) -> PyResult<T> {
         let machine = self.machine().map_err(|e| errors::to_py(py, &e))?;
         py.detach(move || call(&machine))

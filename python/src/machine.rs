@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Duration;
 
-use addipos::{find_object, Descriptor, Target, AXES};
+use addipos_host::{find_object, Descriptor, Target, AXES};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
@@ -23,7 +23,7 @@ use crate::words::{self, Allowed};
 /// One connection to a TC module (from `addipos.open`).
 #[pyclass(name = "Machine", module = "addipos", frozen)]
 #[derive(Debug)]
-pub struct Machine {
+pub struct PyMachine {
     link: Arc<Link>,
     target: String,
 }
@@ -35,7 +35,7 @@ fn seconds(py: Python<'_>, s: f64) -> PyResult<Duration> {
         .map_err(|_| errors::argument(py, format!("timeout {s}: not a number of seconds ≥ 0")))
 }
 
-impl Machine {
+impl PyMachine {
     /// Opens `target`; with `record`, the session is recorded there
     /// (and `$ADDIPOS_RECORD` is not read).
     pub fn open(
@@ -46,11 +46,11 @@ impl Machine {
     ) -> PyResult<Self> {
         let timeout = timeout.map(|s| seconds(py, s)).transpose()?;
         let target = target.to_string();
-        let opened = py.detach(move || -> addipos::Result<addipos::Machine> {
+        let opened = py.detach(move || -> addipos_host::Result<addipos_host::Machine> {
             let m = match &record {
-                None => addipos::Machine::open(&target)?,
+                None => addipos_host::Machine::open(&target)?,
                 Some(path) => {
-                    let m = addipos::Machine::open_target(&Target::parse(&target)?)?;
+                    let m = addipos_host::Machine::open_target(&Target::parse(&target)?)?;
                     m.record(path)?;
                     m
                 }
@@ -67,14 +67,14 @@ impl Machine {
         })
     }
 
-    fn handle_of(h: &Bound<'_, Handle>) -> addipos::Handle {
+    fn handle_of(h: &Bound<'_, Handle>) -> addipos_host::Handle {
         h.get().raw
     }
 
     fn motion(
         &self,
         py: Python<'_>,
-        call: impl FnOnce(&addipos::Machine) -> addipos::Result<()> + Send,
+        call: impl FnOnce(&addipos_host::Machine) -> addipos_host::Result<()> + Send,
     ) -> PyResult<()> {
         self.link.call(py, call)
     }
@@ -83,7 +83,7 @@ impl Machine {
 /// The connection; handles, reads and writes; motion and the executor;
 /// recording (one block: PyO3 takes one `#[pymethods]` per class).
 #[pymethods]
-impl Machine {
+impl PyMachine {
     // The connection.
 
     fn __enter__(slf: Py<Self>) -> Py<Self> {

@@ -2,7 +2,7 @@
 //! `addipos.Element` tuples: what the correction made of the programmed
 //! path.
 
-use addipos::SpoolRecord;
+use addipos_host::SpoolRecord;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 

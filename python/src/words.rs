@@ -2,7 +2,7 @@
 //! (the 8 axes `X Y Z A B C U V`), `F=6000` (the feed) and, for arcs,
 //! `I J K` (the centre seen from the start), as in traces and NC programs.
 
-use addipos::{ArcDir, AxisWords, AXES, AXIS_NAMES};
+use addipos_host::{ArcDir, AxisWords, AXES, AXIS_NAMES};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 

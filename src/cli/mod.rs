@@ -7,6 +7,7 @@ pub mod junit;
 pub mod objects;
 pub mod plot;
 pub mod progress;
+pub mod record_file;
 pub mod remote_args;
 pub mod replay;
 pub mod run;

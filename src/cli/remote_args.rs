@@ -6,7 +6,7 @@ use std::time::Duration;
 
 use clap::Args;
 
-use addipos::{WireClient, WireError};
+use addipos_host::{WireClient, WireError};
 use emulator::parse_address;
 use uoi::tcp::{AccessToken, BadToken, ClientError, ClientOptions, Waited};
 use uoi::wire::ProtocolError;

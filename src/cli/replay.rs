@@ -11,7 +11,7 @@ use std::time::Instant;
 use clap::Args;
 use indicatif::ProgressBar;
 
-use addipos::{RemoteSession, SessionError};
+use addipos_host::{RemoteSession, SessionError};
 use trace::{fresh_emulator, printable, replay_stream, trace_files, Header, Mismatch, TraceReader};
 
 use super::junit::{write_junit, CaseResult, Suite, NO_REQUEST};

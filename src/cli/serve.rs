@@ -5,7 +5,7 @@
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 
-use addipos::{RecordHeader, ServeRecorder};
+use emulator::record::{RecordHeader, ServeRecorder};
 use emulator::{
     parse_address, read_settings_file, Config, ConfigError, EmulatorService, DEFAULT_CONFIG,
 };
@@ -262,12 +262,15 @@ fn time_and_recording(
         tracing::info!("real time: the executor runs with the wall clock, {f} times faster");
     }
     if let Some(path) = record {
-        let recorder = ServeRecorder::create(path, &record_header(cfg, service.realtime()))
-            .map_err(|error| ServeError::Record {
-                path: path.display().to_string(),
-                error,
-            })?;
-        service.set_journal(Box::new(recorder));
+        let cannot = |error: std::io::Error| ServeError::Record {
+            path: path.display().to_string(),
+            error,
+        };
+        let open = super::record_file::opener(path).map_err(cannot)?;
+        let header = record_header(cfg, service.realtime());
+        let recorder =
+            ServeRecorder::start(path.display().to_string(), open, &header).map_err(cannot)?;
+        service.set_request_log(Box::new(recorder));
         tracing::info!(
             "recording every request carried out into {}",
             path.display()

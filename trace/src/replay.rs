@@ -106,10 +106,10 @@ fn element_matches(exp: &SpoolExpect, got: &SpoolRecord, axis_nr: [u8; 3], tol: 
         _ => false,
     };
     let end_ok = (0..AXES).all(|i| close(exp.words[i].unwrap_or(got.start[i]), got.end[i], tol));
-    let centre_ok = axis_nr
-        .iter()
-        .zip(exp.centre)
-        .all(|(&m, c)| centre_offset(got, m).is_none_or(|off| close(c.unwrap_or(0.0), off, tol)));
+    let centre_ok = axis_nr.iter().zip(exp.centre).all(|(&m, c)| {
+        centre_offset(got, m)
+            .is_none_or(|off| close(c.unwrap_or(0.0), off, tol))
+    });
     let feed_ok = exp.feed.is_none_or(|f| close(f, got.feed, tol));
     kind_ok && end_ok && centre_ok && feed_ok
 }

@@ -8,7 +8,7 @@ macro_rules! code_list {
     (
         $(#[$meta:meta])*
         pub enum $name:ident: $repr:ident {
-            $( $(#[$vmeta:meta])* $variant:ident = $code:literal, )+
+            $( $(#[$vmeta:meta])* $variant:ident = $code:expr, )+
         }
     ) => {
         $(#[$meta])*

@@ -1,14 +1,17 @@
-//! The C ABI: `libaddipos`, declared in `include/addipos.h` (generated
-//! from this file by cbindgen). A thin layer over [`Machine`]: it reads
-//! and writes through the pointers a C program hands over, turns results
-//! into codes, and catches every panic at the boundary
-//! (`ADDIPOS_E_INTERNAL`).
+//! # libaddipos — the C ABI of the host library
+//!
+//! `libaddipos.so` / `libaddipos.a`, declared in `include/addipos.h`
+//! (generated from this file by cbindgen, its codes from the host
+//! library's [`ErrorCode`] table; docs/host-api.md). A thin layer over
+//! [`Machine`] of `addipos_host`: it reads and writes through the
+//! pointers a C program hands over, turns results into codes, and
+//! catches every panic at the boundary (`ADDIPOS_E_INTERNAL`).
 //!
 //! An `addipos *` is a token of the connection registry
 //! (the library's registry), never followed as a pointer: NULL is
 //! `ADDIPOS_E_ARGUMENT`, a closed or made-up one `ADDIPOS_E_CONNECTION`.
 
-// The one module allowed `unsafe`: a C caller's pointers (target and
+// The one crate allowed `unsafe`: a C caller's pointers (target and
 // path strings, descriptors, axis arrays, out parameters) can only be
 // read and written through raw pointers, and exported symbols need
 // `#[no_mangle]`. Each unsafe block is one pointer access, with the
@@ -21,13 +24,11 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 use std::time::Duration;
 
-use tc_module::{ArcDir, AxisWords, AXES};
+use addipos_host::{
+    ArcDir, AxisWords, Descriptor, Error, ErrorCode, Handle, Machine, Result, AXES,
+};
 
-use crate::error::{Error, ErrorCode, Result};
-use crate::handles::Handle;
-use crate::machine::Machine;
-use crate::objects::Descriptor;
-use crate::registry;
+mod registry;
 
 /// One connection (opaque): what `addipos_open` returns.
 pub struct Addipos {
@@ -37,81 +38,10 @@ pub struct Addipos {
 /// A handle to one object of one connection; 0 is the null handle.
 pub type UoiHandle = u32;
 
-/// Success.
-pub const ADDIPOS_OK: u32 = 0;
-/// Bus, device or index does not exist (CANopen 0x06020000).
-pub const ADDIPOS_E_NO_OBJECT: u32 = 0x06020000;
-/// The index exists but the subindex does not (CANopen 0x06090011).
-pub const ADDIPOS_E_NO_SUBINDEX: u32 = 0x06090011;
-/// The object cannot be read (CANopen 0x06010001).
-pub const ADDIPOS_E_WRITE_ONLY: u32 = 0x06010001;
-/// The object cannot be written (CANopen 0x06010002).
-pub const ADDIPOS_E_READ_ONLY: u32 = 0x06010002;
-/// The value type differs from the object's: an i32 object read with
-/// `uoi_read_double`, a double written with `uoi_write_int`, ...
-/// (CANopen 0x06070010).
-pub const ADDIPOS_E_TYPE_MISMATCH: u32 = 0x06070010;
-/// A value outside the object's range, a non-finite double, a coordinate
-/// beyond ±1e9, a feed too slow (CANopen 0x06090030).
-pub const ADDIPOS_E_RANGE: u32 = 0x06090030;
-/// Refused in the current state (a faulted group, ...) (CANopen
-/// 0x08000022).
-pub const ADDIPOS_E_STATE: u32 = 0x08000022;
-/// No room: the spooler is full; run `tc_exec` and send it again
-/// (CANopen 0x05040005).
-pub const ADDIPOS_E_FULL: u32 = 0x05040005;
-/// The value could not be stored: nothing changed (CANopen 0x08000020).
-pub const ADDIPOS_E_STORAGE: u32 = 0x08000020;
-/// The handle was initialised before a Clean (1300/0/1/0 = 1), which
-/// rejects every TC object, or was released: initialise it again with
-/// `uoi_init`.
-/// (Code 0xADD00001.)
-pub const ADDIPOS_E_STALE_HANDLE: u32 = 0xADD00001;
-/// The null handle 0 was given.
-/// (Code 0xADD00002.)
-pub const ADDIPOS_E_NULL_HANDLE: u32 = 0xADD00002;
-/// A NULL pointer, an axis or mask bit out of range, a bad target or
-/// path text.
-/// (Code 0xADD00003.)
-pub const ADDIPOS_E_ARGUMENT: u32 = 0xADD00003;
-/// The connection is closed (or was never opened); a server target
-/// that refused the connection, went away or cannot be reached within
-/// 5 s (the next call connects again).
-/// (Code 0xADD00004.)
-pub const ADDIPOS_E_CONNECTION: u32 = 0xADD00004;
-/// The target cannot be opened by this version of the library
-/// (reserved: every target form of docs/host-api.md opens).
-/// (Code 0xADD00005.)
-pub const ADDIPOS_E_NOT_SUPPORTED: u32 = 0xADD00005;
-/// `tc_exec` waited longer than the connection's timeout (30 s unless
-/// `addipos_set_timeout` says otherwise), or a server target did not
-/// answer a request within it; what ran stays run.
-/// (Code 0xADD00006.)
-pub const ADDIPOS_E_TIMEOUT: u32 = 0xADD00006;
-/// The handle was not issued by this connection.
-/// (Code 0xADD00007.)
-pub const ADDIPOS_E_BAD_HANDLE: u32 = 0xADD00007;
-/// All 65535 handles of the connection are in use: release some with
-/// `uoi_clean_handle`.
-/// (Code 0xADD00008.)
-pub const ADDIPOS_E_TOO_MANY_HANDLES: u32 = 0xADD00008;
-/// A recording could not be started (the file cannot be created, or the
-/// connection has carried out requests already).
-/// (Code 0xADD00009.)
-pub const ADDIPOS_E_RECORD: u32 = 0xADD00009;
-/// A server target refused a request as malformed, or answered what
-/// the library cannot read (not an `addipos serve` of this version).
-/// (Code 0xADD0000A.)
-pub const ADDIPOS_E_PROTOCOL: u32 = 0xADD0000A;
-/// The server stopped the request before its end (`tc_exec` while
-/// `addipos serve` shuts down): the motion did not run to its end; what
-/// ran up to there stays run.
-/// (Code 0xADD0000B.)
-pub const ADDIPOS_E_STOPPED: u32 = 0xADD0000B;
-/// A fault inside the library; the connection may be in an unknown
-/// state: close it.
-/// (Code 0xADD000FF.)
-pub const ADDIPOS_E_INTERNAL: u32 = 0xADD000FF;
+/// Success (`ADDIPOS_OK`). The error codes `ADDIPOS_E_*` of the header
+/// are the host library's table ([`ErrorCode`]), written into the header
+/// from it (tests/header.rs).
+const OK: u32 = 0;
 
 /// `tc_exec`: run until the spooler is empty.
 pub const ADDIPOS_EXEC_ALL: u64 = u64::MAX;
@@ -132,13 +62,13 @@ thread_local! {
 
 /// Runs `f`, a panic turned into `ADDIPOS_E_INTERNAL`.
 fn guard(f: impl FnOnce() -> u32) -> u32 {
-    catch_unwind(AssertUnwindSafe(f)).unwrap_or(ADDIPOS_E_INTERNAL)
+    catch_unwind(AssertUnwindSafe(f)).unwrap_or(ErrorCode::Internal.code())
 }
 
 /// The code of a result.
 fn code(r: Result<()>) -> u32 {
     match r {
-        Ok(()) => ADDIPOS_OK,
+        Ok(()) => OK,
         Err(e) => e.code().code(),
     }
 }
@@ -148,11 +78,11 @@ fn code(r: Result<()>) -> u32 {
 fn on(a: *const Addipos, f: impl FnOnce(&Machine) -> Result<()>) -> u32 {
     guard(|| {
         if a.is_null() {
-            return ADDIPOS_E_ARGUMENT;
+            return ErrorCode::Argument.code();
         }
         match registry::get(a.addr()) {
             Some(m) => code(f(&m)),
-            None => ADDIPOS_E_CONNECTION,
+            None => ErrorCode::Connection.code(),
         }
     })
 }
@@ -201,18 +131,21 @@ fn put<T>(out: *mut T, value: T) -> bool {
     }
 }
 
-/// Axis words from a mask and a position array (bit i: `pos[i]` given).
-fn words(call: &str, mask: u32, pos: *const f64) -> std::result::Result<AxisWords, String> {
+/// Axis words from a mask and a position array (bit i: `pos[i]` given);
+/// a mask beyond the axes, or a NULL array for a mask that names some, is
+/// a bad argument.
+fn words(call: &str, mask: u32, pos: *const f64) -> Result<AxisWords> {
     if mask >> AXES != 0 {
-        return Err(format!(
+        return Err(Error::argument(format!(
             "{call}: mask 0x{mask:x} names axes beyond 7 (bits 0..7 are X Y Z A B C U V)"
-        ));
+        )));
     }
     let mut w: AxisWords = [None; AXES];
     if mask == 0 {
         return Ok(w);
     }
-    let p = axes_at(pos).ok_or_else(|| format!("{call}: pos is NULL but mask names axes"))?;
+    let p = axes_at(pos)
+        .ok_or_else(|| Error::argument(format!("{call}: pos is NULL but mask names axes")))?;
     for (i, slot) in w.iter_mut().enumerate() {
         if mask & (1 << i) != 0 {
             *slot = Some(p[i]);
@@ -298,7 +231,7 @@ pub extern "C" fn addipos_close(a: *mut Addipos) {
         if let Some(m) = registry::remove(a.addr()) {
             m.close();
         }
-        ADDIPOS_OK
+        OK
     });
 }
 
@@ -498,7 +431,7 @@ fn with_words(
 ) -> Result<()> {
     match words(call, mask, pos) {
         Ok(w) => f(w),
-        Err(why) => refuse(m, why),
+        Err(e) => m.refuse(e),
     }
 }
 

@@ -18,17 +18,24 @@ use std::ffi::CString;
 use std::hint::black_box;
 use std::time::Duration;
 
-use addipos::ffi::{addipos_close, addipos_open, addipos_record, uoi_init, uoi_read_int, Addipos};
-use addipos::{Descriptor, Machine};
+use addipos_host::{Descriptor, Machine};
+use c_abi::{addipos_close, addipos_open, addipos_record, uoi_init, uoi_read_int, Addipos};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use tc_objects::TcObject;
+
+// The C ABI compiled into the bench, as a C program links it: the crate
+// has no Rust library (it is `libaddipos` for C), so its source comes in
+// as a module (decision 511).
+// Built as a test too, where the module's own tests and the constants a
+// C program uses are not reached.
+#[path = "../src/lib.rs"]
+#[allow(dead_code, unused_imports)]
+mod c_abi;
 
 /// TcPlane, an i32 object (reads 17).
-const PLANE: Descriptor = Descriptor {
-    bus_number: 1300,
-    device_number: 0,
-    index: 3,
-    sub_index: 0,
-};
+fn plane() -> Descriptor {
+    Descriptor::of(TcObject::TcPlane.address())
+}
 
 /// Reads per iteration.
 const BATCH: u64 = 1000;
@@ -47,7 +54,7 @@ fn open(record: bool) -> (*mut Addipos, u32) {
     }
     let mut h = 0u32;
     // SAFETY: a descriptor and a handle of ours.
-    assert_eq!(unsafe { uoi_init(a, &PLANE, &mut h) }, 0);
+    assert_eq!(unsafe { uoi_init(a, &plane(), &mut h) }, 0);
     (a, h)
 }
 
@@ -67,7 +74,7 @@ fn c_abi(c: &mut Criterion) {
     let (plain, hp) = open(false);
     let (recorded, hr) = open(true);
     let m = Machine::open("embedded").unwrap();
-    let hm = m.handle(&PLANE).unwrap();
+    let hm = m.handle(&plane()).unwrap();
     // Alternated in one run: plain, recorded, Rust API.
     g.bench_function("c_abi", |b| b.iter(|| reads(plain, hp)));
     g.bench_function("c_abi_recorded", |b| b.iter(|| reads(recorded, hr)));
@@ -112,9 +119,9 @@ const SERVED_BATCH: u64 = 100;
 fn served(c: &mut Criterion) {
     let addr = serve();
     let m = Machine::open(&addr).unwrap();
-    let h = m.handle(&PLANE).unwrap();
+    let h = m.handle(&plane()).unwrap();
     let mut client = uoi::tcp::BlockingClient::connect(&addr).unwrap();
-    let plane = tc_objects::TcObject::TcPlane.address();
+    let plane = TcObject::TcPlane.address();
     let mut g = c.benchmark_group("served");
     g.throughput(Throughput::Elements(SERVED_BATCH));
     g.measurement_time(Duration::from_secs(4));

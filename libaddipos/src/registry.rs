@@ -6,7 +6,7 @@
 
 use std::sync::{Arc, RwLock};
 
-use crate::machine::Machine;
+use addipos_host::Machine;
 
 /// Bits of a token that hold the slot number plus one.
 const SLOT_BITS: u32 = usize::BITS / 2;
@@ -83,7 +83,7 @@ pub fn remove(token: usize) -> Option<Arc<Machine>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::target::EmbeddedOptions;
+    use addipos_host::EmbeddedOptions;
 
     #[test]
     fn a_closed_token_is_unknown_and_its_slot_comes_back_with_a_new_one() {
