@@ -23,6 +23,7 @@ use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use opcua::types::{NodeId, Variant};
+use tc_objects::TcObject;
 use tokio::runtime::Runtime;
 use ua::{until, Ua};
 use uoi::tcp::Client;
@@ -106,9 +107,21 @@ impl Drop for Serve {
 
 /// The objects read: RADIUS, WKZINDEX, STATUS, ... of groups 1..=10.
 fn objects() -> Vec<ObjectAddress> {
-    let subs = [1, 3, 4, 5, 6, 8, 11, 12, 3, 1];
+    use TcObject as O;
+    let keys = [
+        O::Error,
+        O::Status,
+        O::XAxis,
+        O::YAxis,
+        O::Radius,
+        O::WkzIndex,
+        O::ZAxis,
+        O::WkzLen,
+        O::Status,
+        O::Error,
+    ];
     (1..=10u16)
-        .flat_map(|g| subs.iter().map(move |&s| ObjectAddress::new(1300, 1, g, s)))
+        .flat_map(|g| keys.iter().map(move |k| k.of(g)))
         .take(BATCH)
         .collect()
 }
@@ -157,10 +170,9 @@ impl Rig {
     }
 
     fn uoi_one(&mut self) {
-        let v = self.rt.block_on(
-            self.uoi
-                .read(ObjectAddress::new(1300, 1, 1, 6), ValueType::F64),
-        );
+        let v = self
+            .rt
+            .block_on(self.uoi.read(TcObject::Radius.of(1), ValueType::F64));
         assert!(v.is_ok());
     }
 
@@ -238,7 +250,7 @@ fn us(d: Duration) -> f64 {
 /// from the write's answer to the notification, 100 times.
 fn latency(rig: &mut Rig) {
     let mut ms: Vec<f64> = rig.rt.block_on(async {
-        let addr = ObjectAddress::new(1300, 1, 2, 6);
+        let addr = TcObject::Radius.of(2);
         let mut seen = rig.ua.watch(&addr.to_string(), 10.0).await;
         until(&mut seen, &Variant::Double(0.0)).await;
         let mut out = Vec::new();

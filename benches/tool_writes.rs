@@ -36,6 +36,7 @@ use std::time::{Duration, Instant};
 use bytes::BytesMut;
 use emulator::tools::durable::Durable;
 use emulator::EmulatorService;
+use tc_objects::{TcObject, TC_BUS};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::TcpStream;
 use tokio_util::codec::Decoder;
@@ -43,7 +44,7 @@ use tool_store::Writer;
 use tool_store::{FsStorage, Storage, Strictness, ToolStore};
 use uoi::tcp::{Server, ServerConfig};
 use uoi::wire::{decode_answer, encode_request, Answer, ClientCodec, Op, Request};
-use uoi::{ObjectAddress, Value, ValueType};
+use uoi::{Value, ValueType};
 
 /// [`FsStorage`] that counts journal syncs and tool files written.
 #[derive(Debug)]
@@ -165,16 +166,26 @@ fn request(kind: Kind, c: usize, k: u64) -> Request {
     let group = (c % 32) as u16 + 1;
     match kind {
         Kind::Tool => {
-            let sub = if c < 32 { 6 } else { 12 };
+            let field = if c < 32 {
+                TcObject::Radius
+            } else {
+                TcObject::WkzLen
+            };
             let v = 1.0 + (k % 100_000) as f64 * 1e-3;
-            Request::Write(ObjectAddress::new(1300, 1, group, sub), Value::F64(v))
+            Request::Write(field.of(group), Value::F64(v))
         }
         Kind::NonTool => Request::Write(
-            ObjectAddress::new(1300, 2, group, 1),
+            TcObject::TransitionMode.of(group),
             Value::I32((k & 1) as i32),
         ),
-        Kind::Read => Request::Read(ObjectAddress::new(1300, 0, 3, 0), ValueType::I32),
+        Kind::Read => Request::Read(TcObject::TcPlane.address(), ValueType::I32),
     }
+}
+
+/// A per-group object as the table of results names it: `1300/2/g/1`.
+fn every_group(key: TcObject) -> String {
+    let row = key.row();
+    format!("{}/{}/g/{}", TC_BUS, row.device, row.sub.start())
 }
 
 fn op(kind: Kind) -> Op {
@@ -559,10 +570,11 @@ fn print_results(res: &Results, files: u64) {
     println!();
     println!("| 8 clients, pipelined 128 | persistence on, M req/s | off, M req/s | on / off, per round |");
     println!("|---|---|---|---|");
-    for (i, name) in ["reads 1300/0/3/0", "non-tool writes 1300/2/g/1"]
-        .into_iter()
-        .enumerate()
-    {
+    let names = [
+        format!("reads {}", TcObject::TcPlane.address()),
+        format!("non-tool writes {}", every_group(TcObject::TransitionMode)),
+    ];
+    for (i, name) in names.into_iter().enumerate() {
         let k = |x: &Samples| Samples(x.0.iter().map(|v| v / 1e6).collect()).cell(2);
         println!(
             "| {name} | {} | {} | {} |",

@@ -30,6 +30,7 @@ use std::time::{Duration, Instant};
 
 use bytes::{Bytes, BytesMut};
 use common::ServeProcess;
+use tc_objects::TcObject;
 use tool_store::{MemStorage, Storage, Strictness, ToolField, ToolStore, ToolValue};
 use uoi::tcp::{BlockingClient, ClientOptions};
 use uoi::wire::{decode_answer, encode_request, Answer, Op, Request};
@@ -71,13 +72,6 @@ enum Field {
 }
 
 impl Field {
-    fn sub(self) -> u8 {
-        match self {
-            Field::Radius => 6,
-            Field::Length => 12,
-        }
-    }
-
     fn store(self) -> ToolField {
         match self {
             Field::Radius => ToolField::Radius,
@@ -103,8 +97,14 @@ impl Rng {
     }
 }
 
-fn tc(device: u8, group: u8, sub: u8) -> ObjectAddress {
-    ObjectAddress::new(1300, device.into(), group.into(), sub.into())
+/// WKZINDEX of `group`.
+fn wkz_index(group: u8) -> ObjectAddress {
+    TcObject::WkzIndex.of(group.into())
+}
+
+/// The object of `field` in `group`.
+fn tool_object(group: u8, field: Field) -> ObjectAddress {
+    field.store().address(group.into())
 }
 
 /// What one connection sends in a round: WKZINDEX first (request 0), then
@@ -141,11 +141,11 @@ impl Plan {
     /// Every request's frame, in id order.
     fn frames(&self) -> Vec<Vec<u8>> {
         let wkz = Value::I32(i32::from(self.index));
-        let first = Request::Write(tc(1, self.group, 8), wkz);
+        let first = Request::Write(wkz_index(self.group), wkz);
         let tools = self
             .writes
             .iter()
-            .map(|(field, v)| Request::Write(tc(1, self.group, field.sub()), Value::F64(*v)));
+            .map(|(field, v)| Request::Write(tool_object(self.group, *field), Value::F64(*v)));
         std::iter::once(first)
             .chain(tools)
             .enumerate()
@@ -308,8 +308,8 @@ fn verify(addr: &str, model: &mut Model, on_disk: &BTreeMap<(u8, u16, ToolField)
         .iter()
         .flat_map(|&(g, i, f)| {
             [
-                Request::Write(tc(1, g, 8), Value::I32(i32::from(i))),
-                Request::Read(tc(1, g, f.sub()), ValueType::F64),
+                Request::Write(wkz_index(g), Value::I32(i32::from(i))),
+                Request::Read(tool_object(g, f), ValueType::F64),
             ]
         })
         .collect();

@@ -16,6 +16,7 @@ use otc_ext::OtcExtension;
 use proptest::prelude::*;
 use tc_module::object_map::object_table;
 use tc_module::MAX_COORD;
+use tc_objects::TcObject;
 use tc_request::{ArcDir, Motion, Request, AXES};
 use tokio_util::codec::Encoder;
 use trace::MAX_LINE_BYTES;
@@ -140,6 +141,17 @@ fn motion() -> BoxedStrategy<Motion> {
     .boxed()
 }
 
+/// The address of bus 1300 at `device`, `index`, `sub`: Clean's address
+/// with those replaced (docs/decisions.md, decision 522).
+fn on_the_bus(device: u16, index: u16, sub: u16) -> ObjectAddress {
+    ObjectAddress {
+        device,
+        index,
+        sub,
+        ..TcObject::Clean.address()
+    }
+}
+
 /// A write or read of an object of the emulator's map (of the first
 /// groups), with a value of its type mostly; now and then any address.
 fn access() -> BoxedStrategy<Request> {
@@ -158,7 +170,7 @@ fn access() -> BoxedStrategy<Request> {
         any::<(u16, u16, u16, u16)>().prop_map(|(b, d, i, s)| ObjectAddress::new(b, d, i, s));
     prop_oneof![
         6 => (row.clone(), value(), any::<bool>()).prop_map(|((d, i, s, ty), v, typed)| {
-            let a = ObjectAddress::new(1300, d, i, s);
+            let a = on_the_bus(d, i, s);
             let v = match (typed, ty, v) {
                 (true, ValueType::F64, Value::I32(n)) => Value::F64(f64::from(n)),
                 (true, ValueType::I32, Value::F64(x)) => Value::I32(x as i32),
@@ -166,7 +178,7 @@ fn access() -> BoxedStrategy<Request> {
             };
             Request::Write(a, v)
         }),
-        2 => row.prop_map(|(d, i, s, ty)| Request::Read(ObjectAddress::new(1300, d, i, s), ty)),
+        2 => row.prop_map(|(d, i, s, ty)| Request::Read(on_the_bus(d, i, s), ty)),
         1 => (any_addr, value()).prop_map(|(a, v)| Request::Write(a, v)),
     ]
     .boxed()
@@ -261,9 +273,10 @@ fn stream() -> BoxedStrategy<Vec<u8>> {
 /// motion after them is corrected.
 fn running_group() -> BoxedStrategy<Vec<Request>> {
     let radius = prop_oneof![3 => 0.5..20.0f64, 1 => coord()];
-    (radius, 9u16..=10)
+    let side = prop_oneof![Just(TcObject::Left), Just(TcObject::Right)];
+    (radius, side)
         .prop_map(|(r, side)| {
-            let w = |sub, v| Request::Write(ObjectAddress::new(1300, 1, 1, sub), v);
+            let w = |key: TcObject, v| Request::Write(key.of(1), v);
             vec![
                 Request::Setup {
                     start: [0.0; AXES],
@@ -271,10 +284,10 @@ fn running_group() -> BoxedStrategy<Vec<Request>> {
                     spool_capacity: 0,
                 },
                 Request::SpoolLog { logging: true },
-                w(2, Value::I32(0)),
-                w(6, Value::F64(r)),
+                w(TcObject::GroupReset, Value::I32(0)),
+                w(TcObject::Radius, Value::F64(r)),
                 w(side, Value::I32(0)),
-                w(3, Value::I32(1)),
+                w(TcObject::Status, Value::I32(1)),
             ]
         })
         .boxed()

@@ -19,9 +19,10 @@ use addipos_host::{Descriptor, ErrorCode, Machine};
 use bytes::{Bytes, BytesMut};
 use common::{loopback, ServeProcess, TestServer};
 use emulator::{EmulatorInfo, EmulatorService, INFO_OP, WRITE_IF_OP};
+use tc_objects::TcObject;
 use uoi::tcp::{Handler, Slice};
 use uoi::wire::{decode_request, encode_answer, Answer, ProtocolError, Request as WireRequest};
-use uoi::{ObjectAddress, Value};
+use uoi::Value;
 
 const PLANE: Descriptor = Descriptor {
     bus_number: 1300,
@@ -79,7 +80,7 @@ impl Handler for Twisted {
             WireRequest::Write(..) | WireRequest::Ext(WRITE_IF_OP, _)
         );
         if write && self.clean_before_write.swap(false, Ordering::SeqCst) {
-            let clean = WireRequest::Write(ObjectAddress::new(1300, 0, 1, 0), Value::I32(1));
+            let clean = WireRequest::Write(TcObject::Clean.address(), Value::I32(1));
             assert!(matches!(self.inner.serve(clean), Slice::Done(Answer::Ok)));
         }
         self.inner.serve(req)

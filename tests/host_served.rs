@@ -456,7 +456,7 @@ fn requests_of_another_face_are_in_the_servers_recording_in_their_place() {
     let running = rt.spawn(async move { server.run(halt.cancelled_owned()).await });
     let m = Machine::open(&addr).unwrap();
     m.lin(x(4.0), Some(600.0)).unwrap();
-    let plane = uoi::ObjectAddress::new(1300, 0, 3, 0);
+    let plane = tc_objects::TcObject::TcPlane.address();
     let face = rt.block_on(core.call(uoi::wire::Request::Read(plane, uoi::ValueType::I32)));
     assert_eq!(face, uoi::wire::Answer::Value(uoi::Value::I32(17)));
     m.exec(None).unwrap();

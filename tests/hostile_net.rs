@@ -11,6 +11,7 @@ use std::time::{Duration, Instant};
 
 mod common;
 use common::{bin, ServeProcess};
+use tc_objects::TcObject;
 
 fn temp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("addipos-{name}-{}", std::process::id()));
@@ -57,7 +58,8 @@ fn call_and_replay_give_up_on_a_server_that_never_answers() {
     let reach = format!("could not reach a UOI server at {addr}");
     let want = "got no UOI answer within 1 s";
 
-    let out = run(bin().args(["call", &addr, "--timeout", "1", "R", "1300/0/3/0", "i"]));
+    let plane = TcObject::TcPlane.address().to_string();
+    let out = run(bin().args(["call", &addr, "--timeout", "1", "R", &plane, "i"]));
     assert_eq!(out.status.code(), Some(2));
     let said = text(&out.stderr);
     assert!(said.contains(&reach) && said.contains(want), "{said}");
@@ -101,11 +103,12 @@ fn serve_with_a_token_lets_in_only_clients_that_present_it() {
             .mode();
         assert_eq!(mode & 0o777, 0o600);
     }
+    let plane = TcObject::TcPlane.address().to_string();
     let call = |extra: &[&str], env: Option<&str>| {
         let mut cmd = bin();
         cmd.args(["call", &server.addr])
             .args(extra)
-            .args(["R", "1300/0/3/0", "i"]);
+            .args(["R", &plane, "i"]);
         cmd.env_remove("ADDIPOS_TOKEN");
         if let Some(t) = env {
             cmd.env("ADDIPOS_TOKEN", t);

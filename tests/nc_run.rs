@@ -14,6 +14,7 @@ mod common;
 use addipos_host::{RemoteSession, WireClient};
 use nc::nc_run::NcRun;
 use nc::run::{run_program, At, Controller, Report, RunError, RunErrorKind};
+use tc_objects::OtcObject;
 use tc_request::{Origin, Reply, Request, SpoolRecord};
 use tool_store::{ToolKey, ToolValue};
 use trace::{fresh_emulator, parse_trace, replay, Header};
@@ -371,14 +372,10 @@ struct PlcOffset {
     state_at_off: Option<Reply>,
 }
 
-fn otc_object(sub: u16) -> uoi::ObjectAddress {
-    uoi::ObjectAddress::new(1300, 3, 1, sub)
-}
-
 impl Controller for PlcOffset {
     fn call(&mut self, req: &Request, _at: At) -> Reply {
-        if *req == Request::Write(otc_object(1), Value::I32(0)) {
-            let state = Request::Read(otc_object(53), ValueType::I32);
+        if *req == Request::Write(OtcObject::OtcOn.of(1), Value::I32(0)) {
+            let state = Request::Read(OtcObject::RadiusOffsetState.of(1), ValueType::I32);
             self.state_at_off = Some(self.emu.run(&state));
         }
         self.emu.run(req)
@@ -398,9 +395,12 @@ fn wr_quad_disc_with_a_plc_offset_of_2_mm_ends_at_state_20000() {
         state_at_off: None,
     };
     emulator::tools::entries::load(plc.emu.tc_mut(), grinding_disc().into_iter());
-    for (sub, v) in [(50, 20_000), (51, 1)] {
+    for (unit, v) in [
+        (OtcObject::RadiusOffsetCommand, 20_000),
+        (OtcObject::RadiusOffsetEnable, 1),
+    ] {
         assert_eq!(
-            plc.emu.run(&Request::Write(otc_object(sub), Value::I32(v))),
+            plc.emu.run(&Request::Write(unit.of(1), Value::I32(v))),
             Reply::Ok
         );
     }
@@ -408,17 +408,17 @@ fn wr_quad_disc_with_a_plc_offset_of_2_mm_ends_at_state_20000() {
     run_program(&blocks, &mut plc, &mut report).unwrap();
     assert!(report.faults.is_empty(), "{:?}", report.faults);
     assert_eq!(plc.state_at_off, Some(Reply::Value(Value::I32(20_000))));
-    let read = |plc: &mut PlcOffset, sub, ty| plc.emu.run(&Request::Read(otc_object(sub), ty));
+    let read = |plc: &mut PlcOffset, key: OtcObject, ty| plc.emu.run(&Request::Read(key.of(1), ty));
     assert_eq!(
-        read(&mut plc, 53, ValueType::I32),
+        read(&mut plc, OtcObject::RadiusOffsetState, ValueType::I32),
         Reply::Value(Value::I32(0))
     );
     assert_eq!(
-        read(&mut plc, 10, ValueType::F64),
+        read(&mut plc, OtcObject::WearRadius, ValueType::F64),
         Reply::Value(Value::F64(2.0))
     );
     assert_eq!(
-        read(&mut plc, 11, ValueType::F64),
+        read(&mut plc, OtcObject::WearRadiusCont, ValueType::F64),
         Reply::Value(Value::F64(0.0))
     );
 }

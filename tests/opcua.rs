@@ -21,6 +21,7 @@ use emulator::EmulatorService;
 use opcua::types::{ObjectId, StatusCode, Variant};
 use opcua_face::{Face, FaceConfig};
 use tc_module::CycleTime;
+use tc_objects::{OtcObject, TcObject, DEVICES, GROUPS};
 use tc_request::text::parse_request;
 use tc_request::Reply;
 use tokio::task::JoinHandle;
@@ -107,13 +108,30 @@ impl Rig {
     }
 }
 
-fn tc(device: u16, index: u16, sub: u16) -> ObjectAddress {
-    ObjectAddress::new(1300, device, index, sub)
+/// The NodeId string of the address after `a`'s subindex, which no object
+/// holds (after RADIUS, `1/g/7`, comes WKZINDEX at 8).
+fn no_object_after(a: ObjectAddress) -> String {
+    ObjectAddress {
+        sub: a.sub + 1,
+        ..a
+    }
+    .to_string()
 }
 
-/// The NodeId string of an object.
-fn id(device: u16, index: u16, sub: u16) -> String {
-    tc(device, index, sub).to_string()
+/// The NodeId string of index 0, subindex 0 of the device one past the
+/// last of the table (docs/decisions.md, decision 522).
+fn past_the_devices() -> String {
+    format!("{}/{}/0/0", emulator::opcua::table().bus, DEVICES.len())
+}
+
+/// The NodeId string of the folder of `a`'s device.
+fn device_folder(a: ObjectAddress) -> String {
+    format!("{}/{}", a.bus, a.device)
+}
+
+/// The NodeId string of the folder of `a`'s group or axis (device 1 to 4).
+fn instance_folder(a: ObjectAddress) -> String {
+    format!("{}/{}/{}", a.bus, a.device, a.index)
 }
 
 /// Sends the trace request `line` over the UOI face: its reply.
@@ -141,25 +159,36 @@ async fn the_tree_of_bus_1300() {
     ];
     assert_eq!(ua.children(&ua.node("1300")).await, devices);
     let groups: Vec<String> = (1..=32).map(|g| format!("Group{g}")).collect();
-    for device in 1..=3 {
-        assert_eq!(
-            ua.children(&ua.node(&format!("1300/{device}"))).await,
-            groups
-        );
+    let per_group = [
+        TcObject::Radius.of(1),
+        TcObject::TransitionMode.of(1),
+        OtcObject::OtcOn.of(1),
+    ];
+    for device in per_group.map(device_folder) {
+        assert_eq!(ua.children(&ua.node(&device)).await, groups);
     }
     let axes: Vec<String> = (0..8).map(|a| format!("Axis{a}")).collect();
-    assert_eq!(ua.children(&ua.node("1300/4")).await, axes);
-    let device0 = ua.children(&ua.node("1300/0")).await;
+    let device4 = device_folder(OtcObject::AxisOffsetCommand.of(0));
+    assert_eq!(ua.children(&ua.node(&device4)).await, axes);
+    let device0 = ua
+        .children(&ua.node(&device_folder(TcObject::Clean.address())))
+        .await;
     assert_eq!(
         device0[..5],
         ["Clean", "AxisNr[0]", "AxisNr[1]", "AxisNr[2]", "TcPlane"]
     );
-    let group = ua.children(&ua.node("1300/1/7")).await;
+    let group = ua
+        .children(&ua.node(&instance_folder(TcObject::Error.of(7))))
+        .await;
     assert_eq!(group[..4], ["ERROR", "RESET", "STATUS", "XAxis"]);
     assert_eq!(group.len(), 11);
-    let otc = ua.children(&ua.node("1300/3/32")).await;
+    let otc = ua
+        .children(&ua.node(&instance_folder(OtcObject::WearAxis.of(32))))
+        .await;
     assert!(otc.contains(&"WearAxis[7]".to_string()), "{otc:?}");
-    let axis = ua.children(&ua.node("1300/4/7")).await;
+    let axis = ua
+        .children(&ua.node(&instance_folder(OtcObject::AxisOffsetCommand.of(7))))
+        .await;
     assert_eq!(
         axis,
         [
@@ -186,11 +215,11 @@ async fn each_device_read_and_written_through_either_face() {
     let mut uoi = rig.client().await;
     // OPC UA writes, the UOI face reads (devices 0 to 4).
     let writes: [(ObjectAddress, Value); 5] = [
-        (tc(0, 20, 0), Value::F64(12.5)),
-        (tc(1, 3, 6), Value::F64(2.5)),
-        (tc(2, 4, 1), Value::I32(1)),
-        (tc(3, 5, 4), Value::F64(3.25)),
-        (tc(4, 6, 1), Value::I32(-70)),
+        (TcObject::RotAngle.address(), Value::F64(12.5)),
+        (TcObject::Radius.of(3), Value::F64(2.5)),
+        (TcObject::TransitionMode.of(4), Value::I32(1)),
+        (OtcObject::WearConst.of(5), Value::F64(3.25)),
+        (OtcObject::AxisOffsetCommand.of(6), Value::I32(-70)),
     ];
     for (addr, v) in writes {
         let variant = match v {
@@ -209,21 +238,38 @@ async fn each_device_read_and_written_through_either_face() {
         );
     }
     // The UOI face writes, OPC UA reads.
-    uoi.write(tc(1, 3, 8), Value::I32(5)).await.unwrap();
-    assert_eq!(ua.read(&id(1, 3, 8)).await.value, Some(Variant::Int32(5)));
+    uoi.write(TcObject::WkzIndex.of(3), Value::I32(5))
+        .await
+        .unwrap();
+    assert_eq!(
+        ua.read(&TcObject::WkzIndex.of(3).to_string()).await.value,
+        Some(Variant::Int32(5))
+    );
     // RADIUS is the entry's at WKZINDEX: entry 5 has none yet.
     assert_eq!(
-        ua.read(&id(1, 3, 6)).await.value,
+        ua.read(&TcObject::Radius.of(3).to_string()).await.value,
         Some(Variant::Double(0.0))
     );
-    uoi.write(tc(0, 2, 1), Value::I32(3)).await.unwrap();
-    assert_eq!(ua.read(&id(0, 2, 1)).await.value, Some(Variant::Int32(3)));
+    uoi.write(TcObject::AxisNr.sub(1), Value::I32(3))
+        .await
+        .unwrap();
+    assert_eq!(
+        ua.read(&TcObject::AxisNr.sub(1).to_string()).await.value,
+        Some(Variant::Int32(3))
+    );
     // Read-only objects and the dashboard.
     assert_eq!(
-        ua.read(&id(3, 1, 20)).await.value,
+        ua.read(&OtcObject::WearAxis.sub_of(1, 0).to_string())
+            .await
+            .value,
         Some(Variant::Double(0.0))
     );
-    assert_eq!(ua.read(&id(4, 0, 4)).await.value, Some(Variant::Int32(0)));
+    assert_eq!(
+        ua.read(&OtcObject::AxisOffsetState.of(0).to_string())
+            .await
+            .value,
+        Some(Variant::Int32(0))
+    );
     assert_eq!(
         ua.read("dashboard/queue").await.value,
         Some(Variant::Int32(0))
@@ -234,11 +280,11 @@ async fn each_device_read_and_written_through_either_face() {
     );
     // One Read of many objects of every device.
     let nodes: Vec<_> = [
-        id(0, 3, 0),
-        id(1, 3, 8),
-        id(2, 4, 1),
-        id(3, 5, 4),
-        id(4, 6, 1),
+        TcObject::TcPlane.address().to_string(),
+        TcObject::WkzIndex.of(3).to_string(),
+        TcObject::TransitionMode.of(4).to_string(),
+        OtcObject::WearConst.of(5).to_string(),
+        OtcObject::AxisOffsetCommand.of(6).to_string(),
     ]
     .iter()
     .map(|s| ua.node(s))
@@ -268,7 +314,7 @@ fn every_variable() -> Vec<String> {
         r.index.clone().flat_map(move |i| {
             r.sub
                 .clone()
-                .map(move |s| ObjectAddress::new(1300, r.device, i, s).to_string())
+                .map(move |s| ObjectAddress::new(table.bus, r.device, i, s).to_string())
         })
     });
     let readings = table.readings.iter().map(|r| r.id.clone());
@@ -299,7 +345,7 @@ async fn every_refusal_has_its_status_and_changes_nothing() {
     let rig = Rig::start().await;
     let ua = Ua::open(&rig.url).await;
     let mut uoi = rig.client().await;
-    let radius = id(1, 1, 6);
+    let radius = TcObject::Radius.of(1).to_string();
     assert_eq!(ua.write(&radius, 2.0).await, StatusCode::Good);
     // Range, a non-finite double included.
     for bad in [2e9, -2e9, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
@@ -310,13 +356,17 @@ async fn every_refusal_has_its_status_and_changes_nothing() {
         );
     }
     assert_eq!(
-        ua.write(&id(1, 1, 8), 1024).await,
+        ua.write(&TcObject::WkzIndex.of(1).to_string(), 1024).await,
         StatusCode::BadOutOfRange
     );
-    assert_eq!(ua.write(&id(0, 3, 0), 20).await, StatusCode::BadOutOfRange);
+    assert_eq!(
+        ua.write(&TcObject::TcPlane.address().to_string(), 20).await,
+        StatusCode::BadOutOfRange
+    );
     // ReadOnly, WriteOnly, TypeMismatch, no such object.
     assert_eq!(
-        ua.write(&id(3, 1, 10), 1.0).await,
+        ua.write(&OtcObject::WearRadius.of(1).to_string(), 1.0)
+            .await,
         StatusCode::BadNotWritable
     );
     assert_eq!(
@@ -324,48 +374,67 @@ async fn every_refusal_has_its_status_and_changes_nothing() {
         StatusCode::BadNotWritable
     );
     assert_eq!(
-        ua.read(&id(1, 1, 2)).await.status(),
+        ua.read(&TcObject::GroupReset.of(1).to_string())
+            .await
+            .status(),
         StatusCode::BadNotReadable
     );
     assert_eq!(
-        ua.read(&id(0, 1, 0)).await.status(),
+        ua.read(&TcObject::Clean.address().to_string())
+            .await
+            .status(),
         StatusCode::BadNotReadable
     );
     assert_eq!(ua.write(&radius, 3).await, StatusCode::BadTypeMismatch);
     assert_eq!(
-        ua.write(&id(1, 1, 8), 3.0).await,
+        ua.write(&TcObject::WkzIndex.of(1).to_string(), 3.0).await,
         StatusCode::BadTypeMismatch
     );
     assert_eq!(
-        ua.read(&id(1, 33, 6)).await.status(),
+        ua.read(&TcObject::Radius.of(*GROUPS.end() + 1).to_string())
+            .await
+            .status(),
         StatusCode::BadNodeIdUnknown
     );
     assert_eq!(
-        ua.write(&id(1, 1, 7), 1.0).await,
+        ua.write(&no_object_after(TcObject::Radius.of(1)), 1.0)
+            .await,
         StatusCode::BadNodeIdUnknown
     );
     assert_eq!(
-        ua.write(&id(5, 0, 0), 1).await,
+        ua.write(&past_the_devices(), 1).await,
         StatusCode::BadNodeIdUnknown
     );
     // State: ReInit while OTC is on without AllowPosReq.
-    assert_eq!(ua.write(&id(3, 1, 30), 2).await, StatusCode::Good);
-    assert_eq!(ua.write(&id(3, 1, 1), 1).await, StatusCode::Good);
     assert_eq!(
-        ua.write(&id(0, 11, 0), 1).await,
+        ua.write(&OtcObject::ToolType.of(1).to_string(), 2).await,
+        StatusCode::Good
+    );
+    assert_eq!(
+        ua.write(&OtcObject::OtcOn.of(1).to_string(), 1).await,
+        StatusCode::Good
+    );
+    assert_eq!(
+        ua.write(&TcObject::ReInit.address().to_string(), 1).await,
         StatusCode::BadInvalidState
     );
     // Nothing changed.
     assert_eq!(
-        uoi.read(tc(1, 1, 6), ValueType::F64).await.unwrap(),
+        uoi.read(TcObject::Radius.of(1), ValueType::F64)
+            .await
+            .unwrap(),
         Value::F64(2.0)
     );
     assert_eq!(
-        uoi.read(tc(1, 1, 8), ValueType::I32).await.unwrap(),
+        uoi.read(TcObject::WkzIndex.of(1), ValueType::I32)
+            .await
+            .unwrap(),
         Value::I32(0)
     );
     assert_eq!(
-        uoi.read(tc(0, 3, 0), ValueType::I32).await.unwrap(),
+        uoi.read(TcObject::TcPlane.address(), ValueType::I32)
+            .await
+            .unwrap(),
         Value::I32(17)
     );
     ua.close().await;
@@ -386,20 +455,26 @@ async fn a_value_the_disk_refuses_is_a_device_failure_and_nothing_changes() {
     )));
     let rig = Rig::with(service).await;
     let ua = Ua::open(&rig.url).await;
-    let mut radius = ua.watch(&id(1, 1, 6), 10.0).await;
+    let mut radius = ua.watch(&TcObject::Radius.of(1).to_string(), 10.0).await;
     until(&mut radius, &Variant::Double(0.0)).await;
-    assert_eq!(ua.write(&id(1, 1, 6), 1.5).await, StatusCode::Good);
+    assert_eq!(
+        ua.write(&TcObject::Radius.of(1).to_string(), 1.5).await,
+        StatusCode::Good
+    );
     until(&mut radius, &Variant::Double(1.5)).await;
     assert_eq!(
-        ua.write(&id(1, 1, 6), 2.5).await,
+        ua.write(&TcObject::Radius.of(1).to_string(), 2.5).await,
         StatusCode::BadDeviceFailure
     );
     assert_eq!(
-        ua.read(&id(1, 1, 6)).await.value,
+        ua.read(&TcObject::Radius.of(1).to_string()).await.value,
         Some(Variant::Double(1.5))
     );
     // The refused value was never notified: the next change is the next write.
-    assert_eq!(ua.write(&id(1, 1, 6), 3.5).await, StatusCode::Good);
+    assert_eq!(
+        ua.write(&TcObject::Radius.of(1).to_string(), 3.5).await,
+        StatusCode::Good
+    );
     let (next, _) = ua::next(&mut radius).await;
     assert_eq!(next.value, Some(Variant::Double(3.5)));
     ua.close().await;
@@ -424,12 +499,14 @@ async fn subscriptions_see_the_uoi_face_the_executor_and_the_correction() {
     let ua = Ua::open(&rig.url).await;
     let mut uoi = rig.client().await;
     // A UOI-side write reaches a monitored item sampled every 10 ms.
-    let mut radius = ua.watch(&id(1, 1, 6), 10.0).await;
+    let mut radius = ua.watch(&TcObject::Radius.of(1).to_string(), 10.0).await;
     until(&mut radius, &Variant::Double(0.0)).await;
     let mut latency = Vec::new();
     for k in 1..=20 {
         let v = f64::from(k) * 0.5;
-        uoi.write(tc(1, 1, 6), Value::F64(v)).await.unwrap();
+        uoi.write(TcObject::Radius.of(1), Value::F64(v))
+            .await
+            .unwrap();
         let written = Instant::now();
         let seen = until(&mut radius, &Variant::Double(v)).await;
         latency.push(seen.saturating_duration_since(written).as_secs_f64() * 1e3);
@@ -475,7 +552,10 @@ async fn subscriptions_see_the_uoi_face_the_executor_and_the_correction() {
         send(&mut uoi, "LIN X0").await,
         Reply::Access(AccessError::State)
     );
-    assert_eq!(ua.write(&id(1, 1, 1), 0).await, StatusCode::Good);
+    assert_eq!(
+        ua.write(&TcObject::Error.of(1).to_string(), 0).await,
+        StatusCode::Good
+    );
     until(&mut error, &Variant::Int32(0)).await;
     ua.close().await;
     rig.stop().await;
@@ -573,15 +653,22 @@ async fn serve_opcua_shares_the_emulator_with_the_uoi_face() {
         .await
         .expect("uoi");
     // An OPC UA write is what the UOI face reads.
-    assert_eq!(ua.write(&id(1, 2, 6), 6.25).await, StatusCode::Good);
     assert_eq!(
-        uoi.read(tc(1, 2, 6), ValueType::F64).await.unwrap(),
+        ua.write(&TcObject::Radius.of(2).to_string(), 6.25).await,
+        StatusCode::Good
+    );
+    assert_eq!(
+        uoi.read(TcObject::Radius.of(2), ValueType::F64)
+            .await
+            .unwrap(),
         Value::F64(6.25)
     );
     // A UOI write is what a subscription sees.
-    let mut len = ua.watch(&id(1, 2, 12), 10.0).await;
+    let mut len = ua.watch(&TcObject::WkzLen.of(2).to_string(), 10.0).await;
     until(&mut len, &Variant::Double(0.0)).await;
-    uoi.write(tc(1, 2, 12), Value::F64(-4.5)).await.unwrap();
+    uoi.write(TcObject::WkzLen.of(2), Value::F64(-4.5))
+        .await
+        .unwrap();
     until(&mut len, &Variant::Double(-4.5)).await;
     // A stop signal ends both faces, with an OPC UA session open.
     assert!(serve.terminate().success());
@@ -609,7 +696,10 @@ async fn with_allow_remote_the_face_wants_the_access_token() {
     let ua = Ua::connect(&serve.url, Login::Password("maint", token))
         .await
         .expect("login");
-    assert_eq!(ua.write(&id(1, 1, 6), 1.25).await, StatusCode::Good);
+    assert_eq!(
+        ua.write(&TcObject::Radius.of(1).to_string(), 1.25).await,
+        StatusCode::Good
+    );
     ua.close().await;
     // The UOI face asks other machines for the same token (not loopback).
     let opts = ClientOptions {
@@ -620,7 +710,9 @@ async fn with_allow_remote_the_face_wants_the_access_token() {
         .await
         .expect("uoi");
     assert_eq!(
-        uoi.read(tc(1, 1, 6), ValueType::F64).await.unwrap(),
+        uoi.read(TcObject::Radius.of(1), ValueType::F64)
+            .await
+            .unwrap(),
         Value::F64(1.25)
     );
 }
@@ -812,7 +904,10 @@ fn port_of(addr: &str) -> u16 {
 async fn serve_opcua_listens_on_the_configured_ports_only() {
     let serve = Serve::start(&[]);
     let ua = Ua::open(&serve.url).await;
-    assert_eq!(ua.write(&id(1, 2, 6), 1.5).await, StatusCode::Good);
+    assert_eq!(
+        ua.write(&TcObject::Radius.of(2).to_string(), 1.5).await,
+        StatusCode::Good
+    );
     let mut want = vec![port_of(&serve.uoi), port_of(&serve.url)];
     want.sort_unstable();
     assert_eq!(listening_ports(serve.child.id()), want);

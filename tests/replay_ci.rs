@@ -12,6 +12,8 @@ use std::net::TcpListener;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use tc_objects::TcObject;
+
 fn addipos(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_addipos"))
         .args(args)
@@ -258,7 +260,8 @@ fn assert_unreachable(out: &Output) {
 #[test]
 fn a_server_answering_garbage_is_unreachable() {
     let addr = fake_server(true);
-    assert_unreachable(&addipos(&["call", &addr, "R", "1300/0/3/0", "i"]));
+    let plane = TcObject::TcPlane.address().to_string();
+    assert_unreachable(&addipos(&["call", &addr, "R", &plane, "i"]));
     let dir = empty_dir("garbage");
     std::fs::write(dir.join("one.trace"), "R 1300/0/3/0 i => 17\n").unwrap();
     assert_unreachable(&addipos(&["replay", "--server", &addr, s(&dir)]));
@@ -267,7 +270,8 @@ fn a_server_answering_garbage_is_unreachable() {
 #[test]
 fn a_silent_server_is_unreachable_after_the_stated_wait() {
     let addr = fake_server(false);
-    let out = addipos(&["call", &addr, "--timeout", "0.5", "R", "1300/0/3/0", "i"]);
+    let plane = TcObject::TcPlane.address().to_string();
+    let out = addipos(&["call", &addr, "--timeout", "0.5", "R", &plane, "i"]);
     assert_unreachable(&out);
     assert!(
         text(&out.stderr).contains("within 0.5 s"),

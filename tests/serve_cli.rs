@@ -8,6 +8,8 @@ use std::io::{BufRead, BufReader, Read};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+use tc_objects::TcObject;
+
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_addipos"))
 }
@@ -36,23 +38,31 @@ fn serve_call_and_stop() {
     let port = addr.rsplit_once(':').expect("port").1.to_string();
 
     // The same server by a bare port and by localhost.
+    let plane = TcObject::TcPlane.address().to_string();
     for a in [port.clone(), format!("localhost:{port}")] {
         let out = bin()
-            .args(["call", &a, "R", "1300/0/3/0", "i"])
+            .args(["call", &a, "R", &plane, "i"])
             .output()
             .expect("call");
         assert_eq!(String::from_utf8_lossy(&out.stdout).trim(), "17", "{a}");
     }
 
     let out = bin()
-        .args(["call", &addr, "R", "1300/0/3/0", "i"])
+        .args(["call", &addr, "R", &plane, "i"])
         .output()
         .expect("call");
     assert_eq!(String::from_utf8_lossy(&out.stdout).trim(), "17");
     assert!(out.status.success());
 
     let out = bin()
-        .args(["call", &addr, "W", "1300/1/1/8", "i", "1024"])
+        .args([
+            "call",
+            &addr,
+            "W",
+            &TcObject::WkzIndex.of(1).to_string(),
+            "i",
+            "1024",
+        ])
         .output()
         .expect("call");
     assert!(String::from_utf8_lossy(&out.stdout)

@@ -12,6 +12,7 @@ use std::time::Duration;
 use addipos_host::{RemoteSession, WireClient};
 use bytes::BytesMut;
 use emulator::EmulatorService;
+use tc_objects::{OtcObject, TcObject};
 use tc_request::{Reply, Request as TcRequest};
 use uoi::tcp::{BlockingClient, Client, ClientError, Server, ServerConfig};
 use uoi::wire::{encode_request, Answer, Op, ProtocolError, Request, PREFIX_LEN};
@@ -77,10 +78,6 @@ fn a_lost_session_is_not_carried_on_by_a_new_connection() {
     assert_eq!(s.wire().connections(), 2);
 }
 
-fn addr(s: &str) -> ObjectAddress {
-    s.parse().expect("address")
-}
-
 #[test]
 fn several_clients_on_different_groups_at_once() {
     let server = TestServer::local();
@@ -91,18 +88,18 @@ fn several_clients_on_different_groups_at_once() {
                 let mut c = BlockingClient::connect(&a).expect("connect");
                 for k in 0..200 {
                     let wkz = k % 1024;
-                    c.write(addr(&format!("1300/1/{g}/8")), Value::I32(wkz))
+                    c.write(TcObject::WkzIndex.of(g), Value::I32(wkz))
                         .expect("WKZINDEX");
                     let r = f64::from(g) * 1000.0 + f64::from(k);
-                    c.write(addr(&format!("1300/1/{g}/6")), Value::F64(r))
+                    c.write(TcObject::Radius.of(g), Value::F64(r))
                         .expect("RADIUS");
                     assert_eq!(
-                        c.read(addr(&format!("1300/1/{g}/8")), ValueType::I32)
+                        c.read(TcObject::WkzIndex.of(g), ValueType::I32)
                             .expect("read"),
                         Value::I32(wkz)
                     );
                     assert_eq!(
-                        c.read(addr(&format!("1300/1/{g}/6")), ValueType::F64)
+                        c.read(TcObject::Radius.of(g), ValueType::F64)
                             .expect("read"),
                         Value::F64(r)
                     );
@@ -155,24 +152,29 @@ fn is_closed(s: &mut TcpStream) -> bool {
 fn snapshot(c: &mut BlockingClient) -> Vec<String> {
     let mut out = Vec::new();
     for a in [
-        "1300/0/2/0",
-        "1300/0/2/1",
-        "1300/0/2/2",
-        "1300/0/3/0",
-        "1300/1/1/1",
-        "1300/1/1/3",
-        "1300/1/1/8",
-        "1300/1/1/4",
+        TcObject::AxisNr.sub(0),
+        TcObject::AxisNr.sub(1),
+        TcObject::AxisNr.sub(2),
+        TcObject::TcPlane.address(),
+        TcObject::Error.of(1),
+        TcObject::Status.of(1),
+        TcObject::WkzIndex.of(1),
+        TcObject::XAxis.of(1),
     ] {
         out.push(format!(
             "{:?}",
-            c.read(addr(a), ValueType::I32).map_err(|e| e.to_string())
+            c.read(a, ValueType::I32).map_err(|e| e.to_string())
         ));
     }
-    for a in ["1300/0/20/0", "1300/0/21/0", "1300/1/1/6", "1300/1/1/12"] {
+    for a in [
+        TcObject::RotAngle.address(),
+        TcObject::RotCenterX.address(),
+        TcObject::Radius.of(1),
+        TcObject::WkzLen.of(1),
+    ] {
         out.push(format!(
             "{:?}",
-            c.read(addr(a), ValueType::F64).map_err(|e| e.to_string())
+            c.read(a, ValueType::F64).map_err(|e| e.to_string())
         ));
     }
     out.push(format!("{:?}", call(c, &TcRequest::Pos)));
@@ -184,10 +186,13 @@ fn snapshot(c: &mut BlockingClient) -> Vec<String> {
 fn malformed_input_is_answered_or_closed_and_changes_nothing() {
     let server = TestServer::local();
     let mut good = BlockingClient::connect(&server.addr.to_string()).expect("connect");
-    good.write(addr("1300/1/1/6"), Value::F64(2.5))
+    good.write(TcObject::Radius.of(1), Value::F64(2.5))
         .expect("setup");
     let before = snapshot(&mut good);
-    let pos_req = frame(7, &Request::Read(addr("1300/0/3/0"), ValueType::I32));
+    let pos_req = frame(
+        7,
+        &Request::Read(TcObject::TcPlane.address(), ValueType::I32),
+    );
 
     // Truncated header: a 5-byte frame. Answered, connection goes on.
     let mut s = raw(&server);
@@ -221,7 +226,10 @@ fn malformed_input_is_answered_or_closed_and_changes_nothing() {
 
     // Wrong magic: answered with the request id, connection goes on.
     let mut s = raw(&server);
-    let mut f = frame(9, &Request::Write(addr("1300/0/3/0"), Value::I32(18)));
+    let mut f = frame(
+        9,
+        &Request::Write(TcObject::TcPlane.address(), Value::I32(18)),
+    );
     f[PREFIX_LEN] = b'X';
     s.write_all(&f).expect("write");
     assert_eq!(
@@ -229,7 +237,10 @@ fn malformed_input_is_answered_or_closed_and_changes_nothing() {
         Some((9, Op::Write.code(), ProtocolError::BadMagic.code()))
     );
     // Unknown version and unknown op.
-    let mut f = frame(10, &Request::Write(addr("1300/0/3/0"), Value::I32(18)));
+    let mut f = frame(
+        10,
+        &Request::Write(TcObject::TcPlane.address(), Value::I32(18)),
+    );
     f[PREFIX_LEN + 2] = 2;
     s.write_all(&f).expect("write");
     assert_eq!(
@@ -240,7 +251,10 @@ fn malformed_input_is_answered_or_closed_and_changes_nothing() {
             ProtocolError::UnsupportedVersion.code()
         ))
     );
-    let mut f = frame(11, &Request::Write(addr("1300/0/3/0"), Value::I32(18)));
+    let mut f = frame(
+        11,
+        &Request::Write(TcObject::TcPlane.address(), Value::I32(18)),
+    );
     f[PREFIX_LEN + 3] = 0x7e;
     s.write_all(&f).expect("write");
     assert_eq!(
@@ -248,7 +262,10 @@ fn malformed_input_is_answered_or_closed_and_changes_nothing() {
         Some((11, 0x7e, ProtocolError::UnknownOp.code()))
     );
     // A payload that does not fit its op.
-    let mut f = frame(12, &Request::Write(addr("1300/0/3/0"), Value::I32(18)));
+    let mut f = frame(
+        12,
+        &Request::Write(TcObject::TcPlane.address(), Value::I32(18)),
+    );
     f.pop();
     let n = (f.len() - PREFIX_LEN) as u32;
     f[..4].copy_from_slice(&n.to_le_bytes());
@@ -288,7 +305,7 @@ fn malformed_input_is_answered_or_closed_and_changes_nothing() {
     let mut again = BlockingClient::connect(&server.addr.to_string()).expect("reconnect");
     assert_eq!(
         again
-            .read(addr("1300/0/3/0"), ValueType::I32)
+            .read(TcObject::TcPlane.address(), ValueType::I32)
             .expect("read"),
         Value::I32(17)
     );
@@ -305,8 +322,8 @@ fn connection_limit_answers_busy() {
     });
     let mut a = BlockingClient::connect(&server.addr.to_string()).expect("a");
     let mut b = BlockingClient::connect(&server.addr.to_string()).expect("b");
-    assert!(a.read(addr("1300/0/3/0"), ValueType::I32).is_ok());
-    assert!(b.read(addr("1300/0/3/0"), ValueType::I32).is_ok());
+    assert!(a.read(TcObject::TcPlane.address(), ValueType::I32).is_ok());
+    assert!(b.read(TcObject::TcPlane.address(), ValueType::I32).is_ok());
     let mut c = raw(&server);
     assert_eq!(
         read_answer(&mut c),
@@ -318,7 +335,7 @@ fn connection_limit_answers_busy() {
     let deadline = std::time::Instant::now() + Duration::from_secs(10);
     loop {
         let mut d = BlockingClient::connect(&server.addr.to_string()).expect("d");
-        if d.read(addr("1300/0/3/0"), ValueType::I32).is_ok() {
+        if d.read(TcObject::TcPlane.address(), ValueType::I32).is_ok() {
             break;
         }
         assert!(
@@ -371,6 +388,10 @@ fn shutdown_closes_connections_and_returns() {
     assert!(is_closed(&mut s));
 }
 
+/// A device number bus 1300 does not have (docs/decisions.md, decision
+/// 522).
+const NO_SUCH_DEVICE: u16 = 9;
+
 /// Each client owns one object; every answer is known in advance whatever
 /// the interleaving.
 #[test]
@@ -387,22 +408,24 @@ fn two_hundred_clients_a_thousand_requests_each() {
         .enable_all()
         .build()
         .expect("rt");
-    let objects: [(u16, u16, bool); 7] = [
-        (1, 6, true),
-        (1, 12, true),
-        (3, 4, true),
-        (3, 31, true),
-        (3, 32, true),
-        (3, 33, true),
-        (3, 50, false),
+    // Each object of a group, and whether it holds a double.
+    type OfGroup = fn(u16) -> ObjectAddress;
+    let objects: [(OfGroup, bool); 7] = [
+        (|g| TcObject::Radius.of(g), true),
+        (|g| TcObject::WkzLen.of(g), true),
+        (|g| OtcObject::WearConst.of(g), true),
+        (|g| OtcObject::ToolWearConst.of(g), true),
+        (|g| OtcObject::ToolMaxInfeed.of(g), true),
+        (|g| OtcObject::ToolTiltAngle.of(g), true),
+        (|g| OtcObject::RadiusOffsetCommand.of(g), false),
     ];
     let work = async move {
         let mut tasks = tokio::task::JoinSet::new();
         for i in 0..200u16 {
             tasks.spawn(async move {
                 let group = i / 7 + 1;
-                let (dev, sub, is_d) = objects[usize::from(i % 7)];
-                let obj = ObjectAddress::new(1300, dev, group, sub);
+                let (of_group, is_d) = objects[usize::from(i % 7)];
+                let obj = of_group(group);
                 let mut c = Client::connect(a).await.expect("connect");
                 let mut answered = 0usize;
                 for round in 0..50u32 {
@@ -431,13 +454,13 @@ fn two_hundred_clients_a_thousand_requests_each() {
                         want.push(Answer::Value(v));
                         reqs.push(Request::Write(obj, bad));
                         want.push(Answer::Access(bad_err));
-                        reqs.push(Request::Read(
-                            ObjectAddress::new(1300, 0, 3, 0),
-                            ValueType::I32,
-                        ));
+                        reqs.push(Request::Read(TcObject::TcPlane.address(), ValueType::I32));
                         want.push(Answer::Value(Value::I32(17)));
                         reqs.push(Request::Read(
-                            ObjectAddress::new(1300, 9, 1, 1),
+                            ObjectAddress {
+                                device: NO_SUCH_DEVICE,
+                                ..TcObject::Error.of(1)
+                            },
                             ValueType::I32,
                         ));
                         want.push(Answer::Access(AccessError::NoObject));

@@ -8,6 +8,7 @@
 use std::net::SocketAddr;
 use std::path::Path;
 
+use tc_objects::TcObject;
 use tc_request::text::parse_request;
 use tc_request::{Reply, Request};
 use uoi::tcp::{BlockingClient, Client};
@@ -179,8 +180,9 @@ fn cli(args: &[&str]) -> (bool, String) {
 fn replay_over_the_wire_leaves_the_shared_emulator_alone() {
     let server = ServeProcess::start(&["--listen", "127.0.0.1:0"], &[]);
     let a = server.addr.as_str();
+    let radius = TcObject::Radius.of(1).to_string();
     assert_eq!(
-        cli(&["call", a, "W", "1300/1/1/6", "d", "7.25"]),
+        cli(&["call", a, "W", &radius, "d", "7.25"]),
         (true, "ok".into())
     );
     let traces = Path::new(env!("CARGO_MANIFEST_DIR")).join("traces");
@@ -189,8 +191,5 @@ fn replay_over_the_wire_leaves_the_shared_emulator_alone() {
     let (passed, out) = cli(&["replay", "--server", a, trace]);
     assert!(passed, "{out}");
     assert!(out.contains("1 passed, 0 failed"), "{out}");
-    assert_eq!(
-        cli(&["call", a, "R", "1300/1/1/6", "d"]),
-        (true, "7.25".into())
-    );
+    assert_eq!(cli(&["call", a, "R", &radius, "d"]), (true, "7.25".into()));
 }

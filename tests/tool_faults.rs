@@ -22,6 +22,7 @@ use common::{loopback, TestServer};
 use emulator::tools::durable::Durable;
 use emulator::EmulatorService;
 use tc_module::CycleTime;
+use tc_objects::{OtcObject, TcObject};
 use tool_store::replay_journal as replay;
 use tool_store::Writer;
 use tool_store::{
@@ -105,32 +106,26 @@ struct Rig {
     client: BlockingClient,
 }
 
-fn tc(device: u16, index: u16, sub: u16) -> ObjectAddress {
-    ObjectAddress::new(1300, device, index, sub)
-}
-
-const RADIUS: u16 = 6;
-const LENGTH: u16 = 12;
+const RADIUS: TcObject = TcObject::Radius;
+const LENGTH: TcObject = TcObject::WkzLen;
 
 impl Rig {
     fn write(&mut self, addr: ObjectAddress, v: Value) -> Answer {
         self.client.call(&Request::Write(addr, v)).expect("write")
     }
 
-    /// Sets `sub` (RADIUS, WkzLen) of entry `index` of group `g`.
-    fn set(&mut self, g: u16, index: i32, sub: u16, v: f64) -> Answer {
-        assert_eq!(self.write(tc(1, g, 8), Value::I32(index)), Answer::Ok);
-        self.write(tc(1, g, sub), Value::F64(v))
+    /// Sets `field` (RADIUS, WkzLen) of entry `index` of group `g`.
+    fn set(&mut self, g: u16, index: i32, field: TcObject, v: f64) -> Answer {
+        let wkz = TcObject::WkzIndex.of(g);
+        assert_eq!(self.write(wkz, Value::I32(index)), Answer::Ok);
+        self.write(field.of(g), Value::F64(v))
     }
 
-    /// `sub` of entry `index` of group `g`, as the server holds it.
-    fn get(&mut self, g: u16, index: i32, sub: u16) -> f64 {
-        assert_eq!(self.write(tc(1, g, 8), Value::I32(index)), Answer::Ok);
-        match self
-            .client
-            .read(tc(1, g, sub), ValueType::F64)
-            .expect("read")
-        {
+    /// `field` of entry `index` of group `g`, as the server holds it.
+    fn get(&mut self, g: u16, index: i32, field: TcObject) -> f64 {
+        let wkz = TcObject::WkzIndex.of(g);
+        assert_eq!(self.write(wkz, Value::I32(index)), Answer::Ok);
+        match self.client.read(field.of(g), ValueType::F64).expect("read") {
             Value::F64(v) => v,
             other => panic!("{other:?}"),
         }
@@ -239,14 +234,14 @@ fn a_reset_or_clean_the_disk_refuses_keeps_the_tools() {
             .fail_at(Op::Sync, 4, FaultKind::Fail)
     });
     tools_in_group_1(&mut rig);
-    let reset = tc(1, 1, 2);
+    let reset = TcObject::GroupReset.of(1);
     assert_eq!(
         rig.write(reset, Value::I32(1)),
         Answer::Access(AccessError::Storage)
     );
     group_1_kept(&mut rig);
     assert_eq!(
-        rig.write(tc(0, 1, 0), Value::I32(1)),
+        rig.write(TcObject::Clean.address(), Value::I32(1)),
         Answer::Access(AccessError::Storage)
     );
     group_1_kept(&mut rig);
@@ -273,7 +268,10 @@ fn memory_and_journal_agree_on_concurrent_writes_of_one_field() {
     let disk = Disk(Arc::default(), Duration::from_micros(200));
     let mut rig = serve_on(disk, |s| s);
     let addr = rig.server.as_ref().unwrap().addr.to_string();
-    assert_eq!(rig.write(tc(1, 3, 8), Value::I32(9)), Answer::Ok);
+    assert_eq!(
+        rig.write(TcObject::WkzIndex.of(3), Value::I32(9)),
+        Answer::Ok
+    );
     let step = Arc::new(Barrier::new(3));
     let writers: Vec<_> = (0..2)
         .map(|c| {
@@ -284,7 +282,7 @@ fn memory_and_journal_agree_on_concurrent_writes_of_one_field() {
                     let reqs: Vec<Request> = (0..4)
                         .map(|k| {
                             let v = f64::from(round * 100 + c * 10 + k) + 0.5;
-                            Request::Write(tc(1, 3, RADIUS), Value::F64(v))
+                            Request::Write(RADIUS.of(3), Value::F64(v))
                         })
                         .collect();
                     step.wait();
@@ -349,42 +347,55 @@ fn a_refused_reset_or_otc_off_changes_nothing_at_all() {
             .fail_at(Op::Append, 5, FaultKind::Fail)
     });
     assert_eq!(rig.set(1, 1, RADIUS, 3.0), Answer::Ok);
-    for (sub, v) in [(30, Value::I32(2)), (31, Value::F64(100_000.0))] {
-        assert_eq!(rig.write(tc(3, 1, sub), v), Answer::Ok);
+    for (field, v) in [
+        (OtcObject::ToolType, Value::I32(2)),
+        (OtcObject::ToolWearConst, Value::F64(100_000.0)),
+    ] {
+        assert_eq!(rig.write(field.of(1), v), Answer::Ok);
     }
     // LENGTH, CONT: 0.01 of wear per unit of path, 10 units run.
     for (addr, v) in [
-        (tc(3, 1, 3), Value::I32(1)),
-        (tc(3, 1, 1), Value::I32(1)),
-        (tc(1, 1, 9), Value::I32(0)),
-        (tc(1, 1, 3), Value::I32(1)),
+        (OtcObject::Mode.of(1), Value::I32(1)),
+        (OtcObject::OtcOn.of(1), Value::I32(1)),
+        (TcObject::Left.of(1), Value::I32(0)),
+        (TcObject::Status.of(1), Value::I32(1)),
     ] {
         assert_eq!(rig.write(addr, v), Answer::Ok);
     }
-    let status = |rig: &mut Rig| match rig.client.read(tc(1, 1, 3), ValueType::I32) {
+    let status = |rig: &mut Rig| match rig.client.read(TcObject::Status.of(1), ValueType::I32) {
         Ok(Value::I32(v)) => v,
         other => panic!("{other:?}"),
     };
     assert_eq!(status(&mut rig), 1);
     let refused = Answer::Access(AccessError::Storage);
-    assert_eq!(rig.write(tc(1, 1, 2), Value::I32(1)), refused);
+    assert_eq!(
+        rig.write(TcObject::GroupReset.of(1), Value::I32(1)),
+        refused
+    );
     assert_eq!(
         status(&mut rig),
         1,
         "the refused RESET ended the correction"
     );
-    assert_eq!(rig.write(tc(1, 1, 3), Value::I32(0)), Answer::Ok);
+    assert_eq!(rig.write(TcObject::Status.of(1), Value::I32(0)), Answer::Ok);
     let wire = |r: &str| tc_request::text::parse_request(r).unwrap().to_wire();
     for r in ["LIN X10 F600", "EXEC"] {
         let ans = rig.client.call(&wire(r)).expect("motion");
         assert!(matches!(ans, Answer::Ext(_) | Answer::Ok), "{r}: {ans:?}");
     }
-    assert_eq!(rig.write(tc(3, 1, 1), Value::I32(0)), refused);
-    let on = rig.client.read(tc(3, 1, 1), ValueType::I32).expect("read");
+    assert_eq!(rig.write(OtcObject::OtcOn.of(1), Value::I32(0)), refused);
+    let on = rig
+        .client
+        .read(OtcObject::OtcOn.of(1), ValueType::I32)
+        .expect("read");
     assert_eq!(on, Value::I32(1), "the refused OFF switched OTC off");
     // The disk works again: the OFF books the whole wear.
-    assert_eq!(rig.write(tc(3, 1, 1), Value::I32(0)), Answer::Ok);
-    match rig.client.read(tc(3, 1, 22), ValueType::F64).expect("read") {
+    assert_eq!(rig.write(OtcObject::OtcOn.of(1), Value::I32(0)), Answer::Ok);
+    match rig
+        .client
+        .read(OtcObject::WearAxis.sub_of(1, 2), ValueType::F64)
+        .expect("read")
+    {
         Value::F64(w) => assert!((w - 0.1).abs() < 1e-9, "WearAxis2 {w}"),
         other => panic!("{other:?}"),
     }
@@ -463,8 +474,8 @@ fn write_live(client: &mut BlockingClient, writes: std::ops::Range<u32>) -> Vec<
             .flat_map(|&n| {
                 let (g, index, v) = live(n);
                 [
-                    Request::Write(tc(1, g, 8), Value::I32(index)),
-                    Request::Write(tc(1, g, RADIUS), Value::F64(v)),
+                    Request::Write(TcObject::WkzIndex.of(g), Value::I32(index)),
+                    Request::Write(RADIUS.of(g), Value::F64(v)),
                 ]
             })
             .collect();

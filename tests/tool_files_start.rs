@@ -17,9 +17,10 @@ use std::process::Stdio;
 use std::time::{Duration, Instant};
 
 use common::{bin, ServeProcess};
+use tc_objects::TcObject;
 use tool_store::{Record, ToolField, ToolKey, ToolValue};
 use uoi::tcp::BlockingClient;
-use uoi::{ObjectAddress, Value, ValueType};
+use uoi::{Value, ValueType};
 
 /// A fresh data directory for `name` holding `files` in its tool folder.
 fn data_dir(name: &str, files: &[(&str, &str)]) -> PathBuf {
@@ -70,9 +71,9 @@ fn start(dir: &Path, extra: &[&str]) -> ServeProcess {
 /// RADIUS of entry `index` of group `g`, read from the server.
 fn radius(addr: &str, g: u16, index: i32) -> f64 {
     let mut c = BlockingClient::connect(addr).expect("connect");
-    c.write(ObjectAddress::new(1300, 1, g, 8), Value::I32(index))
+    c.write(TcObject::WkzIndex.of(g), Value::I32(index))
         .expect("WKZINDEX");
-    match c.read(ObjectAddress::new(1300, 1, g, 6), ValueType::F64) {
+    match c.read(TcObject::Radius.of(g), ValueType::F64) {
         Ok(Value::F64(v)) => v,
         other => panic!("{other:?}"),
     }

@@ -11,8 +11,9 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use common::{bin, ServeProcess};
+use tc_objects::{OtcObject, TcObject};
 use uoi::tcp::BlockingClient;
-use uoi::{ObjectAddress, Value, ValueType};
+use uoi::{Value, ValueType};
 
 /// A fresh data directory of its own.
 fn data_dir(name: &str) -> PathBuf {
@@ -24,10 +25,6 @@ fn data_dir(name: &str) -> PathBuf {
 fn serve(dir: &Path) -> ServeProcess {
     let d = dir.to_str().unwrap();
     ServeProcess::start(&["--listen", "127.0.0.1:0", "--data-dir", d], &[])
-}
-
-fn addr(s: &str) -> ObjectAddress {
-    s.parse().unwrap()
 }
 
 /// Awkward radii and wear constants: each (group, entry) gets its own.
@@ -43,11 +40,9 @@ fn values() -> Vec<(u16, i32, f64, f64)> {
 /// Writes every value over the bus (WKZINDEX first, then the fields).
 fn write_all(c: &mut BlockingClient) {
     for (g, w, r, k) in values() {
-        c.write(addr(&format!("1300/1/{g}/8")), Value::I32(w))
-            .unwrap();
-        c.write(addr(&format!("1300/1/{g}/6")), Value::F64(r))
-            .unwrap();
-        c.write(addr(&format!("1300/3/{g}/31")), Value::F64(k))
+        c.write(TcObject::WkzIndex.of(g), Value::I32(w)).unwrap();
+        c.write(TcObject::Radius.of(g), Value::F64(r)).unwrap();
+        c.write(OtcObject::ToolWearConst.of(g), Value::F64(k))
             .unwrap();
     }
 }
@@ -55,11 +50,13 @@ fn write_all(c: &mut BlockingClient) {
 /// Reads every value back and compares bit for bit (`zero`: all 0).
 fn check_all(c: &mut BlockingClient, zero: bool) {
     for (g, w, r, k) in values() {
-        c.write(addr(&format!("1300/1/{g}/8")), Value::I32(w))
-            .unwrap();
+        c.write(TcObject::WkzIndex.of(g), Value::I32(w)).unwrap();
         let (r, k) = if zero { (0.0, 0.0) } else { (r, k) };
-        for (a, want) in [(format!("1300/1/{g}/6"), r), (format!("1300/3/{g}/31"), k)] {
-            match c.read(addr(&a), ValueType::F64).unwrap() {
+        for (a, want) in [
+            (TcObject::Radius.of(g), r),
+            (OtcObject::ToolWearConst.of(g), k),
+        ] {
+            match c.read(a, ValueType::F64).unwrap() {
                 Value::F64(v) => assert_eq!(v.to_bits(), want.to_bits(), "{a}: {v:?} {want:?}"),
                 other => panic!("{a}: {other:?}"),
             }
@@ -102,7 +99,7 @@ fn export_clean_import_restores_every_value_bit_identically() {
 
     let s = serve(&dir);
     let mut c = BlockingClient::connect(&s.addr).unwrap();
-    c.write(addr("1300/0/1/0"), Value::I32(1)).unwrap();
+    c.write(TcObject::Clean.address(), Value::I32(1)).unwrap();
     check_all(&mut c, true);
     drop(c);
     s.stop();

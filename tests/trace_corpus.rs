@@ -7,6 +7,7 @@
 use std::path::PathBuf;
 
 use emulator::Emulator;
+use tc_objects::{OTC_AXIS_DEVICE, TC_BUS};
 use tc_request::Request;
 use trace::{replay, Expect, Trace};
 use uoi::{AccessError, Bus};
@@ -44,19 +45,22 @@ fn every_object_of_the_map_is_in_a_trace() {
     // The whole map: the TC rows and the rows the OTC extension appends.
     let emu = Emulator::default();
     let rows = emu.tc().objects();
-    assert!(rows.iter().any(|r| r.device == 4), "extension rows missing");
+    assert!(
+        rows.iter().any(|r| r.device == OTC_AXIS_DEVICE),
+        "extension rows missing"
+    );
     for row in rows {
         for sub in row.sub.clone() {
             let hit = addressed.iter().any(|a| {
-                a.bus == 1300
+                a.bus == TC_BUS
                     && a.device == row.device
                     && row.index.contains(&a.index)
                     && a.sub == sub
             });
             if !hit {
                 missing.push(format!(
-                    "{} (1300/{}/{:?}/{})",
-                    row.name, row.device, row.index, sub
+                    "{} ({}/{}/{:?}/{})",
+                    row.name, TC_BUS, row.device, row.index, sub
                 ));
             }
         }

@@ -140,7 +140,7 @@ mod tests {
         let w = GuardedWrite {
             server: 0xDEAD_BEEF_0000_0001,
             cleans: 7,
-            addr: ObjectAddress::new(1300, 1, 1, 8),
+            addr: tc_objects::TcObject::WkzIndex.of(1),
             value: Value::F64(2.5),
         };
         let req = w.to_wire();

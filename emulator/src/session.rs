@@ -292,7 +292,7 @@ mod tests {
         assert_eq!(open(&SessionPlaces::default()).0, Answer::Ok);
         // A session that ends gives its place back; one without an
         // emulator never took one.
-        let read = WireRequest::Read(uoi::ObjectAddress::new(1300, 0, 3, 0), uoi::ValueType::I32);
+        let read = WireRequest::Read(tc_objects::TcObject::TcPlane.address(), uoi::ValueType::I32);
         let without = ConformanceSession::new(mine.clone());
         assert!(!without.takes(&read));
         drop(held);

@@ -241,7 +241,7 @@ mod tests {
 
     fn radius() -> Target {
         Target {
-            addr: ObjectAddress::new(1300, 1, 1, 6),
+            addr: tc_objects::TcObject::Radius.of(1),
             ty: ValueType::F64,
         }
     }

@@ -80,25 +80,25 @@ pub fn find_object(d: &Descriptor) -> Result<(ObjectAddress, ValueType), AccessE
 mod tests {
     use super::*;
     use emulator::Emulator;
+    use tc_objects::TcObject;
     use uoi::Bus;
-
-    fn d(bus: i32, device: i32, index: i32, sub: i32) -> Descriptor {
-        Descriptor {
-            bus_number: bus,
-            device_number: device,
-            index,
-            sub_index: sub,
-        }
-    }
 
     #[test]
     fn the_lookup_agrees_with_the_emulators_table_everywhere() {
         let emu = Emulator::default();
         let table = emu.tc().objects();
+        // Every address of bus 1300 in the box, objects or not: Clean's
+        // address with its device, index and subindex replaced.
+        let clean = TcObject::Clean.address();
         for device in 0..6 {
             for index in 0..40 {
                 for sub in 0..70 {
-                    let addr = ObjectAddress::new(TC_BUS, device, index, sub);
+                    let addr = ObjectAddress {
+                        device,
+                        index,
+                        sub,
+                        ..clean
+                    };
                     let want = lookup(table, addr).map(|r| (addr, r.ty));
                     let got = find_object(&Descriptor::of(addr));
                     assert_eq!(got, want, "{addr}");
@@ -109,20 +109,56 @@ mod tests {
 
     #[test]
     fn numbers_outside_the_address_range_do_not_exist() {
-        assert_eq!(find_object(&d(1301, 0, 3, 0)), Err(AccessError::NoObject));
-        assert_eq!(find_object(&d(-1300, 0, 3, 0)), Err(AccessError::NoObject));
-        assert_eq!(find_object(&d(1300, -1, 3, 0)), Err(AccessError::NoObject));
+        // TcPlane's and group 1's ERROR descriptors with one number
+        // changed (docs/decisions.md, decision 522).
+        let plane = Descriptor::of(TcObject::TcPlane.address());
+        let error = Descriptor::of(TcObject::Error.of(1));
+        let bus = plane.bus_number;
         assert_eq!(
-            find_object(&d(1300, 1, 70_000, 1)),
+            find_object(&Descriptor {
+                bus_number: bus + 1,
+                ..plane
+            }),
             Err(AccessError::NoObject)
         );
         assert_eq!(
-            find_object(&d(1300, 1, 1, -1)),
+            find_object(&Descriptor {
+                bus_number: -bus,
+                ..plane
+            }),
+            Err(AccessError::NoObject)
+        );
+        assert_eq!(
+            find_object(&Descriptor {
+                device_number: -1,
+                ..plane
+            }),
+            Err(AccessError::NoObject)
+        );
+        assert_eq!(
+            find_object(&Descriptor {
+                index: 70_000,
+                ..error
+            }),
+            Err(AccessError::NoObject)
+        );
+        assert_eq!(
+            find_object(&Descriptor {
+                sub_index: -1,
+                ..error
+            }),
             Err(AccessError::NoSubindex)
         );
-        assert_eq!(find_object(&d(1300, 9, 1, -1)), Err(AccessError::NoObject));
-        let radius = find_object(&d(1300, 1, 1, 6)).unwrap();
+        assert_eq!(
+            find_object(&Descriptor {
+                device_number: 9,
+                sub_index: -1,
+                ..error
+            }),
+            Err(AccessError::NoObject)
+        );
+        let radius = find_object(&Descriptor::of(TcObject::Radius.of(1))).unwrap();
         assert_eq!(radius.1, ValueType::F64);
-        assert_eq!(radius.0.to_string(), "1300/1/1/6");
+        assert_eq!(radius.0, TcObject::Radius.of(1));
     }
 }

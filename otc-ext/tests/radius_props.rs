@@ -37,6 +37,7 @@ use common::{otc_module, read_d, read_i, run};
 use otc_ext::OtcExtension;
 use proptest::prelude::*;
 use tc_module::{Logged, Origin, Path, TcModule, AXES};
+use tc_objects::{OtcObject, TcObject};
 
 type P2 = [f64; 2];
 
@@ -333,7 +334,7 @@ fn spooled(case: &Case) -> Option<(TcModule<OtcExtension>, Vec<Logged>)> {
             return None;
         }
     }
-    if read_i(&mut tc, "1300/1/1/1") != 0 {
+    if read_i(&mut tc, TcObject::Error.of(1)) != 0 {
         return None;
     }
     run(&mut tc, "W 1300/1/1/3 i 0\nLIN X0 Y0");
@@ -396,10 +397,10 @@ fn finish(tc: &mut TcModule<OtcExtension>) -> End {
     End {
         pos,
         cycles,
-        wear_radius: read_d(tc, "1300/3/1/10").to_bits(),
-        wear_radius_cont: read_d(tc, "1300/3/1/11").to_bits(),
-        radius: read_d(tc, "1300/1/1/6").to_bits(),
-        otc_error: read_i(tc, "1300/3/1/7"),
+        wear_radius: read_d(tc, OtcObject::WearRadius.of(1)).to_bits(),
+        wear_radius_cont: read_d(tc, OtcObject::WearRadiusCont.of(1)).to_bits(),
+        radius: read_d(tc, TcObject::Radius.of(1)).to_bits(),
+        otc_error: read_i(tc, OtcObject::OtcError.of(1)),
     }
 }
 

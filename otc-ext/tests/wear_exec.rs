@@ -12,6 +12,7 @@ mod common;
 use std::f64::consts::TAU;
 
 use common::{otc_module as tc, read_d as read_f64, read_i as read_i32, run};
+use tc_objects::{OtcObject, TcObject};
 
 /// A grinding tool in entry 1 of group 1 with radius 3, wear constant
 /// 100000 (0.01 per unit of path), max infeed 2 mm.
@@ -53,9 +54,9 @@ fn a_square_at_radius_3_wears_along_its_sides_and_transitions_only() {
     // whole circle), and the 1 unit up the first side again.
     let path = 4.0 * 40.0 + TAU * 3.0 + 1.0;
     let w = 0.01 * path;
-    assert!((read_f64(&mut tc, "1300/3/1/11") - w).abs() < 1e-9);
-    assert!((read_f64(&mut tc, "1300/3/1/10") - w).abs() < 1e-9);
-    assert!((read_f64(&mut tc, "1300/1/1/6") - (3.0 - w)).abs() < 1e-9);
+    assert!((read_f64(&mut tc, OtcObject::WearRadiusCont.of(1)) - w).abs() < 1e-9);
+    assert!((read_f64(&mut tc, OtcObject::WearRadius.of(1)) - w).abs() < 1e-9);
+    assert!((read_f64(&mut tc, TcObject::Radius.of(1)) - (3.0 - w)).abs() < 1e-9);
     // The departure ends with weight 0: the executed position is nominal.
     assert_eq!(tc.position()[..2], [-20.0, 1.0]);
 }
@@ -96,9 +97,9 @@ fn only_one_group_has_otc_on() {
          W 1300/3/1/1 i 1
          W 1300/3/2/1 i 1",
     );
-    assert_eq!(read_i32(&mut tc, "1300/3/2/1"), 0);
-    assert_eq!(read_i32(&mut tc, "1300/3/2/7"), 2);
-    assert_eq!(read_i32(&mut tc, "1300/3/1/7"), 0);
+    assert_eq!(read_i32(&mut tc, OtcObject::OtcOn.of(2)), 0);
+    assert_eq!(read_i32(&mut tc, OtcObject::OtcError.of(2)), 2);
+    assert_eq!(read_i32(&mut tc, OtcObject::OtcError.of(1)), 0);
 }
 
 #[test]
@@ -113,11 +114,11 @@ fn requests_clamp_against_group_1_or_the_group_whose_otc_is_on() {
          W 1300/4/3/1 i -500",
     );
     // No OTC on: group 1's entry bounds both, even group 2's channel unit.
-    assert_eq!(read_i32(&mut tc, "1300/3/2/52"), 100);
-    assert_eq!(read_i32(&mut tc, "1300/4/3/3"), -100);
+    assert_eq!(read_i32(&mut tc, OtcObject::RadiusOffsetRequest.of(2)), 100);
+    assert_eq!(read_i32(&mut tc, OtcObject::AxisOffsetRequest.of(3)), -100);
     run(&mut tc, "W 1300/3/2/1 i 1");
-    assert_eq!(read_i32(&mut tc, "1300/3/2/52"), 50);
-    assert_eq!(read_i32(&mut tc, "1300/4/3/3"), -50);
+    assert_eq!(read_i32(&mut tc, OtcObject::RadiusOffsetRequest.of(2)), 50);
+    assert_eq!(read_i32(&mut tc, OtcObject::AxisOffsetRequest.of(3)), -50);
 }
 
 #[test]
@@ -128,18 +129,18 @@ fn not_allowed_when_an_enabled_unit_is_ignored() {
         &mut tc,
         "W 1300/3/1/30 i 2\nW 1300/3/1/51 i 1\nW 1300/3/1/1 i 1",
     );
-    assert_eq!(read_i32(&mut tc, "1300/3/1/7"), 8);
+    assert_eq!(read_i32(&mut tc, OtcObject::OtcError.of(1)), 8);
     // Any Enable=1 looks at every unit: the channel unit is still on.
     run(&mut tc, "W 1300/3/1/7 i 0\nW 1300/4/2/2 i 1");
-    assert_eq!(read_i32(&mut tc, "1300/3/1/7"), 8);
+    assert_eq!(read_i32(&mut tc, OtcObject::OtcError.of(1)), 8);
     run(
         &mut tc,
         "W 1300/3/1/51 i 0\nW 1300/3/1/7 i 0\nW 1300/4/2/2 i 1",
     );
-    assert_eq!(read_i32(&mut tc, "1300/3/1/7"), 0);
+    assert_eq!(read_i32(&mut tc, OtcObject::OtcError.of(1)), 0);
     run(&mut tc, "W 1300/4/5/2 i 1");
-    assert_eq!(read_i32(&mut tc, "1300/3/1/7"), 8);
-    assert_eq!(read_i32(&mut tc, "1300/3/1/1"), 1);
+    assert_eq!(read_i32(&mut tc, OtcObject::OtcError.of(1)), 8);
+    assert_eq!(read_i32(&mut tc, OtcObject::OtcOn.of(1)), 1);
 }
 
 #[test]
@@ -164,9 +165,12 @@ fn exec_n_is_the_same_as_stepping_each_cycle() {
     }
     assert_eq!(whole.position(), stepped.position());
     assert_eq!(
-        read_i32(&mut whole, "1300/4/2/4"),
-        read_i32(&mut stepped, "1300/4/2/4")
+        read_i32(&mut whole, OtcObject::AxisOffsetState.of(2)),
+        read_i32(&mut stepped, OtcObject::AxisOffsetState.of(2))
     );
     // 4000 cycles at 37 %: 0.37 µm a cycle reaches the 1.2345 mm command.
-    assert_eq!(read_i32(&mut whole, "1300/4/2/4"), 12345);
+    assert_eq!(
+        read_i32(&mut whole, OtcObject::AxisOffsetState.of(2)),
+        12345
+    );
 }

@@ -9,6 +9,7 @@ use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughpu
 use tc_module::Executor;
 use tc_module::{ArcDir, Motion, Origin, SpoolElement, Spooler, TcModule, AXES};
 use tc_module::{Cycle, CycleModel, CycleTime, NoModel, Path};
+use tc_objects::TcObject;
 use uoi::{ObjectBus, Value};
 
 /// A contour of `n` mixed profiles advancing along X: line, half circle
@@ -47,13 +48,12 @@ fn contour(n: usize) -> Vec<Motion> {
 fn running_module() -> TcModule {
     let mut tc = TcModule::default();
     for (addr, v) in [
-        ("1300/1/1/8", Value::I32(1)),
-        ("1300/1/1/6", Value::F64(1.0)),
-        ("1300/1/1/9", Value::I32(0)),
-        ("1300/1/1/3", Value::I32(1)),
+        (TcObject::WkzIndex.of(1), Value::I32(1)),
+        (TcObject::Radius.of(1), Value::F64(1.0)),
+        (TcObject::Left.of(1), Value::I32(0)),
+        (TcObject::Status.of(1), Value::I32(1)),
     ] {
-        let a = addr.parse().expect("address");
-        tc.write_checked(a, v).expect("setup write");
+        tc.write_checked(addr, v).expect("setup write");
     }
     tc
 }

@@ -40,6 +40,7 @@ use criterion::{BenchmarkId, Criterion, SamplingMode, Throughput};
 use tc_module::correction::{Buffer, Contour, Profile, Sink};
 use tc_module::V2;
 use tc_module::{ArcDir, Motion, PlaneAxes, Spooler, TcModule, TransitionMode, AXES};
+use tc_objects::TcObject;
 use uoi::{ObjectBus, Value};
 
 /// Segment counts of the contour.
@@ -228,14 +229,13 @@ fn run_buffer(profiles: &[Profile], spooler: &mut Spooler) {
 fn running_module() -> TcModule {
     let mut tc = TcModule::default();
     for (addr, v) in [
-        ("1300/1/1/8", Value::I32(1)),
-        ("1300/1/1/6", Value::F64(RADIUS)),
-        ("1300/1/1/9", Value::I32(0)),
-        ("1300/2/1/1", Value::I32(0)),
-        ("1300/1/1/3", Value::I32(1)),
+        (TcObject::WkzIndex.of(1), Value::I32(1)),
+        (TcObject::Radius.of(1), Value::F64(RADIUS)),
+        (TcObject::Left.of(1), Value::I32(0)),
+        (TcObject::TransitionMode.of(1), Value::I32(0)),
+        (TcObject::Status.of(1), Value::I32(1)),
     ] {
-        tc.write_checked(addr.parse().expect("address"), v)
-            .expect("setup write");
+        tc.write_checked(addr, v).expect("setup write");
     }
     tc
 }

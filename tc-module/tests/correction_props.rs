@@ -11,6 +11,7 @@ use std::f64::consts::{FRAC_PI_3, TAU};
 
 use proptest::prelude::*;
 use tc_module::{ArcDir, Logged, Motion, NoExtension, Origin, Path, TcModule, AXES};
+use tc_objects::TcObject;
 use uoi::{ObjectAddress, ObjectBus, Value};
 
 /// A programmed plane element, for measuring distances.
@@ -70,8 +71,7 @@ fn distance(p: [f64; 2], e: &Prog) -> (f64, Option<f64>) {
     }
 }
 
-fn write(tc: &mut TcModule, addr: &str, v: Value) {
-    let a: ObjectAddress = addr.parse().expect("address");
+fn write(tc: &mut TcModule, a: ObjectAddress, v: Value) {
     tc.write_checked(a, v).expect("write accepted");
 }
 
@@ -95,15 +95,23 @@ fn check(
     pos[1] = start[1];
     let mut tc = TcModule::new(pos, tc_module::CycleTime::DEFAULT, NoExtension);
     tc.spooler_mut().set_logging(true);
-    write(&mut tc, "1300/1/1/8", Value::I32(1));
-    write(&mut tc, "1300/1/1/6", Value::F64(radius));
+    write(&mut tc, TcObject::WkzIndex.of(1), Value::I32(1));
+    write(&mut tc, TcObject::Radius.of(1), Value::F64(radius));
     write(
         &mut tc,
-        if left { "1300/1/1/9" } else { "1300/1/1/10" },
+        if left {
+            TcObject::Left.of(1)
+        } else {
+            TcObject::Right.of(1)
+        },
         Value::I32(0),
     );
-    write(&mut tc, "1300/2/1/1", Value::I32(i32::from(linear)));
-    write(&mut tc, "1300/1/1/3", Value::I32(1));
+    write(
+        &mut tc,
+        TcObject::TransitionMode.of(1),
+        Value::I32(i32::from(linear)),
+    );
+    write(&mut tc, TcObject::Status.of(1), Value::I32(1));
     for e in prog {
         let m = match *e {
             Prog::Line(_, b) => Motion::Lin {
@@ -120,7 +128,7 @@ fn check(
         tc.command(&m)
             .map_err(|e| TestCaseError::fail(format!("{e}")))?;
     }
-    write(&mut tc, "1300/1/1/3", Value::I32(0));
+    write(&mut tc, TcObject::Status.of(1), Value::I32(0));
     let err = tc.group_at(1).map(|g| g.error.bits()).unwrap_or(-1);
     prop_assert_eq!(err, 0, "ERROR bits set for a contour that fits");
     let log: Vec<Logged> = tc.spooler_mut().take_log();
@@ -339,12 +347,12 @@ proptest! {
     #[test]
     fn negative_radius_equals_the_other_side((r, prog) in (0.5f64..3.0).prop_flat_map(|r| (Just(r), open_path(r)))) {
         // Left with -r must spool exactly what Right with r spools.
-        let run = |radius: f64, side: &str| {
+        let run = |radius: f64, side: ObjectAddress| {
             let mut tc = TcModule::default();
             tc.spooler_mut().set_logging(true);
-            write(&mut tc, "1300/1/1/6", Value::F64(radius));
+            write(&mut tc, TcObject::Radius.of(1), Value::F64(radius));
             write(&mut tc, side, Value::I32(0));
-            write(&mut tc, "1300/1/1/3", Value::I32(1));
+            write(&mut tc, TcObject::Status.of(1), Value::I32(1));
             for e in &prog {
                 let m = match *e {
                     Prog::Line(_, b) => Motion::Lin { words: words(b), feed: None },
@@ -357,11 +365,11 @@ proptest! {
                 };
                 let _ = tc.command(&m);
             }
-            write(&mut tc, "1300/1/1/3", Value::I32(0));
+            write(&mut tc, TcObject::Status.of(1), Value::I32(0));
             tc.spooler_mut().take_log()
         };
-        let a = run(-r, "1300/1/1/9");
-        let b = run(r, "1300/1/1/10");
+        let a = run(-r, TcObject::Left.of(1));
+        let b = run(r, TcObject::Right.of(1));
         prop_assert_eq!(a, b);
     }
 }
@@ -417,10 +425,10 @@ proptest! {
     fn degenerate_input_never_spools_nan(cmds in prop::collection::vec(cmd(), 1..40), left in any::<bool>(), linear in any::<bool>()) {
         let mut tc = TcModule::default();
         tc.spooler_mut().set_logging(true);
-        write(&mut tc, "1300/1/1/6", Value::F64(2.0));
-        write(&mut tc, if left { "1300/1/1/9" } else { "1300/1/1/10" }, Value::I32(0));
-        write(&mut tc, "1300/2/1/1", Value::I32(i32::from(linear)));
-        write(&mut tc, "1300/1/1/3", Value::I32(1));
+        write(&mut tc, TcObject::Radius.of(1), Value::F64(2.0));
+        write(&mut tc, if left { TcObject::Left.of(1) } else { TcObject::Right.of(1) }, Value::I32(0));
+        write(&mut tc, TcObject::TransitionMode.of(1), Value::I32(i32::from(linear)));
+        write(&mut tc, TcObject::Status.of(1), Value::I32(1));
         for c in &cmds {
             let mut w = [None; AXES];
             match *c {
@@ -436,9 +444,9 @@ proptest! {
                     let dir = if ccw { ArcDir::Ccw } else { ArcDir::Cw };
                     let _ = tc.command(&Motion::Cir { dir, words: w, centre: [Some(i), Some(j), None], feed: None });
                 }
-                Cmd::Radius(r) => write(&mut tc, "1300/1/1/6", Value::F64(r)),
-                Cmd::Status(s) => write(&mut tc, "1300/1/1/3", Value::I32(s)),
-                Cmd::ClearError => write(&mut tc, "1300/1/1/1", Value::I32(0)),
+                Cmd::Radius(r) => write(&mut tc, TcObject::Radius.of(1), Value::F64(r)),
+                Cmd::Status(s) => write(&mut tc, TcObject::Status.of(1), Value::I32(s)),
+                Cmd::ClearError => write(&mut tc, TcObject::Error.of(1), Value::I32(0)),
                 Cmd::Ssf => {
                     let _ = tc.command(&Motion::Ssf { axis: 0, function: 2001 });
                 }

@@ -15,6 +15,7 @@ use std::f64::consts::{PI, TAU};
 
 use proptest::prelude::*;
 use tc_module::{ArcDir, ErrorBits, Logged, Motion, NoExtension, Origin, Path, TcModule, AXES};
+use tc_objects::TcObject;
 use uoi::{ObjectAddress, ObjectBus, Value};
 
 type P2 = [f64; 2];
@@ -249,8 +250,7 @@ fn words(p: P2) -> [Option<f64>; AXES] {
     w
 }
 
-fn write(tc: &mut TcModule, addr: &str, v: Value) {
-    let a: ObjectAddress = addr.parse().expect("address");
+fn write(tc: &mut TcModule, a: ObjectAddress, v: Value) {
     tc.write_checked(a, v).expect("write accepted");
 }
 
@@ -261,15 +261,15 @@ fn run(c: &Case) -> (i32, Vec<Logged>) {
     pos[..2].copy_from_slice(&from);
     let mut tc = TcModule::new(pos, tc_module::CycleTime::DEFAULT, NoExtension);
     tc.spooler_mut().set_logging(true);
-    write(&mut tc, "1300/1/1/8", Value::I32(1));
-    write(&mut tc, "1300/1/1/6", Value::F64(c.tool));
+    write(&mut tc, TcObject::WkzIndex.of(1), Value::I32(1));
+    write(&mut tc, TcObject::Radius.of(1), Value::F64(c.tool));
     let side = if c.tool_left {
-        "1300/1/1/9"
+        TcObject::Left.of(1)
     } else {
-        "1300/1/1/10"
+        TcObject::Right.of(1)
     };
     write(&mut tc, side, Value::I32(0));
-    write(&mut tc, "1300/1/1/3", Value::I32(1));
+    write(&mut tc, TcObject::Status.of(1), Value::I32(1));
     let mut at = from;
     for e in &prog {
         let m = match *e {
@@ -293,7 +293,7 @@ fn run(c: &Case) -> (i32, Vec<Logged>) {
         };
         tc.command(&m).expect("command accepted");
     }
-    write(&mut tc, "1300/1/1/3", Value::I32(0));
+    write(&mut tc, TcObject::Status.of(1), Value::I32(0));
     let err = tc.group_at(1).map(|g| g.error.bits()).unwrap_or(-1);
     (err, tc.spooler_mut().take_log())
 }

@@ -1,11 +1,14 @@
-//! The byte example of docs/protocol.md is what the encoder produces.
+//! The byte example of docs/protocol.md is what the encoder produces. The
+//! example reads TcPlane, named through tc-objects (a dev-dependency: an
+//! integration test links the same uoi library as tc-objects does).
 
 // Test and bench helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use bytes::BytesMut;
+use tc_objects::{TcObject, PLANE_XY};
 use uoi::wire::{encode_answer, encode_request, Answer, Op, Request};
-use uoi::{ObjectAddress, Value, ValueType};
+use uoi::{Value, ValueType};
 
 fn hex(b: &[u8]) -> String {
     b.iter()
@@ -19,7 +22,7 @@ fn documented_example_bytes() {
     let mut req = BytesMut::new();
     encode_request(
         1,
-        &Request::Read(ObjectAddress::new(1300, 0, 3, 0), ValueType::I32),
+        &Request::Read(TcObject::TcPlane.address(), ValueType::I32),
         &mut req,
     );
     assert_eq!(
@@ -27,7 +30,12 @@ fn documented_example_bytes() {
         "18 00 00 00 55 4f 01 01 01 00 00 00 00 00 00 00 14 05 00 00 03 00 00 00 69 00 00 00"
     );
     let mut ans = BytesMut::new();
-    encode_answer(1, Op::Read.code(), &Answer::Value(Value::I32(17)), &mut ans);
+    encode_answer(
+        1,
+        Op::Read.code(),
+        &Answer::Value(Value::I32(PLANE_XY)),
+        &mut ans,
+    );
     assert_eq!(
         hex(&ans),
         "18 00 00 00 55 4f 01 01 01 00 00 00 00 00 00 00 69 00 00 00 11 00 00 00 00 00 00 00"

@@ -12,9 +12,13 @@ use tokio_util::codec::Decoder;
 use uoi::wire::{decode_request, encode_request, Request, ServerCodec, PREFIX_LEN};
 use uoi::{ObjectAddress, Value, ValueType};
 
+/// A bus of the example: the decoder takes any bus number (docs/decisions.md,
+/// decision 521).
+const EXAMPLE_BUS: u16 = 7;
+
 /// Valid frames to mutate, so the fuzzing gets past the header often.
 fn seeds() -> Vec<Vec<u8>> {
-    let a = ObjectAddress::new(1300, 1, 2, 8);
+    let a = ObjectAddress::new(EXAMPLE_BUS, 1, 2, 8);
     let reqs = [
         Request::Read(a, ValueType::I32),
         Request::Write(a, Value::F64(1.5)),

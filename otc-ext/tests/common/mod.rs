@@ -7,9 +7,10 @@
 
 use otc_ext::OtcExtension;
 use tc_module::{CycleTime, TcExtension, TcModule, AXES};
+use tc_objects::{BusObject, OtcObject};
 use tc_request::text::parse_request;
 use tc_request::Request;
-use uoi::{ObjectBus, Value, ValueType};
+use uoi::{ObjectAddress, ObjectBus, Value, ValueType};
 
 /// A module with the OTC extension, standing at the origin, 1 ms cycle.
 pub fn otc_module() -> TcModule<OtcExtension> {
@@ -33,18 +34,16 @@ pub fn run<E: TcExtension>(tc: &mut TcModule<E>, program: &str) {
 }
 
 /// Reads an `i` register.
-pub fn read_i<E: TcExtension>(tc: &mut TcModule<E>, addr: &str) -> i32 {
-    let a = addr.parse().unwrap_or_else(|e| panic!("{addr}: {e:?}"));
-    match tc.read_checked(a, ValueType::I32) {
+pub fn read_i<E: TcExtension>(tc: &mut TcModule<E>, addr: ObjectAddress) -> i32 {
+    match tc.read_checked(addr, ValueType::I32) {
         Ok(Value::I32(v)) => v,
         other => panic!("{addr}: {other:?}"),
     }
 }
 
 /// Reads a `d` register.
-pub fn read_d<E: TcExtension>(tc: &mut TcModule<E>, addr: &str) -> f64 {
-    let a = addr.parse().unwrap_or_else(|e| panic!("{addr}: {e:?}"));
-    match tc.read_checked(a, ValueType::F64) {
+pub fn read_d<E: TcExtension>(tc: &mut TcModule<E>, addr: ObjectAddress) -> f64 {
+    match tc.read_checked(addr, ValueType::F64) {
         Ok(Value::F64(v)) => v,
         other => panic!("{addr}: {other:?}"),
     }
@@ -71,20 +70,26 @@ pub const CORRECTION_ON: &str = "
 /// channel unit (3/1/50..) for RADIUS and TOOL_DIR, the axis unit of the
 /// third main axis (Z = axis 2 by default) for LENGTH, the axis unit of
 /// axis 2 for TOOL_DIR and SURF_NORM_DIR. Returns the command addresses.
-pub fn units_of(proc_type: i32) -> &'static [&'static str] {
+pub fn units_of(proc_type: i32) -> &'static [ObjectAddress] {
     match proc_type {
-        0 => &["1300/3/1/50"],
-        2 => &["1300/3/1/50", "1300/4/2/1"],
-        _ => &["1300/4/2/1"],
+        0 => &[CHANNEL_UNIT],
+        2 => &[CHANNEL_UNIT, Z_AXIS_UNIT],
+        _ => &[Z_AXIS_UNIT],
     }
 }
 
+/// The command of group 1's channel unit.
+const CHANNEL_UNIT: ObjectAddress = OtcObject::RadiusOffsetCommand.of(1);
+/// The command of axis 2's unit.
+const Z_AXIS_UNIT: ObjectAddress = OtcObject::AxisOffsetCommand.of(2);
+
 /// The enable address that goes with a unit's command address.
-fn enable_of(command: &str) -> &'static str {
-    if command.starts_with("1300/3/") {
-        "1300/3/1/51"
-    } else {
-        "1300/4/2/2"
+fn enable_of(command: ObjectAddress) -> ObjectAddress {
+    match BusObject::at(command) {
+        Some(BusObject::Otc(OtcObject::RadiusOffsetCommand)) => {
+            OtcObject::RadiusOffsetEnable.of(command.index)
+        }
+        _ => OtcObject::AxisOffsetEnable.of(command.index),
     }
 }
 
@@ -107,11 +112,11 @@ pub fn otc_auto_on<E: TcExtension>(tc: &mut TcModule<E>, proc_type: i32, command
     );
     set_units(tc, proc_type, command);
     for cmd in units_of(proc_type) {
-        run(tc, &format!("W {} i 1", enable_of(cmd)));
+        run(tc, &format!("W {} i 1", enable_of(*cmd)));
     }
     run(tc, "W 1300/3/1/1 i 1");
-    assert_eq!(read_i(tc, "1300/3/1/1"), 1, "OTC on");
-    assert_eq!(read_i(tc, "1300/3/1/7"), 0, "OtcError");
+    assert_eq!(read_i(tc, OtcObject::OtcOn.of(1)), 1, "OTC on");
+    assert_eq!(read_i(tc, OtcObject::OtcError.of(1)), 0, "OtcError");
 }
 
 /// Writes `command` (0.1 µm) to every unit of `proc_type`.
