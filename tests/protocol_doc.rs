@@ -1,6 +1,6 @@
 //! The byte example of docs/protocol.md is what the encoder produces. The
-//! example reads TcPlane, named through tc-objects (a dev-dependency: an
-//! integration test links the same uoi library as tc-objects does).
+//! example reads TcPlane, named through tc-objects; the test lives at the
+//! root, where tc-objects is at hand, so `uoi` needs nothing above it.
 
 // Test and bench helpers may stop loudly on a broken setup.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
