@@ -264,7 +264,7 @@ fn sequential_same_thread(keys: &[&str], n: usize) -> Vec<(f64, f64, f64)> {
         let servers: Vec<(&Proto, Running)> = servers.iter().map(|(p, r)| (p, *r)).collect();
         let got = sequential(&servers, n).await;
         got.into_iter()
-            .map(|(r, p50, p99, _)| (r, p50, p99))
+            .map(|((r, p50, p99, _), _)| (r, p50, p99))
             .collect()
     })
 }
@@ -305,6 +305,8 @@ struct SeqClient {
     /// The server's thread, and the CPU time it had during the runs.
     server: u32,
     cpu_ns: u64,
+    /// The rate of each block, in req/s, in the order they ran.
+    blocks: Vec<f64>,
 }
 
 impl SeqClient {
@@ -318,6 +320,7 @@ impl SeqClient {
             busy: Duration::ZERO,
             server: to.tid,
             cpu_ns: 0,
+            blocks: Vec::new(),
         };
         c.run(2_000).await;
         assert!(
@@ -329,6 +332,7 @@ impl SeqClient {
         c.lat.clear();
         c.busy = Duration::ZERO;
         c.cpu_ns = 0;
+        c.blocks.clear();
         c
     }
 
@@ -341,28 +345,37 @@ impl SeqClient {
             self.s.read_exact(&mut self.ans).await.expect("read");
             self.lat.push(t.elapsed());
         }
-        self.busy += t0.elapsed();
+        let took = t0.elapsed();
+        self.busy += took;
+        self.blocks.push(n as f64 / took.as_secs_f64());
         self.cpu_ns += cpu_ns(self.server) - cpu0;
     }
 
-    /// (req/s, p50 µs, p99 µs, server CPU ns per request).
-    fn figures(mut self) -> (f64, f64, f64, f64) {
+    /// (req/s, p50 µs, p99 µs, server CPU ns per request), and the rate
+    /// of each block.
+    fn figures(mut self) -> SeqFigures {
         let n = self.lat.len();
         self.lat.sort();
         let us = |d: Duration| d.as_secs_f64() * 1e6;
         (
-            n as f64 / self.busy.as_secs_f64(),
-            us(self.lat[n / 2]),
-            us(self.lat[n * 99 / 100]),
-            self.cpu_ns as f64 / n as f64,
+            (
+                n as f64 / self.busy.as_secs_f64(),
+                us(self.lat[n / 2]),
+                us(self.lat[n * 99 / 100]),
+                self.cpu_ns as f64 / n as f64,
+            ),
+            self.blocks,
         )
     }
 }
 
+/// One server's sequential figures: (req/s, p50 µs, p99 µs, server CPU
+/// ns per request), and the rate of each block.
+type SeqFigures = ((f64, f64, f64, f64), Vec<f64>);
+
 /// `n` sequential round trips on one connection to each server, in
-/// blocks of [`SEQ_BLOCK`] taking turns: (req/s, p50 µs, p99 µs, server
-/// CPU ns per request) each.
-async fn sequential(servers: &[(&Proto, Running)], n: usize) -> Vec<(f64, f64, f64, f64)> {
+/// blocks of [`SEQ_BLOCK`] taking turns: [`SeqFigures`] each.
+async fn sequential(servers: &[(&Proto, Running)], n: usize) -> Vec<SeqFigures> {
     let mut clients = Vec::new();
     for (p, to) in servers {
         clients.push(SeqClient::open(p, *to).await);
@@ -626,6 +639,9 @@ struct Results {
     /// Per same-thread key: rate, p50, p99.
     same: Vec<[Samples; 3]>,
     same_keys: Vec<&'static str>,
+    /// Per target: the rate of every sequential block of every round,
+    /// block k of one target run right beside block k of the others.
+    seq_blocks: Vec<Vec<f64>>,
 }
 
 fn push(into: &mut [Samples], got: &[f64]) {
@@ -645,12 +661,14 @@ fn run_rounds(args: &Args, targets: &[Target], seq_n: usize, total: usize) -> Re
         figs: targets.iter().map(|_| Figures::default()).collect(),
         same: same_keys.iter().map(|_| Default::default()).collect(),
         same_keys,
+        seq_blocks: targets.iter().map(|_| Vec::new()).collect(),
     };
     for round in 0..args.rounds {
         if args.section("seq") {
             let got = client.block_on(sequential(&servers, seq_n));
-            for (i, (rate, p50, p99, cpu)) in got.into_iter().enumerate() {
+            for (i, ((rate, p50, p99, cpu), blocks)) in got.into_iter().enumerate() {
                 push(&mut res.figs[i].0[SEQ_RATE..], &[rate, p50, p99, cpu]);
+                res.seq_blocks[i].extend(blocks);
             }
         }
         if args.section("pipe") {
@@ -758,6 +776,27 @@ fn print_ratios(targets: &[Target], res: &Results) {
     );
 }
 
+/// The ratio a/b of blocks run side by side (block k of one server
+/// against block k of the other, a few milliseconds apart): median and
+/// quartiles, and the count of pairs. Pairing by block keeps the
+/// machine's changes of state (the VM's slow wake-ups that turn a 5 µs
+/// round trip into 70 µs for a while) on both sides of each ratio.
+fn paired(a: &[f64], b: &[f64]) -> String {
+    let mut r: Vec<f64> = a.iter().zip(b).map(|(x, y)| x / y).collect();
+    if r.is_empty() {
+        return "–".into();
+    }
+    r.sort_by(f64::total_cmp);
+    let q = |f: f64| r[((r.len() - 1) as f64 * f).round() as usize];
+    format!(
+        "{:.3} (quartiles {:.3}–{:.3}, {} pairs)",
+        q(0.5),
+        q(0.25),
+        q(0.75),
+        r.len()
+    )
+}
+
 /// Each server ÷ the floor, round by round, in req/s: how much of the
 /// loopback path's best each keeps (1 is the floor itself).
 fn print_floor_ratios(targets: &[Target], res: &Results) {
@@ -786,6 +825,20 @@ fn print_floor_ratios(targets: &[Target], res: &Results) {
             ratio(&l[PIPE_RATE + 1], &floor[PIPE_RATE + 1]),
             ratio(&l[PIPE_RATE + 2], &floor[PIPE_RATE + 2]),
         );
+    }
+    println!();
+    println!(
+        "| ÷ floor, sequential, blocks of {SEQ_BLOCK} side by side | median of the block ratios |"
+    );
+    println!("|---|---|");
+    for (i, t) in targets.iter().enumerate() {
+        if t.key != "floor" {
+            println!(
+                "| {} ÷ floor | {} |",
+                t.proto.name,
+                paired(&res.seq_blocks[i], &res.seq_blocks[f])
+            );
+        }
     }
 }
 
