@@ -651,3 +651,35 @@ fn a_real_small_volume_is_not_wedged() {
     );
     drop(server);
 }
+
+/// A write with side effects that changes nothing of another group (OTC
+/// OFF of group 2, nothing to book) leaves a tool write of group 1 that is
+/// still on its way to the disk as it is: the write answered `Ok` is
+/// applied, in memory and on the disk (decision 489).
+#[test]
+fn otc_off_of_another_group_keeps_a_tool_write_on_its_way() {
+    let mut rig = serve_on(Disk(Arc::default(), Duration::from_millis(300)), |s| s);
+    let grind = [
+        (TcObject::WkzIndex.of(2), Value::I32(1)),
+        (OtcObject::ToolType.of(2), Value::I32(2)),
+        (OtcObject::ToolWearConst.of(2), Value::F64(100_000.0)),
+        (OtcObject::Mode.of(2), Value::I32(1)),
+        (OtcObject::OtcOn.of(2), Value::I32(1)),
+        (TcObject::WkzIndex.of(1), Value::I32(1)),
+    ];
+    for (addr, v) in grind {
+        assert_eq!(rig.write(addr, v), Answer::Ok, "{addr}");
+    }
+    let addr = rig.server.as_ref().expect("server").addr.to_string();
+    let on_its_way = std::thread::spawn(move || {
+        let mut c = BlockingClient::connect(&addr).expect("connect");
+        c.call(&Request::Write(RADIUS.of(1), Value::F64(5.0)))
+            .expect("write")
+    });
+    // The RADIUS write waits for the slow disk while OTC is switched off.
+    std::thread::sleep(Duration::from_millis(100));
+    assert_eq!(rig.write(OtcObject::OtcOn.of(2), Value::I32(0)), Answer::Ok);
+    assert_eq!(on_its_way.join().expect("writer"), Answer::Ok);
+    assert_eq!(rig.get(1, 1, RADIUS), 5.0, "the acknowledged write is lost");
+    assert_eq!(stored(&reopen(rig.stop()), 1, 1, ToolField::Radius), 5.0);
+}

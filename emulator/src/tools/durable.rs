@@ -30,7 +30,9 @@ use uoi::tcp::{Slice, Wait};
 use uoi::wire::{Answer, ProtocolError};
 use uoi::{AccessError, ObjectAddress, Value, ValueType};
 
-use super::entries::{all_tables, changes, direct_field, may_change_tools, tables_after, value_of};
+use super::entries::{
+    all_tables, changes, direct_field, may_change_tools, tables_planned, value_of,
+};
 use crate::serving::ExecRest;
 use crate::Emulator;
 use tool_store::{Done, DurableLog, Writer};
@@ -207,7 +209,7 @@ impl<J: DurableLog> Durable<J> {
         if !may_touch_tools(emu, plan.address(), &expected) {
             return answer(emu.apply(plan));
         }
-        let records = changes(&tables_after(emu.tc(), &plan.tools), &expected);
+        let records = changes(&tables_planned(&expected, emu.tc(), &plan.tools), &expected);
         if records.is_empty() {
             return answer(emu.apply(plan));
         }

@@ -161,6 +161,41 @@ pub fn tables_after(tc: &TcModule<OtcExtension>, change: &ToolChange<OtcTool>) -
     tables
 }
 
+/// The tool data of every group as store tables (index = group − 1) as
+/// a planned write with side effects leaves it, over `expected` (the
+/// emulator's now plus the changes still on their way to the disk): a
+/// Clean or a group RESET clears those too, as it clears memory; an entry
+/// the write changes on the side (OTC OFF booking its wear) takes only
+/// the fields the write changes, so a change on its way to another
+/// field, entry or group stays as it is (decision 489).
+pub fn tables_planned(
+    expected: &[GroupTable],
+    tc: &TcModule<OtcExtension>,
+    change: &ToolChange<OtcTool>,
+) -> Vec<GroupTable> {
+    let mut tables = expected.to_vec();
+    match *change {
+        ToolChange::None => {}
+        ToolChange::AllCleared => tables.iter_mut().for_each(GroupTable::clear),
+        ToolChange::GroupCleared(g) => {
+            if let Some(t) = tables.get_mut(usize::from(g).wrapping_sub(1)) {
+                t.clear();
+            }
+        }
+        ToolChange::Field { .. } | ToolChange::Entry { .. } => {
+            let written = changes(&tables_after(tc, change), &all_tables(tc));
+            for r in written {
+                if let Record::Set { group, key, value } = r {
+                    if let Some(t) = tables.get_mut(usize::from(group).wrapping_sub(1)) {
+                        t.set(key, value);
+                    }
+                }
+            }
+        }
+    }
+    tables
+}
+
 /// The tool data of every group as store tables (index = group − 1).
 pub fn all_tables(tc: &TcModule<OtcExtension>) -> Vec<GroupTable> {
     tool_store::GROUPS.map(|g| table_of(tc, g)).collect()
