@@ -82,22 +82,34 @@ fn no_bus_1300_address_is_written_outside_the_table() {
             if file.starts_with(&table) || tree.is_test_file(&file) {
                 continue;
             }
-            let text = read_disk(&file).unwrap_or_default();
-            match literals::scan(&file, &text) {
-                Ok(findings) => found.extend(
-                    findings
-                        .iter()
-                        .map(|f| format!("{}:{}: {}", shown(&f.file), f.line, f.what)),
-                ),
-                Err(e) => found.push(e.to_string()),
-            }
+            found.extend(scanned(&file, literals::scan));
         }
     }
+    assert_no_address(found, &format!("outside {TABLE_DIR}"));
+}
+
+/// The findings of `scan` in `file`, one line each (or its parse error).
+fn scanned(
+    file: &std::path::Path,
+    scan: fn(&std::path::Path, &str) -> Result<Vec<literals::Finding>, literals::ScanError>,
+) -> Vec<String> {
+    let text = read_disk(file).unwrap_or_default();
+    match scan(file, &text) {
+        Ok(findings) => findings
+            .iter()
+            .map(|f| format!("{}:{}: {}", shown(&f.file), f.line, f.what))
+            .collect(),
+        Err(e) => vec![e.to_string()],
+    }
+}
+
+/// Fails with every address `found`, written `place`.
+fn assert_no_address(mut found: Vec<String>, place: &str) {
     found.sort();
     found.dedup();
     assert!(
         found.is_empty(),
-        "{} bus-1300 address(es) written outside {TABLE_DIR} (name them through tc_objects' keys):\n{}",
+        "{} bus-1300 address(es) written {place} (name them through tc_objects' keys):\n{}",
         found.len(),
         found.join("\n")
     );
@@ -127,25 +139,10 @@ fn no_bus_1300_address_is_written_in_tests_benches_or_examples() {
             if file.starts_with(&table) || file.starts_with(&checker) {
                 continue;
             }
-            let text = read_disk(&file).unwrap_or_default();
-            match literals::scan_everything(&file, &text) {
-                Ok(findings) => found.extend(
-                    findings
-                        .iter()
-                        .map(|f| format!("{}:{}: {}", shown(&f.file), f.line, f.what)),
-                ),
-                Err(e) => found.push(e.to_string()),
-            }
+            found.extend(scanned(&file, literals::scan_everything));
         }
     }
-    found.sort();
-    found.dedup();
-    assert!(
-        found.is_empty(),
-        "{} bus-1300 address(es) written in tests, benches or examples (name them through tc_objects' keys):\n{}",
-        found.len(),
-        found.join("\n")
-    );
+    assert_no_address(found, "in tests, benches or examples");
 }
 
 #[test]

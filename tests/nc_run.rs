@@ -11,7 +11,7 @@ use std::process::Command;
 
 mod common;
 
-use addipos_host::{RemoteSession, WireClient};
+use common::{replay_remote, session};
 use nc::nc_run::NcRun;
 use nc::run::{run_program, At, Controller, Report, RunError, RunErrorKind};
 use tc_objects::OtcObject;
@@ -31,22 +31,6 @@ fn run_nc_with_tools(text: &str, tools: &[(u8, ToolKey, ToolValue)]) -> NcRun {
     let mut emu = fresh_emulator(&Header::new("nc"));
     let Ok(run) = nc::nc_run::run_nc_with_tools(&mut emu, text, tools);
     run
-}
-
-/// Replays `t` on a fresh conformance session of the server.
-fn replay_remote(t: &trace::Trace, session: &mut RemoteSession) -> Vec<trace::Mismatch> {
-    let h = &t.header;
-    let capacity = h.spool_capacity as u64;
-    session
-        .set_up(h.start, h.cycle.secs(), capacity)
-        .expect("setup");
-    trace::replay_on(t, session)
-}
-
-/// A conformance session on the server at `addr`.
-fn session(addr: &str) -> RemoteSession {
-    let wire = WireClient::connect(addr, Default::default()).expect("connect");
-    RemoteSession::new(wire)
 }
 
 /// Line and block number of a run error or fault.

@@ -9,7 +9,6 @@ use std::net::TcpStream;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use addipos_host::{RemoteSession, WireClient};
 use bytes::BytesMut;
 use emulator::EmulatorService;
 use tc_objects::{OtcObject, TcObject};
@@ -19,23 +18,7 @@ use uoi::wire::{encode_request, Answer, Op, ProtocolError, Request, PREFIX_LEN};
 use uoi::{AccessError, ObjectAddress, Value, ValueType};
 
 mod common;
-use common::TestServer;
-
-/// Replays `t` on a fresh conformance session of the server.
-fn replay_remote(t: &trace::Trace, session: &mut RemoteSession) -> Vec<trace::Mismatch> {
-    let h = &t.header;
-    let capacity = h.spool_capacity as u64;
-    session
-        .set_up(h.start, h.cycle.secs(), capacity)
-        .expect("setup");
-    trace::replay_on(t, session)
-}
-
-/// A conformance session on the server at `addr`.
-fn session(addr: &str) -> RemoteSession {
-    let wire = WireClient::connect(addr, Default::default()).expect("connect");
-    RemoteSession::new(wire)
-}
+use common::{replay_remote, session, TestServer};
 
 fn corpus() -> Vec<trace::Trace> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("traces");

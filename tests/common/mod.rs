@@ -197,3 +197,22 @@ impl Drop for ServeProcess {
         let _ = self.child.wait();
     }
 }
+
+/// Replays `t` on a fresh conformance session of the server.
+pub fn replay_remote(
+    t: &trace::Trace,
+    session: &mut addipos_host::RemoteSession,
+) -> Vec<trace::Mismatch> {
+    let h = &t.header;
+    let capacity = h.spool_capacity as u64;
+    session
+        .set_up(h.start, h.cycle.secs(), capacity)
+        .expect("setup");
+    trace::replay_on(t, session)
+}
+
+/// A conformance session on the server at `addr`.
+pub fn session(addr: &str) -> addipos_host::RemoteSession {
+    let wire = addipos_host::WireClient::connect(addr, Default::default()).expect("connect");
+    addipos_host::RemoteSession::new(wire)
+}

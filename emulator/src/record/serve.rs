@@ -260,19 +260,23 @@ mod tests {
     #[test]
     fn a_disk_that_refuses_the_trace_stops_the_recording_with_a_message() {
         let mut r = create(Path::new("/dev/full"), &header()).unwrap();
-        let line = Request::Exec(Some(1));
-        let mut failed = None;
         // /dev/full refuses every write: the first chunk fails in the
         // writer thread, and a later write says so.
-        for _ in 0..2_000_000 {
-            if let Err(e) = r.exchange(&line, &Reply::Ok, &[], [0, 1, 2]) {
-                failed = Some(e);
-                break;
-            }
-        }
-        let e = failed.expect("the recording stops").to_string();
+        let e = first_refusal(&mut r);
         assert!(e.contains("/dev/full"), "{e}");
         assert!(r.finish().is_err());
+    }
+
+    /// Writes `EXEC 1` lines until the recorder refuses one (at most
+    /// 2,000,000): the refusal's message.
+    fn first_refusal(r: &mut ServeRecorder) -> String {
+        let line = Request::Exec(Some(1));
+        for _ in 0..2_000_000 {
+            if let Err(e) = r.exchange(&line, &Reply::Ok, &[], [0, 1, 2]) {
+                return e.to_string();
+            }
+        }
+        panic!("the recording never stopped");
     }
 
     /// Runs `f` on a thread of its own and waits for it at most 20 s (a
@@ -327,17 +331,9 @@ mod tests {
             .open(&path)
             .unwrap();
         let mut r = create(&path, &header()).unwrap();
-        let line = Request::Exec(Some(1));
-        let mut failed = None;
         // The pipe takes 64 KiB, the queue 4 MiB: the recording stops
         // within a few hundred thousand lines.
-        for _ in 0..2_000_000 {
-            if let Err(e) = r.exchange(&line, &Reply::Ok, &[], [0, 1, 2]) {
-                failed = Some(e);
-                break;
-            }
-        }
-        let e = failed.expect("the recording stops").to_string();
+        let e = first_refusal(&mut r);
         assert!(e.contains("did not keep up"), "{e}");
         // The service drops a recording that failed: that must not wait
         // for the writer blocked in write().
@@ -352,7 +348,8 @@ mod tests {
         let ended = within_20s(move || {
             let mut r = create(&path2, &header()).unwrap();
             for _ in 0..40_000 {
-                r.exchange(&line, &Reply::Ok, &[], [0, 1, 2]).unwrap();
+                r.exchange(&Request::Exec(Some(1)), &Reply::Ok, &[], [0, 1, 2])
+                    .unwrap();
             }
             r.finish()
         });
