@@ -93,12 +93,16 @@ fn log_report(dir: &Path, report: &OpenReport) {
         info!("removed {name}, left over from a tool file replacement cut short");
     }
     if let Some(t) = &report.torn_tail {
-        let what = match &report.journal_copy {
-            Some(copy) => format!(
+        let what = match (&report.journal_copy, &report.journal_copy_failed) {
+            (Some(copy), _) => format!(
                 "dropped the last batch of the tool journal, cut by a crash before it was \
                  acknowledged (kept as it was in {copy})"
             ),
-            None => "dropped the torn last record of the tool journal".into(),
+            (None, Some(why)) => format!(
+                "dropped the last batch of the tool journal, cut by a crash before it was \
+                 acknowledged; no copy kept: {why}"
+            ),
+            (None, None) => "dropped the torn last record of the tool journal".into(),
         };
         warn!(line = t.line, bytes = t.bytes, "{what}");
     }

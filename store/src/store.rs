@@ -49,6 +49,9 @@ pub struct OpenReport {
     pub torn_tail: Option<TornTail>,
     /// Where the journal was kept before a torn batch was cut off it.
     pub journal_copy: Option<String>,
+    /// Why no copy could be kept (a full disk, say): the torn batch, never
+    /// acknowledged, was cut off all the same (decision 527).
+    pub journal_copy_failed: Option<String>,
     /// Temporary files of a replacement cut short, removed.
     pub removed_temporaries: Vec<String>,
     /// Bad tool file lines skipped (lenient open only).
@@ -142,7 +145,12 @@ impl<S: Storage> ToolStore<S> {
         }
         if let Some(torn) = &replay.torn_tail {
             if torn.reason == journal::RecordError::TornBatch {
-                report.journal_copy = Some(self.keep_journal_copy(&bytes)?);
+                // A start after a power cut must not fail for want of
+                // room for the copy: the batch was never acknowledged.
+                match self.keep_journal_copy(&bytes) {
+                    Ok(name) => report.journal_copy = Some(name),
+                    Err(e) => report.journal_copy_failed = Some(e.to_string()),
+                }
             }
             self.storage
                 .truncate_journal(replay.valid_len)

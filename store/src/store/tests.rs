@@ -138,6 +138,37 @@ fn reset_and_clean_survive_compaction_and_reopen() {
     assert_eq!(report.files_loaded, [1, 2, 3]);
 }
 
+/// A full disk must not stop a start after a power cut: the copy of a
+/// journal with a torn last batch cannot be written, so the start goes on
+/// without it (the torn batch was never acknowledged), says so in the
+/// report and cuts the batch off (decision 527).
+#[test]
+fn a_torn_batch_is_cut_off_even_when_its_copy_cannot_be_kept() {
+    let (mut store, _) = open(MemStorage::new());
+    store.append(&[radius(1, 1, 1.0)]).unwrap();
+    let good = snapshot(&store);
+    let good_len = store.storage().journal().len();
+    store
+        .append(&[radius(1, 2, 2.0), radius(1, 3, 3.0)])
+        .unwrap();
+    let mut mem = store.into_storage();
+    let full_len = mem.journal().len();
+    // The second batch's records are there, its closing line is not.
+    mem.journal_mut().truncate(full_len - 4);
+    let full = FaultyStorage::new(mem).fail_at(Op::WriteFile, 1, FaultKind::Full);
+    let (store, report) = ToolStore::open(full, Strictness::Strict).expect("the start goes on");
+    assert_eq!(snapshot(&store), good);
+    assert_eq!(report.journal_copy, None);
+    assert!(
+        report
+            .journal_copy_failed
+            .as_deref()
+            .is_some_and(|e| e.contains("journal.wzj.torn-")),
+        "{report:?}"
+    );
+    assert_eq!(store.into_storage().into_inner().journal().len(), good_len);
+}
+
 #[test]
 fn torn_tail_is_dropped_reported_and_cut_off() {
     let (mut store, _) = open(MemStorage::new());
